@@ -1,0 +1,233 @@
+//! The scene document: the serde types of a `.ron` scene file.
+//!
+//! Field names are fixed by DESIGN.md so that scenes written by other tools keep
+//! loading: never rename them. New fields must carry a serde default. Unknown
+//! fields are rejected (`deny_unknown_fields`) so a typo such as `elastisity`
+//! is reported instead of silently ignored.
+
+use serde::{Deserialize, Serialize};
+
+use super::param::Param;
+
+/// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// File format version; only `1` exists.
+    pub version: u32,
+    #[serde(default)]
+    pub name: String,
+    pub cloth: Cloth,
+    #[serde(default)]
+    pub timeline: Timeline,
+    /// Rest-shape keys in strictly increasing frame order; at least one.
+    pub keys: Vec<Key>,
+    #[serde(default)]
+    pub layers: Vec<Layer>,
+}
+
+/// The cloth's material: a rectangle of `size` metres sampled by a `grid` of points.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cloth {
+    /// (width, height) in metres: the material extent along u (i) and v (j).
+    pub size: (f64, f64),
+    /// (cols, rows): number of grid points along u and v, each at least 2.
+    pub grid: (u32, u32),
+}
+
+impl Cloth {
+    pub fn cols(&self) -> usize {
+        self.grid.0 as usize
+    }
+    pub fn rows(&self) -> usize {
+        self.grid.1 as usize
+    }
+    pub fn width_m(&self) -> f64 {
+        self.size.0
+    }
+    pub fn height_m(&self) -> f64 {
+        self.size.1
+    }
+    /// Material spacing between neighbouring columns (metres).
+    pub fn spacing_u_m(&self) -> f64 {
+        self.size.0 / (self.grid.0.max(2) - 1) as f64
+    }
+    /// Material spacing between neighbouring rows (metres).
+    pub fn spacing_v_m(&self) -> f64 {
+        self.size.1 / (self.grid.1.max(2) - 1) as f64
+    }
+    /// Material coordinates (u, v) in metres of grid point (i, j).
+    pub fn material_uv(&self, i: usize, j: usize) -> (f64, f64) {
+        (i as f64 * self.spacing_u_m(), j as f64 * self.spacing_v_m())
+    }
+}
+
+/// Frames are integers; `t_secs = frame / fps`. The range includes both ends.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Timeline {
+    pub fps: f64,
+    pub start: i32,
+    pub end: i32,
+}
+
+impl Default for Timeline {
+    fn default() -> Self {
+        Timeline { fps: 24.0, start: 0, end: 120 }
+    }
+}
+
+/// One rest-shape key: the pose of the cloth at `frame`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Key {
+    pub frame: i32,
+    /// Where the cloth hangs from; at least one, no grid point twice.
+    pub pins: Vec<Pin>,
+    /// ≥ 1: scales the fabric's length (catenary arc length and relaxation rest length).
+    #[serde(default = "default_elasticity")]
+    pub elasticity: f64,
+    /// Bending resistance in [0, 1].
+    #[serde(default = "default_stiffness")]
+    pub stiffness: f64,
+    #[serde(default)]
+    pub relax: RelaxSettings,
+    /// Interpolation from this key towards the next one.
+    #[serde(default)]
+    pub ease: Ease,
+}
+
+pub fn default_elasticity() -> f64 {
+    1.0
+}
+pub fn default_stiffness() -> f64 {
+    0.2
+}
+
+/// A grid point held at a fixed world position (metres).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pin {
+    /// Grid index (i, j).
+    pub grid: (u32, u32),
+    /// World position in metres.
+    pub pos: (f64, f64, f64),
+}
+
+/// When relaxation stops: after `iterations` sweeps, or earlier once the largest
+/// move of a sweep is below `tolerance` × the grid spacing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RelaxSettings {
+    pub iterations: u32,
+    pub tolerance: f64,
+}
+
+impl Default for RelaxSettings {
+    fn default() -> Self {
+        RelaxSettings { iterations: 200, tolerance: 1e-5 }
+    }
+}
+
+/// Interpolation curve of a segment (between two keys) or of a parameter key.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum Ease {
+    Linear,
+    /// Hold the earlier value until the next key.
+    Step,
+    EaseIn,
+    EaseOut,
+    #[default]
+    EaseInOut,
+    /// CSS `cubic-bezier(x1, y1, x2, y2)`; x1 and x2 in [0, 1].
+    Bezier(f64, f64, f64, f64),
+    /// Anticipation/overshoot past the target, then settle.
+    Back,
+    Elastic,
+    Bounce,
+}
+
+/// One deformer of the layer stack, applied in order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Layer {
+    Sway(Sway),
+    Wave(Wave),
+}
+
+fn default_true() -> bool {
+    true
+}
+fn default_one() -> Param {
+    Param::Constant(1.0)
+}
+fn default_zero() -> Param {
+    Param::Constant(0.0)
+}
+
+/// Paper eq. 2: displacement = a · magnitude · speed · normalize(direction) · osc(t).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sway {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    #[serde(default = "default_one")]
+    pub weight: Param,
+    /// Metres.
+    pub magnitude: Param,
+    /// World direction; must not be zero.
+    pub direction: (f64, f64, f64),
+    #[serde(default = "default_one")]
+    pub speed: Param,
+    /// Hz; ≤ 0 means no built-in oscillation (osc = 1).
+    #[serde(default = "default_zero")]
+    pub frequency: Param,
+    /// Radians, used with `frequency`.
+    #[serde(default = "default_zero")]
+    pub phase: Param,
+    /// Exponent of the pin-distance attenuation a = (d_cp/d_max)^falloff.
+    #[serde(default = "default_one")]
+    pub falloff: Param,
+}
+
+/// Paper eqs. 3–4: displacement = a · magnitude · sin(x·frequency + phase + t·speed) along `axis`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Wave {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    #[serde(default = "default_one")]
+    pub weight: Param,
+    /// Metres.
+    pub magnitude: Param,
+    /// Radians per metre of material distance along the wave.
+    #[serde(default = "default_one")]
+    pub frequency: Param,
+    /// Radians.
+    #[serde(default = "default_zero")]
+    pub phase: Param,
+    /// Radians per second.
+    #[serde(default = "default_one")]
+    pub speed: Param,
+    /// Direction of travel in material space, degrees from +u towards +v.
+    #[serde(default = "default_zero")]
+    pub direction_deg: Param,
+    #[serde(default)]
+    pub axis: WaveAxis,
+    #[serde(default = "default_one")]
+    pub falloff: Param,
+}
+
+/// What a wave displaces along.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum WaveAxis {
+    /// The surface normal of the layer's input mesh.
+    #[default]
+    Normal,
+    /// A fixed world vector (normalised when used); must not be zero.
+    Fixed((f64, f64, f64)),
+}
