@@ -1,4 +1,12 @@
 //! The modelling phase (paper §3.1), pure math: catenaries between pins, the
 //! surface approximation, and relaxation into a rest shape.
 
+pub mod approximate;
 pub mod catenary;
+pub mod relax;
+pub mod rest_shape;
+
+pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
+pub use catenary::Catenary;
+pub use relax::{RelaxParams, RelaxReport, relax};
+pub use rest_shape::RestShape;

@@ -1,0 +1,67 @@
+//! A key's rest shape: every stage of the modelling phase, kept for display and tests.
+
+use glam::DVec3;
+
+use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
+use super::relax::{RelaxParams, RelaxReport, relax};
+use crate::scene::{Cloth, Key};
+
+/// The modelling result of one key: catenary network (with conflicts), the
+/// approximated surface and the relaxed surface, in vertex order `j·cols + i`.
+#[derive(Clone, Debug)]
+pub struct RestShape {
+    pub grid: GridSpec,
+    pub elasticity: f64,
+    pub network: CatenaryNetwork,
+    pub approximated: Vec<DVec3>,
+    pub placement: Vec<Placement>,
+    pub relaxed: Vec<DVec3>,
+    pub relax_report: RelaxReport,
+}
+
+impl RestShape {
+    /// Builds the rest shape of `key` on `cloth`. The scene must be valid
+    /// (at least one pin, inside the grid, no duplicates); the output is then
+    /// finite and has every pin exactly at its position.
+    pub fn build(cloth: &Cloth, key: &Key) -> RestShape {
+        let grid = grid_spec(cloth);
+        let pins: Vec<PinPoint> = key
+            .pins
+            .iter()
+            .map(|p| PinPoint { grid: (p.grid.0 as usize, p.grid.1 as usize), pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2) })
+            .collect();
+        let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
+        let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
+        let mut relaxed = positions.clone();
+        let params = RelaxParams {
+            rest_u_m: grid.spacing_u_m * key.elasticity,
+            rest_v_m: grid.spacing_v_m * key.elasticity,
+            stiffness: key.stiffness,
+            max_iterations: key.relax.iterations,
+            tolerance: key.relax.tolerance,
+        };
+        let relax_report = relax(&mut relaxed, grid.cols, grid.rows, &pinned, &params);
+        RestShape {
+            grid,
+            elasticity: key.elasticity,
+            network,
+            approximated: positions,
+            placement,
+            relaxed,
+            relax_report,
+        }
+    }
+
+    pub fn rest_u_m(&self) -> f64 {
+        self.grid.spacing_u_m * self.elasticity
+    }
+
+    pub fn rest_v_m(&self) -> f64 {
+        self.grid.spacing_v_m * self.elasticity
+    }
+}
+
+/// The grid of a cloth.
+pub fn grid_spec(cloth: &Cloth) -> GridSpec {
+    GridSpec { cols: cloth.cols(), rows: cloth.rows(), spacing_u_m: cloth.spacing_u_m(), spacing_v_m: cloth.spacing_v_m() }
+}
