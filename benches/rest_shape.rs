@@ -1,1 +1,41 @@
-fn main() {}
+//! Building a rest shape (approximate + relax) for square grids hung from four
+//! corners, as the modelling issue's targets state them: 32², 64², 128², 256².
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use drape::scene::{Cloth, Ease, Key, Pin, RelaxSettings};
+use drape::shape::RestShape;
+use std::hint::black_box;
+use std::time::Duration;
+
+fn four_corner_key(n: u32) -> Key {
+    let last = n - 1;
+    Key {
+        frame: 0,
+        pins: vec![
+            Pin { grid: (0, 0), pos: (-0.9, 1.2, -0.9) },
+            Pin { grid: (last, 0), pos: (0.9, 1.0, -0.9) },
+            Pin { grid: (0, last), pos: (-0.9, 1.0, 0.9) },
+            Pin { grid: (last, last), pos: (0.9, 1.0, 0.9) },
+        ],
+        elasticity: 1.05,
+        stiffness: 0.2,
+        relax: RelaxSettings { iterations: 200, tolerance: 1e-5 },
+        ease: Ease::EaseInOut,
+    }
+}
+
+fn rest_shape(c: &mut Criterion) {
+    let mut group = c.benchmark_group("rest_shape");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    for n in [32u32, 64, 128, 256] {
+        let cloth = Cloth { size: (2.0, 2.0), grid: (n, n) };
+        let key = four_corner_key(n);
+        group.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, _| {
+            b.iter(|| black_box(RestShape::build(&cloth, &key)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, rest_shape);
+criterion_main!(benches);

@@ -1,7 +1,25 @@
 //! The scene document: serde types, RON load/save, validation and errors.
+//!
+//! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
+//! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`].
+//! - [`to_ron_string`], [`save`]: [`Scene`] → pretty RON; `save` is atomic.
+//! - [`Scene::validate`]: the rules serde cannot express, every limit a named
+//!   constant (e.g. [`MAX_GRID_POINTS`]); each [`Issue`] names its value's path.
+//! - [`SceneError`]: `FILE:LINE:COL: message` in the user's terms.
+//! - [`locate`]: where a value path such as `keys[0].pins[2].grid` starts in the text.
 
+mod error;
+mod format;
+mod io;
+mod locate;
 mod param;
 mod types;
+mod validate;
 
+pub use error::SceneError;
+pub use format::{MAX_LINE_CHARS, to_ron_string};
+pub use io::{load, parse, parse_bytes, save};
+pub use locate::{TextPosition, locate};
 pub use param::{Param, ParamKey};
 pub use types::*;
+pub use validate::*;

@@ -176,8 +176,11 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
         .iter()
         .filter(|x| alive[x.first] != alive[x.second])
         .map(|x| {
-            let (k, r, tk, tr) =
-                if alive[x.first] { (x.first, x.second, x.t_first, x.t_second) } else { (x.second, x.first, x.t_second, x.t_first) };
+            let (k, r, tk, tr) = if alive[x.first] {
+                (x.first, x.second, x.t_first, x.t_second)
+            } else {
+                (x.second, x.first, x.t_second, x.t_first)
+            };
             ConflictPoint {
                 material_m: crossing_material(grid, &pins, candidates[k], tk),
                 kept: slot[k],
@@ -339,7 +342,8 @@ fn convex_hull_with_collinear(points: &[(i64, i64)]) -> Vec<usize> {
     let mut hull: Vec<usize> = Vec::with_capacity(points.len() * 2);
     for pass in 0..2 {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &usize>> = if pass == 0 { Box::new(order.iter()) } else { Box::new(order.iter().rev()) };
+        let iter: Box<dyn Iterator<Item = &usize>> =
+            if pass == 0 { Box::new(order.iter()) } else { Box::new(order.iter().rev()) };
         for &k in iter {
             while hull.len() >= start + 2
                 && cross_i64(points[hull[hull.len() - 2]], points[hull[hull.len() - 1]], points[k]) < 0
@@ -378,7 +382,8 @@ fn kept_triangles(points: &[(i64, i64)], kept: &[CatenaryEdge]) -> Vec<[usize; 3
                 if area2 == 0 {
                     continue;
                 }
-                let empty = (0..n).all(|k| k == a || k == b || k == c || !strictly_inside(points, [a, b, c], points[k]));
+                let empty =
+                    (0..n).all(|k| k == a || k == b || k == c || !strictly_inside(points, [a, b, c], points[k]));
                 if empty {
                     triangles.push([a, b, c]);
                 }
@@ -390,7 +395,8 @@ fn kept_triangles(points: &[(i64, i64)], kept: &[CatenaryEdge]) -> Vec<[usize; 3
 
 fn strictly_inside(points: &[(i64, i64)], [a, b, c]: [usize; 3], p: (i64, i64)) -> bool {
     let s = cross_i64(points[a], points[b], points[c]).signum();
-    let w = [cross_i64(points[b], points[c], p), cross_i64(points[c], points[a], p), cross_i64(points[a], points[b], p)];
+    let w =
+        [cross_i64(points[b], points[c], p), cross_i64(points[c], points[a], p), cross_i64(points[a], points[b], p)];
     w.iter().all(|&x| x.signum() == s)
 }
 
@@ -447,7 +453,8 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
 
     let drape = DrapeFrame::new(grid, network);
     let sheet_normal = drape.world_per_u.cross(drape.world_per_v).normalize_or(DVec3::Z);
-    let fold_wavelength_m = (FOLD_SEED_WAVELENGTH_CELLS * grid.spacing_u_m).max(FOLD_SEED_WAVELENGTH_FRACTION * grid.spacing_u_m * (grid.cols - 1) as f64);
+    let fold_wavelength_m = (FOLD_SEED_WAVELENGTH_CELLS * grid.spacing_u_m)
+        .max(FOLD_SEED_WAVELENGTH_FRACTION * grid.spacing_u_m * (grid.cols - 1) as f64);
     for j in 0..grid.rows {
         for i in 0..grid.cols {
             let k = grid.index(i, j);
@@ -711,7 +718,8 @@ impl<'a> DrapeFrame<'a> {
                 .find(|&s| (self.pin_material(self.boundary[s + 1]) - m_first).dot(along_m) >= a)
                 .unwrap_or(self.boundary.len() - 2);
             let (sa, sb) = (self.boundary[segment], self.boundary[segment + 1]);
-            let (a0, a1) = ((self.pin_material(sa) - m_first).dot(along_m), (self.pin_material(sb) - m_first).dot(along_m));
+            let (a0, a1) =
+                ((self.pin_material(sa) - m_first).dot(along_m), (self.pin_material(sb) - m_first).dot(along_m));
             self.lookup.point(sa, sb, ((a - a0) / (a1 - a0)).clamp(0.0, 1.0))
         };
         // Rotate each half about the line by the fold tilt so two halves never coincide.

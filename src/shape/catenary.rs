@@ -79,12 +79,7 @@ impl Catenary {
     /// - Otherwise a catenary; it tends continuously to the straight segment
     ///   as the length tends to the chord.
     pub fn new(start: DVec3, end: DVec3, length_m: f64) -> Catenary {
-        Catenary {
-            start,
-            end,
-            length_m,
-            form: classify(start, end, length_m),
-        }
+        Catenary { start, end, length_m, form: classify(start, end, length_m) }
     }
 
     /// The start pin, exactly as given.
@@ -170,11 +165,7 @@ impl Catenary {
     /// When taut, the lower pin (start on ties); when vertical, the bottom of
     /// the doubled thread at `(y_P + y_Q − L)/2`.
     pub fn lowest_point(&self) -> DVec3 {
-        let lower_pin = if self.end.y < self.start.y {
-            self.end
-        } else {
-            self.start
-        };
+        let lower_pin = if self.end.y < self.start.y { self.end } else { self.start };
         match self.form {
             Form::Taut => lower_pin,
             Form::Vertical => {
@@ -198,11 +189,7 @@ impl Catenary {
         let length = self.length_m;
         // Arc length from start down to the bottom: (L − v)/2 > 0 as L > |v|.
         let down = 0.5 * length - 0.5 * (self.end.y - self.start.y);
-        let y = if s * length <= down {
-            self.start.y - s * length
-        } else {
-            self.end.y - (1.0 - s) * length
-        };
+        let y = if s * length <= down { self.start.y - s * length } else { self.end.y - (1.0 - s) * length };
         let xz = self.start * (1.0 - s) + self.end * s;
         DVec3::new(xz.x, y, xz.z)
     }
@@ -213,11 +200,7 @@ impl Catenary {
         // sinh(half)/half so that a → ∞ neither overflows nor cancels.
         let y = self.length_m * (c.eta * lambda * (c.u_start + half).sinh() * sinhc(half));
         let d = self.end - self.start;
-        DVec3::new(
-            self.start.x + d.x * lambda,
-            self.start.y + y,
-            self.start.z + d.z * lambda,
-        )
+        DVec3::new(self.start.x + d.x * lambda, self.start.y + y, self.start.z + d.z * lambda)
     }
 }
 
@@ -329,19 +312,12 @@ fn solve_xi(r_m1: f64) -> f64 {
 /// `sinh(x)/x − 1` for `|x| < 0.5`, by its Taylor series (no cancellation).
 fn sinhc_m1_small(x: f64) -> f64 {
     let x2 = x * x;
-    x2 / 6.0
-        * (1.0
-            + x2 / 20.0
-                * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
+    x2 / 6.0 * (1.0 + x2 / 20.0 * (1.0 + x2 / 42.0 * (1.0 + x2 / 72.0 * (1.0 + x2 / 110.0 * (1.0 + x2 / 156.0)))))
 }
 
 /// `sinh(x)/x`, 1 at 0.
 fn sinhc(x: f64) -> f64 {
-    if x.abs() < 0.5 {
-        1.0 + sinhc_m1_small(x)
-    } else {
-        x.sinh() / x
-    }
+    if x.abs() < 0.5 { 1.0 + sinhc_m1_small(x) } else { x.sinh() / x }
 }
 
 /// `ln(sinh(x)/x)` for `x ≥ 0`, accurate near 0 and without overflow for large `x`.
@@ -385,9 +361,7 @@ mod tests {
     }
 
     fn samples(c: &Catenary, n: usize) -> Vec<DVec3> {
-        (0..=n)
-            .map(|i| c.point_at_arc_fraction(i as f64 / n as f64))
-            .collect()
+        (0..=n).map(|i| c.point_at_arc_fraction(i as f64 / n as f64)).collect()
     }
 
     fn polyline_length(points: &[DVec3]) -> f64 {
@@ -475,10 +449,7 @@ mod tests {
             let sag = 2.0 * a * (0.5 * xi).sinh().powi(2);
             // Absolute slack for the rounding of p.y in the test's own subtraction.
             let err = (p.y - c.lowest_point().y - sag).abs();
-            assert!(
-                err <= 1e-12 * sag + 4.0 * f64::EPSILON * p.y.abs(),
-                "{h} {l}: {err}"
-            );
+            assert!(err <= 1e-12 * sag + 4.0 * f64::EPSILON * p.y.abs(), "{h} {l}: {err}");
         }
     }
 
@@ -494,10 +465,7 @@ mod tests {
             if r_m1 < 1e-8 {
                 // sinh(ξ)/ξ − 1 = ξ²/6·(1 + ξ²/20 + …).
                 let x2 = xi * xi;
-                assert!(
-                    rel(x2 / 6.0 * (1.0 + x2 / 20.0), r_m1) < 1e-14,
-                    "{r_m1}: {xi}"
-                );
+                assert!(rel(x2 / 6.0 * (1.0 + x2 / 20.0), r_m1) < 1e-14, "{r_m1}: {xi}");
             }
         }
     }
@@ -508,10 +476,7 @@ mod tests {
         for eps in [1e-12, 1e-9, 1e-6] {
             let c = Catenary::new(v3(0.0, 0.0, 0.0), v3(4.0, 0.0, 0.0), 4.0 * (1.0 + eps));
             let sag = -c.lowest_point().y;
-            assert!(
-                rel(sag, 4.0 * (3.0 * eps / 8.0).sqrt()) < 1e-3,
-                "{eps}: {sag}"
-            );
+            assert!(rel(sag, 4.0 * (3.0 * eps / 8.0).sqrt()) < 1e-3, "{eps}: {sag}");
         }
     }
 
@@ -549,11 +514,7 @@ mod tests {
             (v3(0.0, 0.0, 0.0), v3(3.0, 1.0, 4.0), 7.0),
             (v3(0.0, 0.0, 0.0), v3(1.0, -10.0, 0.0), 10.1),
             (v3(0.0, 0.0, 0.0), v3(1.0, 0.0, 0.0), 1e4),
-            (
-                v3(0.0, 0.0, 0.0),
-                v3(1.0, 0.5, 0.0),
-                1.2f64.sqrt() * (1.0 + 1e-12),
-            ),
+            (v3(0.0, 0.0, 0.0), v3(1.0, 0.5, 0.0), 1.2f64.sqrt() * (1.0 + 1e-12)),
         ];
         for (p, q, l) in cases {
             let c = Catenary::new(p, q, l);
@@ -571,16 +532,12 @@ mod tests {
         }
         // Vertical pins fall back to the arc fraction.
         let c = Catenary::new(v3(0.0, 0.0, 0.0), v3(0.0, 1.0, 0.0), 3.0);
-        assert_eq!(
-            c.point_at_horizontal_fraction(0.3),
-            c.point_at_arc_fraction(0.3)
-        );
+        assert_eq!(c.point_at_horizontal_fraction(0.3), c.point_at_arc_fraction(0.3));
     }
 
     #[test]
     fn endpoints_are_exact() {
-        let same =
-            |a: DVec3, b: DVec3| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits);
+        let same = |a: DVec3, b: DVec3| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits);
         for (p, q, l) in all_cases() {
             let c = Catenary::new(p, q, l);
             for s in [0.0, -0.0, -1.0, f64::NAN, f64::NEG_INFINITY] {
@@ -606,16 +563,8 @@ mod tests {
                 let f = i as f64 / 200.0;
                 let a = c.point_at_arc_fraction(f);
                 let b = c.point_at_horizontal_fraction(f);
-                assert!(
-                    a.is_finite() && b.is_finite(),
-                    "{p} {q} {l} at {f}: {a} {b} {:?}",
-                    c.form
-                );
-                assert!(
-                    a.y >= low.y - 1e-12 * (1.0 + low.y.abs()),
-                    "{p} {q} {l} at {f}: {a} {low} {:?}",
-                    c.form
-                );
+                assert!(a.is_finite() && b.is_finite(), "{p} {q} {l} at {f}: {a} {b} {:?}", c.form);
+                assert!(a.y >= low.y - 1e-12 * (1.0 + low.y.abs()), "{p} {q} {l} at {f}: {a} {low} {:?}", c.form);
             }
         }
     }
@@ -625,15 +574,7 @@ mod tests {
         let p = v3(1.0, 2.0, 3.0);
         let q = v3(4.0, 1.0, -1.0);
         let ch = p.distance(q);
-        for l in [
-            ch,
-            0.5 * ch,
-            0.0,
-            -3.0,
-            f64::NAN,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        ] {
+        for l in [ch, 0.5 * ch, 0.0, -3.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             let c = Catenary::new(p, q, l);
             assert!(c.is_taut() && c.kind() == CatenaryKind::Taut && c.parameter_m().is_none());
             let m = c.point_at_arc_fraction(0.25);
@@ -680,9 +621,7 @@ mod tests {
         assert_eq!(above.kind(), CatenaryKind::Hanging);
         for i in 0..=100 {
             let s = i as f64 / 100.0;
-            let d = below
-                .point_at_arc_fraction(s)
-                .distance(above.point_at_arc_fraction(s));
+            let d = below.point_at_arc_fraction(s).distance(above.point_at_arc_fraction(s));
             assert!(d < 1e-10, "{s}: {d}");
         }
     }
@@ -709,10 +648,7 @@ mod tests {
         let pts = samples(&c, n);
         assert!(pts.iter().all(|x| x.is_finite()));
         let ds = 1.0 / n as f64;
-        assert!(
-            pts.windows(2)
-                .all(|w| w[0].distance(w[1]) <= ds * (1.0 + 1e-9))
-        );
+        assert!(pts.windows(2).all(|w| w[0].distance(w[1]) <= ds * (1.0 + 1e-9)));
         assert!(polyline_length(&pts) >= 1.0 - ds);
         // Continuous into the end pin.
         assert!(c.point_at_arc_fraction(1.0 - 1e-12).distance(q) < 1e-9);

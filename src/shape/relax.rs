@@ -42,6 +42,11 @@ pub struct RelaxReport {
 /// Successive over-relaxation factor of the per-point moves (stable below 2).
 const OVER_RELAXATION: f64 = 1.6;
 
+/// Downward pull per settling sweep, relative to the rest spacing.
+const GRAVITY_BIAS: f64 = 1e-3;
+/// Share of the sweep budget spent settling under the fading pull.
+const SETTLE_FRACTION: f64 = 0.5;
+
 /// Smallest radius of curvature the fabric allows at stiffness 1, as a
 /// fraction of the cloth's longer side; it scales with stiffness, and
 /// stiffness 0 allows any fold.
@@ -96,7 +101,8 @@ fn solve_on_coarser_grid(positions: &mut [DVec3], cols: usize, rows: usize, pinn
             coarse[c] = positions[f];
         }
     }
-    let coarse_params = RelaxParams { rest_u_m: params.rest_u_m * ratio_u, rest_v_m: params.rest_v_m * ratio_v, ..*params };
+    let coarse_params =
+        RelaxParams { rest_u_m: params.rest_u_m * ratio_u, rest_v_m: params.rest_v_m * ratio_v, ..*params };
     relax(&mut coarse, coarse_cols, coarse_rows, &coarse_pinned, &coarse_params);
     for j in 0..rows {
         for i in 0..cols {
@@ -123,7 +129,13 @@ fn sample_bilinear(positions: &[DVec3], cols: usize, rows: usize, x: f64, y: f64
 }
 
 /// Gauss–Seidel sweeps on one grid until the tolerance or the iteration cap.
-fn sweep_until_converged(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> RelaxReport {
+fn sweep_until_converged(
+    positions: &mut [DVec3],
+    cols: usize,
+    rows: usize,
+    pinned: &[bool],
+    params: &RelaxParams,
+) -> RelaxReport {
     let rest_diag = (params.rest_u_m * params.rest_u_m + params.rest_v_m * params.rest_v_m).sqrt();
     let min_rest = params.rest_u_m.min(params.rest_v_m);
     let min_radius = params.stiffness.clamp(0.0, 1.0)
@@ -133,9 +145,19 @@ fn sweep_until_converged(positions: &mut [DVec3], cols: usize, rows: usize, pinn
     let second_v = min_second_neighbour_distance(params.rest_v_m, min_radius);
     let mut report = RelaxReport::default();
 
+    // Settling: the first sweeps also pull every free point down a little, fading
+    // to nothing, so slack cloth hangs instead of staying where the approximation
+    // left it; the remaining sweeps enforce the constraints alone.
+    let settle_sweeps = (params.max_iterations as f64 * SETTLE_FRACTION) as u32;
     for iteration in 0..params.max_iterations {
         let mut max_move2 = 0.0f64;
         let forwards = iteration % 2 == 0;
+        let settling = iteration < settle_sweeps;
+        let gravity = if settling {
+            DVec3::new(0.0, -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64), 0.0)
+        } else {
+            DVec3::ZERO
+        };
         for step in 0..cols * rows {
             let k = if forwards { step } else { cols * rows - 1 - step };
             if pinned[k] {
@@ -200,7 +222,7 @@ fn sweep_until_converged(positions: &mut [DVec3], cols: usize, rows: usize, pinn
             if count == 0.0 {
                 continue;
             }
-            let step = sum * (OVER_RELAXATION / count);
+            let step = sum * (OVER_RELAXATION / count) + gravity;
             if step.is_finite() {
                 positions[k] = p + step;
                 max_move2 = max_move2.max(step.length_squared());
@@ -208,7 +230,7 @@ fn sweep_until_converged(positions: &mut [DVec3], cols: usize, rows: usize, pinn
         }
         report.iterations = iteration + 1;
         report.last_move = max_move2.sqrt() / min_rest;
-        if report.last_move < params.tolerance {
+        if !settling && report.last_move < params.tolerance {
             report.converged = true;
             break;
         }

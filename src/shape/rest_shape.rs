@@ -28,7 +28,10 @@ impl RestShape {
         let pins: Vec<PinPoint> = key
             .pins
             .iter()
-            .map(|p| PinPoint { grid: (p.grid.0 as usize, p.grid.1 as usize), pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2) })
+            .map(|p| PinPoint {
+                grid: (p.grid.0 as usize, p.grid.1 as usize),
+                pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2),
+            })
             .collect();
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
@@ -63,5 +66,10 @@ impl RestShape {
 
 /// The grid of a cloth.
 pub fn grid_spec(cloth: &Cloth) -> GridSpec {
-    GridSpec { cols: cloth.cols(), rows: cloth.rows(), spacing_u_m: cloth.spacing_u_m(), spacing_v_m: cloth.spacing_v_m() }
+    GridSpec {
+        cols: cloth.cols(),
+        rows: cloth.rows(),
+        spacing_u_m: cloth.spacing_u_m(),
+        spacing_v_m: cloth.spacing_v_m(),
+    }
 }

@@ -1,1 +1,0 @@
-//! The animation phase (paper §3.2–3.3): arrives with the animation work.

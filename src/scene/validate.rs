@@ -1,0 +1,493 @@
+//! Semantic checks of a scene that serde cannot express: ranges, limits,
+//! ordering, finiteness.
+//!
+//! Each problem is an [`Issue`] naming the offending value by its path in the
+//! file (`keys[0].pins[2].grid`), so the loader can point at its line and
+//! column. Issues come in document order.
+
+use std::collections::HashSet;
+use std::fmt;
+
+use super::param::Param;
+use super::types::{Ease, Key, Layer, Pin, Scene, Sway, Wave, WaveAxis};
+
+/// The only scene file version this Drape reads.
+pub const SUPPORTED_VERSION: u32 = 1;
+/// Largest cloth width or height, in metres.
+pub const MAX_CLOTH_SIZE_M: f64 = 1000.0;
+/// Fewest grid points along either side of the cloth.
+pub const MIN_GRID_SIDE: u32 = 2;
+/// Most grid points along either side of the cloth.
+pub const MAX_GRID_SIDE: u32 = 1024;
+/// Most grid points in total (512 × 512), which keeps relaxation interactive.
+pub const MAX_GRID_POINTS: u64 = 512 * 512;
+/// Highest frame rate, in frames per second.
+pub const MAX_FPS: f64 = 1000.0;
+/// Largest absolute pin coordinate along any axis, in metres.
+pub const MAX_PIN_COORD_M: f64 = 10_000.0;
+/// Lowest elasticity: 1 is the fabric's own length, never shorter.
+pub const MIN_ELASTICITY: f64 = 1.0;
+/// Highest elasticity (ten times the fabric's length).
+pub const MAX_ELASTICITY: f64 = 10.0;
+/// Stiffness lies in [`MIN_STIFFNESS`], [`MAX_STIFFNESS`].
+pub const MIN_STIFFNESS: f64 = 0.0;
+pub const MAX_STIFFNESS: f64 = 1.0;
+/// Most relaxation sweeps per key.
+pub const MAX_RELAX_ITERATIONS: u32 = 100_000;
+/// Largest relaxation tolerance (a fraction of the grid spacing); it must also be > 0.
+pub const MAX_RELAX_TOLERANCE: f64 = 1.0;
+
+/// One problem found in a scene: the path of the offending value
+/// (`keys[0].pins[2].grid`, `layers[1].magnitude[0].value`) and a message in
+/// the user's terms.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Issue {
+    pub path: String,
+    pub message: String,
+}
+
+impl fmt::Display for Issue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path, self.message)
+    }
+}
+
+impl Scene {
+    /// Checks every rule serde cannot: version, limits, ranges, key order, pins
+    /// inside the grid, finite numbers. Returns all problems in document order.
+    pub fn validate(&self) -> Result<(), Vec<Issue>> {
+        let mut check = Checker::default();
+        check.scene(self);
+        if check.issues.is_empty() { Ok(()) } else { Err(check.issues) }
+    }
+}
+
+/// `4000000` → `4 000 000`.
+pub(crate) fn group_thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn fmt_vec3(v: (f64, f64, f64)) -> String {
+    format!("({}, {}, {})", v.0, v.1, v.2)
+}
+
+#[derive(Default)]
+struct Checker {
+    issues: Vec<Issue>,
+}
+
+impl Checker {
+    fn push(&mut self, path: impl Into<String>, message: impl Into<String>) {
+        self.issues.push(Issue { path: path.into(), message: message.into() });
+    }
+
+    /// Reports a non-finite number; returns whether it was finite.
+    fn finite(&mut self, path: &str, what: &str, v: f64) -> bool {
+        if !v.is_finite() {
+            self.push(path, format!("{what} must be a finite number, not {v}"));
+        }
+        v.is_finite()
+    }
+
+    fn scene(&mut self, scene: &Scene) {
+        if scene.version != SUPPORTED_VERSION {
+            self.push(
+                "version",
+                format!("unsupported scene version {} (this Drape reads version {SUPPORTED_VERSION})", scene.version),
+            );
+        }
+        self.cloth(scene);
+        self.timeline(scene);
+        self.keys(scene);
+        for (index, layer) in scene.layers.iter().enumerate() {
+            self.layer(index, layer);
+        }
+    }
+
+    fn cloth(&mut self, scene: &Scene) {
+        let (width, height) = scene.cloth.size;
+        for (index, what, v) in [(0, "cloth width", width), (1, "cloth height", height)] {
+            let path = format!("cloth.size[{index}]");
+            if !self.finite(&path, what, v) {
+                continue;
+            }
+            if v <= 0.0 {
+                self.push(path, format!("{what} must be greater than 0 m (it is {v} m)"));
+            } else if v > MAX_CLOTH_SIZE_M {
+                self.push(path, format!("{what} {v} m is larger than the limit of {MAX_CLOTH_SIZE_M} m"));
+            }
+        }
+
+        let (cols, rows) = scene.cloth.grid;
+        let points = u64::from(cols) * u64::from(rows);
+        if cols < MIN_GRID_SIDE || rows < MIN_GRID_SIDE {
+            self.push(
+                "cloth.grid",
+                format!(
+                    "grid {cols} × {rows} is too small: the cloth needs at least {MIN_GRID_SIDE} points along each side"
+                ),
+            );
+        } else if points > MAX_GRID_POINTS {
+            self.push(
+                "cloth.grid",
+                format!(
+                    "grid {cols} × {rows} has {} points; the limit is {} (512 × 512)",
+                    group_thousands(points),
+                    group_thousands(MAX_GRID_POINTS)
+                ),
+            );
+        } else if cols > MAX_GRID_SIDE || rows > MAX_GRID_SIDE {
+            self.push(
+                "cloth.grid",
+                format!(
+                    "grid {cols} × {rows} is too long: the limit is {} points along each side",
+                    group_thousands(MAX_GRID_SIDE.into())
+                ),
+            );
+        }
+    }
+
+    fn timeline(&mut self, scene: &Scene) {
+        let timeline = &scene.timeline;
+        if self.finite("timeline.fps", "fps", timeline.fps) && !(timeline.fps > 0.0 && timeline.fps <= MAX_FPS) {
+            self.push(
+                "timeline.fps",
+                format!("fps {} is out of range: it must be greater than 0 and at most {MAX_FPS}", timeline.fps),
+            );
+        }
+        if timeline.start > timeline.end {
+            self.push(
+                "timeline.end",
+                format!(
+                    "the timeline ends at frame {} before it starts at frame {}: end must not be before start",
+                    timeline.end, timeline.start
+                ),
+            );
+        }
+    }
+
+    fn keys(&mut self, scene: &Scene) {
+        if scene.keys.is_empty() {
+            self.push("keys", "the scene has no keys: it needs at least one key with pins");
+        }
+        for (index, key) in scene.keys.iter().enumerate() {
+            let path = format!("keys[{index}]");
+            if index > 0 {
+                let previous = scene.keys[index - 1].frame;
+                if key.frame == previous {
+                    self.push(
+                        format!("{path}.frame"),
+                        format!("two keys at frame {}: each key needs a frame of its own", key.frame),
+                    );
+                } else if key.frame < previous {
+                    self.push(
+                        format!("{path}.frame"),
+                        format!(
+                            "key at frame {} comes after the key at frame {previous}: keys must be in increasing frame order",
+                            key.frame
+                        ),
+                    );
+                }
+            }
+            self.key(&path, key, scene);
+        }
+    }
+
+    fn key(&mut self, path: &str, key: &Key, scene: &Scene) {
+        let at = format!("the key at frame {}", key.frame);
+        if key.pins.is_empty() {
+            self.push(
+                format!("{path}.pins"),
+                format!("key at frame {} has no pins: the cloth needs at least one pin to hang from", key.frame),
+            );
+        }
+        let mut pinned = HashSet::new();
+        for (index, pin) in key.pins.iter().enumerate() {
+            self.pin(&format!("{path}.pins[{index}]"), pin, &at, scene, &mut pinned);
+        }
+
+        let e_path = format!("{path}.elasticity");
+        if self.finite(&e_path, &format!("elasticity in {at}"), key.elasticity)
+            && !(MIN_ELASTICITY..=MAX_ELASTICITY).contains(&key.elasticity)
+        {
+            self.push(
+                e_path,
+                format!(
+                    "elasticity {} in {at} is out of range: it must be between {MIN_ELASTICITY} (the fabric's own length) and {MAX_ELASTICITY}",
+                    key.elasticity
+                ),
+            );
+        }
+        let s_path = format!("{path}.stiffness");
+        if self.finite(&s_path, &format!("stiffness in {at}"), key.stiffness)
+            && !(MIN_STIFFNESS..=MAX_STIFFNESS).contains(&key.stiffness)
+        {
+            self.push(
+                s_path,
+                format!(
+                    "stiffness {} in {at} is out of range: it must be between {MIN_STIFFNESS} (limp) and {MAX_STIFFNESS} (stiff)",
+                    key.stiffness
+                ),
+            );
+        }
+        if key.relax.iterations > MAX_RELAX_ITERATIONS {
+            self.push(
+                format!("{path}.relax.iterations"),
+                format!(
+                    "relax iterations {} in {at} is above the limit of {}",
+                    group_thousands(key.relax.iterations.into()),
+                    group_thousands(MAX_RELAX_ITERATIONS.into())
+                ),
+            );
+        }
+        let t_path = format!("{path}.relax.tolerance");
+        let tolerance = key.relax.tolerance;
+        if self.finite(&t_path, &format!("relax tolerance in {at}"), tolerance)
+            && !(tolerance > 0.0 && tolerance <= MAX_RELAX_TOLERANCE)
+        {
+            self.push(
+                t_path,
+                format!(
+                    "relax tolerance {tolerance} in {at} is out of range: it must be greater than 0 and at most {MAX_RELAX_TOLERANCE}"
+                ),
+            );
+        }
+        self.ease(&format!("{path}.ease"), &format!("ease of {at}"), &key.ease);
+    }
+
+    fn pin(&mut self, path: &str, pin: &Pin, at: &str, scene: &Scene, pinned: &mut HashSet<(u32, u32)>) {
+        let (i, j) = pin.grid;
+        let (cols, rows) = scene.cloth.grid;
+        if i >= cols || j >= rows {
+            self.push(format!("{path}.grid"), format!("pin ({i}, {j}) is outside the {cols} × {rows} grid"));
+        } else if !pinned.insert(pin.grid) {
+            self.push(format!("{path}.grid"), format!("pin ({i}, {j}) is pinned twice in {at}"));
+        }
+        let pos = pin.pos;
+        let pos_path = format!("{path}.pos");
+        for (axis, v) in [("x", pos.0), ("y", pos.1), ("z", pos.2)] {
+            if !v.is_finite() {
+                self.push(
+                    &pos_path,
+                    format!("pin ({i}, {j}) in {at} has position {axis} = {v}: it must be a finite number"),
+                );
+                return;
+            }
+        }
+        if [pos.0, pos.1, pos.2].iter().any(|v| v.abs() > MAX_PIN_COORD_M) {
+            self.push(
+                pos_path,
+                format!(
+                    "pin ({i}, {j}) in {at} is at {}, too far out: each coordinate must be within ±{} m",
+                    fmt_vec3(pos),
+                    group_thousands(MAX_PIN_COORD_M as u64)
+                ),
+            );
+        }
+    }
+
+    /// Bezier control points: all finite, x1 and x2 in [0, 1].
+    fn ease(&mut self, path: &str, what: &str, ease: &Ease) {
+        let Ease::Bezier(x1, y1, x2, y2) = *ease else { return };
+        for (index, (name, v)) in [("x1", x1), ("y1", y1), ("x2", x2), ("y2", y2)].into_iter().enumerate() {
+            let element = format!("{path}[{index}]");
+            if !v.is_finite() {
+                self.push(element, format!("{what}: Bezier {name} must be a finite number, not {v}"));
+            } else if (name == "x1" || name == "x2") && !(0.0..=1.0).contains(&v) {
+                self.push(
+                    element,
+                    format!("{what}: Bezier {name} = {v} is out of range: x1 and x2 must be between 0 and 1"),
+                );
+            }
+        }
+    }
+
+    fn param(&mut self, path: &str, what: &str, param: &Param) {
+        match param {
+            Param::Constant(v) => {
+                self.finite(path, what, *v);
+            }
+            Param::Keys(keys) => {
+                if keys.is_empty() {
+                    self.push(
+                        path,
+                        format!("{what} has an empty list of keys: write a plain number or at least one key"),
+                    );
+                }
+                for (index, key) in keys.iter().enumerate() {
+                    let key_path = format!("{path}[{index}]");
+                    if index > 0 {
+                        let previous = keys[index - 1].frame;
+                        if key.frame == previous {
+                            self.push(
+                                format!("{key_path}.frame"),
+                                format!(
+                                    "{what} has two keys at frame {}: each key needs a frame of its own",
+                                    key.frame
+                                ),
+                            );
+                        } else if key.frame < previous {
+                            self.push(
+                                format!("{key_path}.frame"),
+                                format!(
+                                    "{what} key at frame {} comes after the key at frame {previous}: keys must be in increasing frame order",
+                                    key.frame
+                                ),
+                            );
+                        }
+                    }
+                    self.finite(&format!("{key_path}.value"), &format!("{what} at frame {}", key.frame), key.value);
+                    self.ease(&format!("{key_path}.ease"), &format!("{what} key at frame {}", key.frame), &key.ease);
+                }
+            }
+        }
+    }
+
+    fn direction(&mut self, path: &str, what: &str, v: (f64, f64, f64), purpose: &str) {
+        if ![v.0, v.1, v.2].iter().all(|c| c.is_finite()) {
+            self.push(path, format!("{what} {} must be finite numbers", fmt_vec3(v)));
+        } else if v.0 == 0.0 && v.1 == 0.0 && v.2 == 0.0 {
+            self.push(path, format!("{what} is zero: give a direction to {purpose}"));
+        } else if !(v.0 * v.0 + v.1 * v.1 + v.2 * v.2).sqrt().is_finite() {
+            self.push(path, format!("{what} {} is too long to normalise", fmt_vec3(v)));
+        }
+    }
+
+    fn layer(&mut self, index: usize, layer: &Layer) {
+        let path = format!("layers[{index}]");
+        let (kind, name) = match layer {
+            Layer::Sway(sway) => ("Sway", &sway.name),
+            Layer::Wave(wave) => ("Wave", &wave.name),
+        };
+        let label =
+            if name.is_empty() { format!("{kind} layer {}", index + 1) } else { format!("{kind} layer {name:?}") };
+        let param = |this: &mut Self, field: &str, value: &Param| {
+            this.param(&format!("{path}.{field}"), &format!("{label}: {field}"), value);
+        };
+        match layer {
+            Layer::Sway(Sway { weight, magnitude, direction, speed, frequency, phase, falloff, .. }) => {
+                param(self, "weight", weight);
+                param(self, "magnitude", magnitude);
+                self.direction(&format!("{path}.direction"), &format!("{label}: direction"), *direction, "sway along");
+                param(self, "speed", speed);
+                param(self, "frequency", frequency);
+                param(self, "phase", phase);
+                param(self, "falloff", falloff);
+            }
+            Layer::Wave(Wave { weight, magnitude, frequency, phase, speed, direction_deg, axis, falloff, .. }) => {
+                param(self, "weight", weight);
+                param(self, "magnitude", magnitude);
+                param(self, "frequency", frequency);
+                param(self, "phase", phase);
+                param(self, "speed", speed);
+                param(self, "direction_deg", direction_deg);
+                if let WaveAxis::Fixed(v) = axis {
+                    self.direction(&format!("{path}.axis"), &format!("{label}: axis"), *v, "displace along");
+                }
+                param(self, "falloff", falloff);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Cloth, ParamKey, RelaxSettings, Timeline};
+
+    fn scene() -> Scene {
+        Scene {
+            version: 1,
+            name: "t".into(),
+            cloth: Cloth { size: (2.0, 1.5), grid: (33, 25) },
+            timeline: Timeline::default(),
+            keys: vec![Key {
+                frame: 0,
+                pins: vec![Pin { grid: (0, 0), pos: (-1.0, 2.0, 0.0) }, Pin { grid: (32, 0), pos: (1.0, 2.0, 0.0) }],
+                elasticity: 1.1,
+                stiffness: 0.2,
+                relax: RelaxSettings::default(),
+                ease: Ease::EaseInOut,
+            }],
+            layers: vec![],
+        }
+    }
+
+    fn messages(scene: &Scene) -> Vec<String> {
+        scene.validate().err().unwrap_or_default().iter().map(ToString::to_string).collect()
+    }
+
+    #[test]
+    fn a_good_scene_passes() {
+        assert_eq!(scene().validate(), Ok(()));
+    }
+
+    #[test]
+    fn grid_limits_are_stated() {
+        let mut s = scene();
+        s.cloth.grid = (2000, 2000);
+        s.keys[0].pins.truncate(1);
+        assert_eq!(
+            messages(&s),
+            ["cloth.grid: grid 2000 × 2000 has 4 000 000 points; the limit is 262 144 (512 × 512)"]
+        );
+        s.cloth.grid = (1025, 2);
+        assert_eq!(messages(&s), ["cloth.grid: grid 1025 × 2 is too long: the limit is 1 024 points along each side"]);
+        s.cloth.grid = (1, 5);
+        assert_eq!(
+            messages(&s),
+            ["cloth.grid: grid 1 × 5 is too small: the cloth needs at least 2 points along each side"]
+        );
+    }
+
+    #[test]
+    fn every_problem_is_reported_in_document_order() {
+        let mut s = scene();
+        s.version = 2;
+        s.keys[0].elasticity = f64::NAN;
+        s.keys[0].pins[1].grid = (0, 0);
+        s.layers.push(Layer::Wave(Wave {
+            name: String::new(),
+            enabled: true,
+            weight: Param::Constant(f64::INFINITY),
+            magnitude: Param::Keys(vec![
+                ParamKey { frame: 5, value: 0.0, ease: Ease::Linear },
+                ParamKey { frame: 5, value: 1.0, ease: Ease::Bezier(0.0, 0.0, -0.5, 1.0) },
+            ]),
+            frequency: 1.0.into(),
+            phase: 0.0.into(),
+            speed: 1.0.into(),
+            direction_deg: 0.0.into(),
+            axis: WaveAxis::Fixed((0.0, 0.0, 0.0)),
+            falloff: 1.0.into(),
+        }));
+        assert_eq!(
+            messages(&s),
+            [
+                "version: unsupported scene version 2 (this Drape reads version 1)",
+                "keys[0].pins[1].grid: pin (0, 0) is pinned twice in the key at frame 0",
+                "keys[0].elasticity: elasticity in the key at frame 0 must be a finite number, not NaN",
+                "layers[0].weight: Wave layer 1: weight must be a finite number, not inf",
+                "layers[0].magnitude[1].frame: Wave layer 1: magnitude has two keys at frame 5: each key needs a frame of its own",
+                "layers[0].magnitude[1].ease[2]: Wave layer 1: magnitude key at frame 5: Bezier x2 = -0.5 is out of range: x1 and x2 must be between 0 and 1",
+                "layers[0].axis: Wave layer 1: axis is zero: give a direction to displace along",
+            ]
+        );
+    }
+
+    #[test]
+    fn thousands_are_grouped() {
+        assert_eq!(group_thousands(0), "0");
+        assert_eq!(group_thousands(999), "999");
+        assert_eq!(group_thousands(262_144), "262 144");
+        assert_eq!(group_thousands(4_000_000), "4 000 000");
+    }
+}

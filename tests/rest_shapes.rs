@@ -1,0 +1,230 @@
+//! The modelling phase end to end: scenes → rest shapes, checked for the
+//! invariants the editor and exporters rely on.
+
+use drape::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings};
+use drape::shape::relax::mean_structural_error;
+use drape::shape::{Catenary, PinLayout, Placement, RestShape};
+use glam::DVec3;
+use proptest::prelude::*;
+
+fn key(pins: &[((u32, u32), (f64, f64, f64))], elasticity: f64, stiffness: f64, iterations: u32) -> Key {
+    Key {
+        frame: 0,
+        pins: pins.iter().map(|&(grid, pos)| Pin { grid, pos }).collect(),
+        elasticity,
+        stiffness,
+        relax: RelaxSettings { iterations, tolerance: 1e-5 },
+        ease: Ease::EaseInOut,
+    }
+}
+
+fn pin_positions_exact(shape: &RestShape, key: &Key) {
+    for pin in &key.pins {
+        let k = pin.grid.1 as usize * shape.grid.cols + pin.grid.0 as usize;
+        let want = DVec3::new(pin.pos.0, pin.pos.1, pin.pos.2);
+        assert_eq!(shape.approximated[k], want, "approximation moved pin {:?}", pin.grid);
+        assert_eq!(shape.relaxed[k], want, "relaxation moved pin {:?}", pin.grid);
+    }
+}
+
+#[test]
+fn curtain_top_edge_is_the_analytic_catenary() {
+    let scene = scene::load("scenes/curtain.ron".as_ref()).unwrap();
+    let key = &scene.keys[0];
+    let shape = RestShape::build(&scene.cloth, key);
+    let (p, q) = (&key.pins[0], &key.pins[1]);
+    let span = (q.pos.0 - p.pos.0).abs();
+    // Independent closed form for level pins: solve 2a·sinh(h/2a) = L by bisection.
+    let length = scene.cloth.width_m() * key.elasticity;
+    let (mut lo, mut hi) = (1e-6f64, 1e6f64);
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if 2.0 * mid * (span / (2.0 * mid)).sinh() > length { lo = mid } else { hi = mid }
+    }
+    let a = lo;
+    let sag = a * ((span / (2.0 * a)).cosh() - 1.0);
+    let middle = shape.approximated[scene.cloth.cols() / 2];
+    let measured_sag = p.pos.1 - middle.y;
+    assert!(((measured_sag - sag) / span).abs() < 0.005, "sag {measured_sag} vs analytic {sag}");
+    // Every top-edge point lies on the analytic curve y = a·cosh(x/a) + c.
+    let c = p.pos.1 - a * (span / (2.0 * a)).cosh();
+    for i in 0..scene.cloth.cols() {
+        let point = shape.approximated[i];
+        let y = a * (point.x / a).cosh() + c;
+        assert!(((point.y - y) / span).abs() < 1e-6, "top edge point {i}: {} vs {y}", point.y);
+        assert_eq!(shape.placement[i] == Placement::OnCatenary || shape.placement[i] == Placement::Pin, true);
+    }
+}
+
+#[test]
+fn every_scene_relaxes_to_rest_lengths() {
+    for entry in std::fs::read_dir("scenes").unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("ron") {
+            continue;
+        }
+        let scene = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        for key in &scene.keys {
+            let shape = RestShape::build(&scene.cloth, key);
+            assert!(shape.relaxed.iter().chain(&shape.approximated).all(|p| p.is_finite()), "{}", path.display());
+            pin_positions_exact(&shape, key);
+            let error = mean_structural_error(
+                &shape.relaxed,
+                scene.cloth.cols(),
+                scene.cloth.rows(),
+                shape.rest_u_m(),
+                shape.rest_v_m(),
+            );
+            assert!(error < 0.01, "{}: mean edge error {error}", path.display());
+        }
+    }
+}
+
+#[test]
+fn rest_shapes_are_bit_identical_across_runs() {
+    let scene = scene::load("scenes/tent.ron".as_ref()).unwrap();
+    let a = RestShape::build(&scene.cloth, &scene.keys[0]);
+    let b = RestShape::build(&scene.cloth, &scene.keys[0]);
+    assert_eq!(a.approximated, b.approximated);
+    assert_eq!(a.relaxed, b.relaxed);
+}
+
+#[test]
+fn symmetric_tent_gives_symmetric_shape() {
+    // Mirror-symmetric pins and a mirror-symmetric triangulation (a fan round the pole).
+    let cloth = Cloth { size: (1.6, 1.6), grid: (17, 17) };
+    let k = key(
+        &[
+            ((0, 0), (-0.7, 0.0, -0.7)),
+            ((16, 0), (0.7, 0.0, -0.7)),
+            ((0, 16), (-0.7, 0.0, 0.7)),
+            ((16, 16), (0.7, 0.0, 0.7)),
+            ((8, 8), (0.0, 0.6, 0.0)),
+        ],
+        1.05,
+        0.2,
+        200,
+    );
+    let shape = RestShape::build(&cloth, &k);
+    // Only the approximation is exactly symmetric: Gauss–Seidel relaxation visits
+    // one side first and a slack edge may fold towards either side.
+    for (stage, positions, tolerance) in [("approximated", &shape.approximated, 1e-12)] {
+        for j in 0..17 {
+            for i in 0..17 {
+                let p = positions[j * 17 + i];
+                let mirror = positions[j * 17 + (16 - i)];
+                let expected = DVec3::new(-mirror.x, mirror.y, mirror.z);
+                assert!(p.distance(expected) < tolerance, "{stage} ({i}, {j}): {p} vs mirrored {expected}");
+            }
+        }
+    }
+}
+
+#[test]
+fn conflicting_catenaries_are_the_lower_ones() {
+    // Four corners of a square: the two diagonals cross; the lower one goes.
+    let cloth = Cloth { size: (1.0, 1.0), grid: (11, 11) };
+    let k = key(
+        &[
+            ((0, 0), (0.0, 1.0, 0.0)),
+            ((10, 0), (1.0, 1.0, 0.0)),
+            ((0, 10), (0.0, 1.0, 1.0)),
+            ((10, 10), (1.0, 0.5, 1.0)),
+        ],
+        1.1,
+        0.2,
+        10,
+    );
+    let shape = RestShape::build(&cloth, &k);
+    let net = &shape.network;
+    assert_eq!(net.kept.len(), 5, "four sides and one diagonal");
+    assert_eq!(net.conflicting.len(), 1);
+    assert_eq!(net.conflict_points.len(), 1);
+    let conflict = net.conflict_points[0];
+    assert!(conflict.kept_pos.y > conflict.removed_pos.y);
+    assert!(matches!(&net.layout, PinLayout::Hull { triangles, .. } if triangles.len() == 2));
+    // The removed diagonal is the one through the low corner.
+    let removed = &net.conflicting[0];
+    assert!(removed.a == 0 && removed.b == 3, "removed {}–{}", removed.a, removed.b);
+}
+
+#[test]
+fn collinear_and_single_pins_drape_without_degenerate_edges() {
+    let cloth = Cloth { size: (1.0, 1.0), grid: (9, 9) };
+    let cases = [
+        key(&[((4, 4), (0.0, 2.0, 0.0))], 1.0, 0.2, 100),
+        key(&[((0, 4), (0.0, 2.0, 0.0)), ((8, 4), (0.9, 2.0, 0.0))], 1.0, 0.2, 100),
+        key(&[((0, 0), (0.0, 2.0, 0.0)), ((0, 4), (0.0, 1.5, 0.0)), ((0, 8), (0.0, 1.0, 0.0))], 1.0, 0.2, 100),
+    ];
+    for k in cases {
+        let shape = RestShape::build(&cloth, &k);
+        pin_positions_exact(&shape, &k);
+        for positions in [&shape.approximated, &shape.relaxed] {
+            for j in 0..9 {
+                for i in 0..8 {
+                    let d = positions[j * 9 + i].distance(positions[j * 9 + i + 1]);
+                    assert!(d.is_finite() && d > 1e-3, "collapsed edge at ({i}, {j}) in {:?}", shape.network.layout);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn points_on_kept_catenaries_sit_on_them() {
+    let scene = scene::load("scenes/tent.ron".as_ref()).unwrap();
+    let shape = RestShape::build(&scene.cloth, &scene.keys[0]);
+    let cols = scene.cloth.cols();
+    for edge in &shape.network.kept {
+        let (a, b) = (shape.network.pins[edge.a].grid, shape.network.pins[edge.b].grid);
+        if a.0 == b.0 || a.1 == b.1 || (a.0 as i64 - b.0 as i64).abs() == (a.1 as i64 - b.1 as i64).abs() {
+            let steps = (a.0 as i64 - b.0 as i64).abs().max((a.1 as i64 - b.1 as i64).abs());
+            for s in 1..steps {
+                let i = (a.0 as i64 + (b.0 as i64 - a.0 as i64) * s / steps) as usize;
+                let j = (a.1 as i64 + (b.1 as i64 - a.1 as i64) * s / steps) as usize;
+                let want = edge.catenary.point_at_arc_fraction(s as f64 / steps as f64);
+                assert_eq!(shape.approximated[j * cols + i], want);
+            }
+        }
+    }
+    let _ = Catenary::new(DVec3::ZERO, DVec3::X, 2.0);
+}
+
+fn pin_layout() -> impl Strategy<Value = (u32, u32, Vec<((u32, u32), (f64, f64, f64))>, f64, f64)> {
+    (3u32..14, 3u32..14, 1usize..6, 1.0f64..1.6, 0.0f64..1.0).prop_flat_map(
+        |(cols, rows, count, elasticity, stiffness)| {
+            let pin = ((0..cols, 0..rows), (-2.0f64..2.0, 0.0f64..3.0, -2.0f64..2.0));
+            (Just(cols), Just(rows), prop::collection::vec(pin, count), Just(elasticity), Just(stiffness))
+        },
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, .. ProptestConfig::default() })]
+
+    #[test]
+    fn any_valid_layout_gives_a_finite_shape_with_exact_pins((cols, rows, pins, elasticity, stiffness) in pin_layout()) {
+        let mut seen = std::collections::HashSet::new();
+        let pins: Vec<_> = pins.into_iter().filter(|p| seen.insert(p.0)).collect();
+        let cloth = Cloth { size: (cols as f64 * 0.1, rows as f64 * 0.1), grid: (cols, rows) };
+        let k = key(&pins, elasticity, stiffness, 60);
+        let shape = RestShape::build(&cloth, &k);
+        prop_assert!(shape.approximated.iter().all(|p| p.is_finite()));
+        prop_assert!(shape.relaxed.iter().all(|p| p.is_finite()));
+        pin_positions_exact(&shape, &k);
+    }
+
+    #[test]
+    fn slack_layouts_relax_to_rest_lengths(cols in 9u32..20, rows in 9u32..20, lift_fraction in 0.0f64..1.0, elasticity in 1.05f64..1.3) {
+        // Four corners pulled in to 80% of the cloth's size, one lifted by at most half
+        // the shorter side: every pin pair stays within the cloth's reach.
+        let (w, h) = (cols as f64 * 0.1, rows as f64 * 0.1);
+        let lift = lift_fraction * 0.5 * w.min(h);
+        let (x, z) = (0.4 * w, 0.4 * h);
+        let cloth = Cloth { size: (w, h), grid: (cols, rows) };
+        let k = key(&[((0, 0), (-x, 1.0 + lift, -z)), ((cols - 1, 0), (x, 1.0, -z)), ((0, rows - 1), (-x, 1.0, z)), ((cols - 1, rows - 1), (x, 1.0, z))], elasticity, 0.2, 3000);
+        let shape = RestShape::build(&cloth, &k);
+        let error = mean_structural_error(&shape.relaxed, cols as usize, rows as usize, shape.rest_u_m(), shape.rest_v_m());
+        prop_assert!(error < 0.01, "mean edge error {}", error);
+    }
+}
