@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, anyhow, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use drape::export::{write_atomically, write_obj};
 use drape::mesh::Mesh;
@@ -67,7 +67,8 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error:#}");
+            // Each error already names its file and cause in one line.
+            eprintln!("error: {error}");
             ExitCode::FAILURE
         }
     }
@@ -181,7 +182,7 @@ fn export(path: &Path, output: &Path, frame: i32, format: Option<Format>, stage:
     let mesh = Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), positions);
     match format {
         Format::Obj => write_atomically(output, |w| write_obj(&mesh, &scene.name, w))
-            .with_context(|| format!("cannot write {}", output.display()))?,
+            .map_err(|e| anyhow!("cannot write {}: {e}", output.display()))?,
     }
     println!(
         "wrote {} ({} vertices, {} triangles; key at frame {}, {:?} stage)",
