@@ -240,8 +240,15 @@ struct Crossing {
     second: usize,
     t_first: f64,
     t_second: f64,
-    /// Height of the lower of the two catenaries at the crossing.
-    lower_y: f64,
+    /// Heights of the two catenaries at the crossing.
+    y_first: f64,
+    y_second: f64,
+}
+
+impl Crossing {
+    fn lower_y(&self) -> f64 {
+        self.y_first.min(self.y_second)
+    }
 }
 
 fn find_crossings(pins: &[PinPoint], candidates: &[(usize, usize)], catenaries: &[Catenary]) -> Vec<Crossing> {
@@ -266,7 +273,7 @@ fn find_crossings(pins: &[PinPoint], candidates: &[(usize, usize)], catenaries: 
             let s = d1 as f64 / (d1 - d2) as f64;
             let ye = catenaries[e].point_at_arc_fraction(t).y;
             let yf = catenaries[f].point_at_arc_fraction(s).y;
-            crossings.push(Crossing { first: e, second: f, t_first: t, t_second: s, lower_y: ye.min(yf) });
+            crossings.push(Crossing { first: e, second: f, t_first: t, t_second: s, y_first: ye, y_second: yf });
         }
     }
     crossings
@@ -279,16 +286,14 @@ fn find_crossings(pins: &[PinPoint], candidates: &[(usize, usize)], catenaries: 
 fn resolve_conflicts(count: usize, crossings: &[Crossing], catenaries: &[Catenary]) -> Vec<bool> {
     let mut alive = vec![true; count];
     let mut order: Vec<usize> = (0..crossings.len()).collect();
-    order.sort_by(|&x, &y| crossings[x].lower_y.total_cmp(&crossings[y].lower_y).then(x.cmp(&y)));
+    order.sort_by(|&x, &y| crossings[x].lower_y().total_cmp(&crossings[y].lower_y()).then(x.cmp(&y)));
     for &k in &order {
         let x = &crossings[k];
         if !(alive[x.first] && alive[x.second]) {
             continue;
         }
-        let y_first = catenaries[x.first].point_at_arc_fraction(x.t_first).y;
-        let y_second = catenaries[x.second].point_at_arc_fraction(x.t_second).y;
         // Ties keep the earlier candidate so the result is deterministic.
-        if y_first >= y_second {
+        if x.y_first >= x.y_second {
             alive[x.second] = false;
         } else {
             alive[x.first] = false;
