@@ -8,5 +8,5 @@ pub mod rest_shape;
 
 pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
 pub use catenary::Catenary;
-pub use relax::{RelaxParams, RelaxReport, relax};
+pub use relax::{RelaxParams, RelaxReport, refine, relax};
 pub use rest_shape::RestShape;

@@ -70,7 +70,24 @@ pub fn relax(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool],
     if cols >= MIN_COARSENED_SIDE * 2 - 1 && rows >= MIN_COARSENED_SIDE * 2 - 1 {
         solve_on_coarser_grid(positions, cols, rows, pinned, params);
     }
-    sweep_until_converged(positions, cols, rows, pinned, params)
+    sweep_until_converged(positions, cols, rows, pinned, params, Settle::Yes)
+}
+
+/// Fine-grid sweeps only, from the given positions: no coarsening and no
+/// settling pull, so a nearby shape keeps its character and only its edge
+/// lengths are restored. Animation uses it to re-relax an in-between blend
+/// for a few sweeps. Same guarantees as [`relax`]: pins never move, output is
+/// deterministic, non-finite moves are skipped.
+pub fn refine(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> RelaxReport {
+    assert_eq!(positions.len(), cols * rows);
+    assert_eq!(pinned.len(), cols * rows);
+    sweep_until_converged(positions, cols, rows, pinned, params, Settle::No)
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Settle {
+    Yes,
+    No,
 }
 
 /// Grids are coarsened while both sides keep at least this many points.
@@ -135,6 +152,7 @@ fn sweep_until_converged(
     rows: usize,
     pinned: &[bool],
     params: &RelaxParams,
+    settle: Settle,
 ) -> RelaxReport {
     let rest_diag = (params.rest_u_m * params.rest_u_m + params.rest_v_m * params.rest_v_m).sqrt();
     let min_rest = params.rest_u_m.min(params.rest_v_m);
@@ -148,7 +166,7 @@ fn sweep_until_converged(
     // Settling: the first sweeps also pull every free point down a little, fading
     // to nothing, so slack cloth hangs instead of staying where the approximation
     // left it; the remaining sweeps enforce the constraints alone.
-    let settle_sweeps = (params.max_iterations as f64 * SETTLE_FRACTION) as u32;
+    let settle_sweeps = if settle == Settle::Yes { (params.max_iterations as f64 * SETTLE_FRACTION) as u32 } else { 0 };
     for iteration in 0..params.max_iterations {
         let mut max_move2 = 0.0f64;
         let forwards = iteration % 2 == 0;
