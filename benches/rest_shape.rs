@@ -21,6 +21,7 @@ fn four_corner_key(n: u32) -> Key {
         stiffness: 0.2,
         relax: RelaxSettings { iterations: 200, tolerance: 1e-5 },
         ease: Ease::EaseInOut,
+        inbetween_relax: 0,
     }
 }
 

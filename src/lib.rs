@@ -23,6 +23,7 @@
 //! `(i, j)` has `i` along the width and `j = 0` on the top edge; vertex order
 //! is always `j·cols + i`.
 
+pub mod animate;
 pub mod atomic_file;
 pub mod export;
 pub mod mesh;

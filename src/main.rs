@@ -126,10 +126,7 @@ fn check(path: &Path) -> Result<()> {
     }
     println!("  layers    {}", scene.layers.len());
     for layer in &scene.layers {
-        let (kind, name, enabled) = match layer {
-            Layer::Sway(s) => ("Sway", &s.name, s.enabled),
-            Layer::Wave(w) => ("Wave", &w.name, w.enabled),
-        };
+        let (kind, name, enabled) = (layer.kind(), layer.name(), layer.enabled());
         println!("    {kind} \"{name}\"{}", if enabled { "" } else { " (disabled)" });
     }
     Ok(())

@@ -13,7 +13,7 @@ pub struct Mesh {
     pub cols: usize,
     pub rows: usize,
     pub positions: Vec<Vec3>,
-    /// Unit vertex normals (area-weighted); a vertex whose faces are all degenerate gets +Y.
+    /// Unit vertex normals (area-weighted, see [`grid_normals`]); a vertex whose faces are all degenerate gets +Y.
     pub normals: Vec<Vec3>,
     /// `(i/(cols−1), j/(rows−1))`.
     pub uvs: Vec<Vec2>,
@@ -31,7 +31,8 @@ impl Mesh {
         assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
         let positions: Vec<Vec3> = positions.iter().map(|p| p.as_vec3()).collect();
         let indices = grid_triangle_indices(cols, rows);
-        let normals = vertex_normals(&positions, &indices);
+        let mut normals = Vec::new();
+        grid_normals(&positions, cols, rows, &mut normals);
         let uvs = grid_uvs(cols, rows);
         Mesh { cols, rows, positions, normals, uvs, indices }
     }
@@ -71,21 +72,47 @@ pub fn grid_uvs(cols: usize, rows: usize) -> Vec<Vec2> {
     uvs
 }
 
-/// Area-weighted vertex normals; degenerate neighbourhoods get +Y rather than NaN.
-pub fn vertex_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::ZERO; positions.len()];
-    for tri in indices.chunks_exact(3) {
-        let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
-        // Unnormalised cross product: weights each face by its area.
-        let n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-        normals[a] += n;
-        normals[b] += n;
-        normals[c] += n;
+/// Unit vertex normals of a `cols × rows` grid, written into `out`: each
+/// vertex sums the area vectors of the (up to four) grid quads around it —
+/// a quad's from its diagonals, (c − b) × (d − a), which equals the sum of its
+/// two triangles' for a flat quad — oriented as `∂p/∂v × ∂p/∂u`. A vertex whose
+/// quads are all degenerate (or not finite) gets +Y rather than NaN.
+pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
+    assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
+    let (quad_cols, quad_rows) = (cols.saturating_sub(1), rows.saturating_sub(1));
+    // Area vectors of one row of quads, reused row by row: two rows in flight.
+    let mut above = vec![Vec3::ZERO; quad_cols];
+    let mut below = vec![Vec3::ZERO; quad_cols];
+    let quad_row = |j: usize, row: &mut Vec<Vec3>| {
+        for (i, area) in row.iter_mut().enumerate() {
+            let a = j * cols + i;
+            let (b, c, d) = (a + 1, a + cols, a + cols + 1);
+            *area = (positions[c] - positions[b]).cross(positions[d] - positions[a]);
+        }
+    };
+    out.clear();
+    out.reserve(cols * rows);
+    for j in 0..rows {
+        std::mem::swap(&mut above, &mut below);
+        if j < quad_rows {
+            quad_row(j, &mut below);
+        } else {
+            below.fill(Vec3::ZERO);
+        }
+        if j == 0 {
+            above.fill(Vec3::ZERO);
+        }
+        for i in 0..cols {
+            let mut n = Vec3::ZERO;
+            if i > 0 {
+                n += above[i - 1] + below[i - 1];
+            }
+            if i < quad_cols {
+                n += above[i] + below[i];
+            }
+            out.push(n.try_normalize().unwrap_or(Vec3::Y));
+        }
     }
-    for n in &mut normals {
-        *n = n.try_normalize().unwrap_or(Vec3::Y);
-    }
-    normals
 }
 
 #[cfg(test)]
@@ -118,6 +145,44 @@ mod tests {
         assert_eq!(mesh.uvs[1 * 3 + 2], Vec2::new(1.0, 1.0));
         assert_eq!(mesh.uvs[1], Vec2::new(0.5, 0.0));
         assert!(mesh.indices.iter().all(|&i| (i as usize) < 6));
+    }
+
+    #[test]
+    fn normals_follow_a_folded_grid() {
+        // One ridge along column 2: the flanks' normals tilt away from it.
+        let mut p = curtain(5, 3);
+        for (k, q) in p.iter_mut().enumerate() {
+            q.z = if k % 5 == 2 { 1.0 } else { 0.0 };
+        }
+        let mesh = Mesh::from_grid(5, 3, &p);
+        let middle = &mesh.normals[5..10];
+        assert!((middle[2] - Vec3::Z).length() < 1e-6, "a symmetric ridge points straight out");
+        assert!(middle[1].x < -0.3 && middle[3].x > 0.3, "{middle:?}");
+    }
+
+    #[test]
+    fn grid_normals_match_triangle_area_weights_on_a_curved_sheet() {
+        let (cols, rows) = (6, 5);
+        let p: Vec<Vec3> = (0..cols * rows)
+            .map(|k| {
+                let (i, j) = ((k % cols) as f32, (k / cols) as f32);
+                Vec3::new(i, -j, 0.1 * i * i - 0.05 * j * j)
+            })
+            .collect();
+        let indices = grid_triangle_indices(cols, rows);
+        let mut triangle_sum = vec![Vec3::ZERO; p.len()];
+        for t in indices.chunks_exact(3) {
+            let [a, b, c] = [t[0] as usize, t[1] as usize, t[2] as usize];
+            let n = (p[b] - p[a]).cross(p[c] - p[a]);
+            for v in [a, b, c] {
+                triangle_sum[v] += n;
+            }
+        }
+        let mut normals = Vec::new();
+        grid_normals(&p, cols, rows, &mut normals);
+        for (n, t) in normals.iter().zip(&triangle_sum) {
+            assert!(n.dot(t.normalize()) > 0.99, "{n} vs {t}");
+        }
     }
 
     #[test]

@@ -15,6 +15,7 @@ fn key(pins: &[((u32, u32), (f64, f64, f64))], elasticity: f64, stiffness: f64, 
         stiffness,
         relax: RelaxSettings { iterations, tolerance: 1e-5 },
         ease: Ease::EaseInOut,
+        inbetween_relax: 0,
     }
 }
 

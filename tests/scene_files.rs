@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, Ease, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene, SceneError, Sway, Timeline, Wave,
-    WaveAxis,
+    self, Cloth, Ease, FollowThrough, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene, SceneError, Sway,
+    Timeline, Wave, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -227,6 +227,10 @@ fn eases(scene: &Scene) -> Vec<Ease> {
             Layer::Wave(w) => {
                 params.extend([&w.weight, &w.magnitude, &w.frequency, &w.phase, &w.speed, &w.direction_deg, &w.falloff])
             }
+            Layer::Noise(n) => {
+                params.extend([&n.weight, &n.amplitude, &n.scale, &n.speed, &n.turbulence, &n.falloff]);
+            }
+            Layer::FollowThrough(f) => params.extend([&f.weight, &f.lag, &f.falloff]),
         }
     }
     for param in params {
@@ -252,6 +256,11 @@ fn the_reference_scene_exercises_every_variant() {
     assert!(axes.contains(&WaveAxis::Normal));
     assert!(axes.iter().any(|a| matches!(a, WaveAxis::Fixed(_))));
     assert!(scene.layers.iter().any(|l| matches!(l, Layer::Sway(s) if !s.enabled)));
+    for kind in ["Sway", "Wave", "Noise", "FollowThrough"] {
+        assert!(scene.layers.iter().any(|l| l.kind() == kind), "no {kind} layer in {VALID_FULL}");
+    }
+    assert_eq!(scene.keys[0].inbetween_relax, 20);
+    assert_eq!(scene.keys[1].inbetween_relax, 0, "the default");
     // Defaults fill what the file leaves out (the third key, the first Sway).
     assert_eq!(scene.keys[2].elasticity, 1.0);
     assert_eq!(scene.keys[2].stiffness, 0.2);
@@ -274,7 +283,23 @@ fn a_minimal_scene_gets_the_documented_defaults() {
     assert_eq!(scene.keys[0].stiffness, 0.2);
     assert_eq!(scene.keys[0].relax, RelaxSettings::default());
     assert_eq!(scene.keys[0].ease, Ease::EaseInOut);
+    assert_eq!(scene.keys[0].inbetween_relax, 0);
     assert!(scene.layers.is_empty());
+    let layers = "(version: 1, cloth: (size: (1.0, 1.0), grid: (2, 2)), \
+                  keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 1.0, 0.0))])], \
+                  layers: [Noise((amplitude: 0.1, direction: (1.0, 0.0, 0.0))), FollowThrough(())])";
+    let scene = scene::parse(layers, "layers").unwrap_or_else(|e| panic!("{e}"));
+    let Layer::Noise(noise) = &scene.layers[0] else { panic!("a Noise layer") };
+    assert_eq!(
+        (noise.scale.clone(), noise.speed.clone(), noise.turbulence.clone()),
+        (0.5.into(), 1.0.into(), 0.3.into())
+    );
+    assert_eq!((noise.octaves, noise.seed, noise.enabled), (2, 0, true));
+    let Layer::FollowThrough(follow) = &scene.layers[1] else { panic!("a FollowThrough layer") };
+    assert_eq!(
+        (follow.lag.clone(), follow.falloff.clone(), follow.weight.clone()),
+        (0.25.into(), 1.0.into(), 1.0.into())
+    );
 }
 
 #[test]
@@ -405,21 +430,58 @@ fn layer() -> impl Strategy<Value = Layer> {
                 falloff,
             })
         });
-    prop_oneof![sway, wave]
+    let noise = (
+        any::<String>(),
+        any::<bool>(),
+        [param(), param(), param(), param(), param(), param()],
+        vec3(),
+        (any::<u32>(), any::<u32>()),
+    )
+        .prop_map(
+            |(name, enabled, [weight, amplitude, scale, speed, turbulence, falloff], direction, (octaves, seed))| {
+                Layer::Noise(Noise {
+                    name,
+                    enabled,
+                    weight,
+                    amplitude,
+                    scale,
+                    speed,
+                    direction,
+                    turbulence,
+                    octaves,
+                    seed,
+                    falloff,
+                })
+            },
+        );
+    let follow = (any::<String>(), any::<bool>(), [param(), param(), param()]).prop_map(
+        |(name, enabled, [weight, lag, falloff])| {
+            Layer::FollowThrough(FollowThrough { name, enabled, weight, lag, falloff })
+        },
+    );
+    prop_oneof![sway, wave, noise, follow]
 }
 
 fn key() -> impl Strategy<Value = Key> {
     let pin = ((any::<u32>(), any::<u32>()), vec3()).prop_map(|(grid, pos)| Pin { grid, pos });
-    (any::<i32>(), proptest::collection::vec(pin, 0..4), finite(), finite(), (any::<u32>(), finite()), ease()).prop_map(
-        |(frame, pins, elasticity, stiffness, (iterations, tolerance), ease)| Key {
+    (
+        any::<i32>(),
+        proptest::collection::vec(pin, 0..4),
+        finite(),
+        finite(),
+        (any::<u32>(), finite()),
+        ease(),
+        any::<u32>(),
+    )
+        .prop_map(|(frame, pins, elasticity, stiffness, (iterations, tolerance), ease, inbetween_relax)| Key {
             frame,
             pins,
             elasticity,
             stiffness,
             relax: RelaxSettings { iterations, tolerance },
             ease,
-        },
-    )
+            inbetween_relax,
+        })
 }
 
 fn any_scene() -> impl Strategy<Value = Scene> {

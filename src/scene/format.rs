@@ -144,6 +144,7 @@ mod tests {
             stiffness: 0.0,
             relax: RelaxSettings { iterations: 0, tolerance: 1e-9 },
             ease,
+            inbetween_relax: 3,
         };
         let animated = Param::Keys(
             EVERY_EASE

@@ -112,7 +112,7 @@ mod tests {
         );
         assert_eq!(
             message(&with_layer("Swirl((magnitude: 1.0))")),
-            "t.ron:1:130: unknown layer `Swirl` (expected one of: Sway, Wave)"
+            "t.ron:1:130: unknown layer `Swirl` (expected one of: Sway, Wave, Noise, FollowThrough)"
         );
         assert_eq!(
             message(&with_layer("Wave((magnitude: 1.0, axis: Fixed((1.0, 0.0))))")),

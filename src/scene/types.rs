@@ -96,6 +96,12 @@ pub struct Key {
     /// Interpolation from this key towards the next one.
     #[serde(default)]
     pub ease: Ease,
+    /// Relaxation sweeps applied to each in-between of the segment from this
+    /// key to the next, starting from the vertex blend with the pins at their
+    /// interpolated positions: restores the cloth's length where straight
+    /// blending shortens it. 0 (the default) keeps the plain blend.
+    #[serde(default)]
+    pub inbetween_relax: u32,
 }
 
 pub fn default_elasticity() -> f64 {
@@ -153,6 +159,53 @@ pub enum Ease {
 pub enum Layer {
     Sway(Sway),
     Wave(Wave),
+    Noise(Noise),
+    FollowThrough(FollowThrough),
+}
+
+impl Layer {
+    /// The kind as written in the scene file (`Sway`, `Wave`, …).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Layer::Sway(_) => "Sway",
+            Layer::Wave(_) => "Wave",
+            Layer::Noise(_) => "Noise",
+            Layer::FollowThrough(_) => "FollowThrough",
+        }
+    }
+
+    pub fn name(&self) -> &str {
+        match self {
+            Layer::Sway(l) => &l.name,
+            Layer::Wave(l) => &l.name,
+            Layer::Noise(l) => &l.name,
+            Layer::FollowThrough(l) => &l.name,
+        }
+    }
+
+    pub fn enabled(&self) -> bool {
+        match self {
+            Layer::Sway(l) => l.enabled,
+            Layer::Wave(l) => l.enabled,
+            Layer::Noise(l) => l.enabled,
+            Layer::FollowThrough(l) => l.enabled,
+        }
+    }
+
+    pub fn weight(&self) -> &Param {
+        match self {
+            Layer::Sway(l) => &l.weight,
+            Layer::Wave(l) => &l.weight,
+            Layer::Noise(l) => &l.weight,
+            Layer::FollowThrough(l) => &l.weight,
+        }
+    }
+
+    /// The label used in messages: `Wave layer "ripple"`, or `Wave layer 2` when unnamed.
+    pub fn label(&self, index: usize) -> String {
+        let (kind, name) = (self.kind(), self.name());
+        if name.is_empty() { format!("{kind} layer {}", index + 1) } else { format!("{kind} layer {name:?}") }
+    }
 }
 
 fn default_true() -> bool {
@@ -163,6 +216,18 @@ fn default_one() -> Param {
 }
 fn default_zero() -> Param {
     Param::Constant(0.0)
+}
+fn default_noise_scale() -> Param {
+    Param::Constant(0.5)
+}
+fn default_turbulence() -> Param {
+    Param::Constant(0.3)
+}
+fn default_octaves() -> u32 {
+    2
+}
+fn default_lag() -> Param {
+    Param::Constant(0.25)
 }
 
 /// Paper eq. 2: displacement = a · magnitude · speed · normalize(direction) · osc(t).
@@ -230,4 +295,62 @@ pub enum WaveAxis {
     Normal,
     /// A fixed world vector (normalised when used); must not be zero.
     Fixed((f64, f64, f64)),
+}
+
+/// Wind gusts: smooth, seeded turbulence scrolling with the wind.
+///
+/// displacement = a · amplitude · ((1 − turbulence) · gust · normalize(direction)
+///                + turbulence · swirl), where gust ∈ [0, 1] and swirl ∈ [−1, 1]³
+/// are smooth noise sampled at (p − normalize(direction) · speed · t) / scale,
+/// p the point's position in the layer's input mesh. The same `seed` gives the
+/// same gusts on every machine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Noise {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    #[serde(default = "default_one")]
+    pub weight: Param,
+    /// Metres.
+    pub amplitude: Param,
+    /// Size of a gust in metres; greater than 0.
+    #[serde(default = "default_noise_scale")]
+    pub scale: Param,
+    /// Metres per second the gusts travel along `direction`.
+    #[serde(default = "default_one")]
+    pub speed: Param,
+    /// World wind direction; must not be zero.
+    pub direction: (f64, f64, f64),
+    /// Share in [0, 1] of the displacement that swirls in every direction
+    /// rather than pushing downwind.
+    #[serde(default = "default_turbulence")]
+    pub turbulence: Param,
+    /// Layers of detail, each at half the size and half the strength of the previous: 1 to 6.
+    #[serde(default = "default_octaves")]
+    pub octaves: u32,
+    #[serde(default)]
+    pub seed: u32,
+    #[serde(default = "default_one")]
+    pub falloff: Param,
+}
+
+/// Overlapping action without physics: a point far from the pins follows the
+/// keyed motion late. It moves by key_blend(t − lag · a) − key_blend(t), where
+/// key_blend is the vertex blend of the rest shapes and a = (d_cp/d_max)^falloff.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FollowThrough {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    #[serde(default = "default_one")]
+    pub weight: Param,
+    /// Seconds the farthest point trails behind the pins; at least 0.
+    #[serde(default = "default_lag")]
+    pub lag: Param,
+    #[serde(default = "default_one")]
+    pub falloff: Param,
 }

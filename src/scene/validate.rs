@@ -9,7 +9,7 @@ use std::collections::HashSet;
 use std::fmt;
 
 use super::param::Param;
-use super::types::{Ease, Key, Layer, Pin, Scene, Sway, Wave, WaveAxis};
+use super::types::{Ease, FollowThrough, Key, Layer, Noise, Pin, Scene, Sway, Wave, WaveAxis};
 
 /// The only scene file version this Drape reads.
 pub const SUPPORTED_VERSION: u32 = 1;
@@ -36,6 +36,16 @@ pub const MAX_STIFFNESS: f64 = 1.0;
 pub const MAX_RELAX_ITERATIONS: u32 = 100_000;
 /// Largest relaxation tolerance (a fraction of the grid spacing); it must also be > 0.
 pub const MAX_RELAX_TOLERANCE: f64 = 1.0;
+/// Most re-relaxation sweeps per in-between (each costs one sweep over the cloth per frame).
+pub const MAX_INBETWEEN_RELAX: u32 = 1000;
+/// Largest magnitude of any layer parameter: beyond it a value is a typo, not a look.
+pub const MAX_LAYER_VALUE: f64 = 1e6;
+/// Largest falloff exponent; it must also be ≥ 0.
+pub const MAX_FALLOFF: f64 = 16.0;
+/// Noise octaves lie in 1..=[`MAX_NOISE_OCTAVES`].
+pub const MAX_NOISE_OCTAVES: u32 = 6;
+/// Longest follow-through lag, in seconds.
+pub const MAX_LAG_SECS: f64 = 60.0;
 
 /// One problem found in a scene: the path of the offending value
 /// (`keys[0].pins[2].grid`, `layers[1].magnitude[0].value`) and a message in
@@ -261,6 +271,15 @@ impl Checker {
             );
         }
         self.ease(&format!("{path}.ease"), &format!("ease of {at}"), &key.ease);
+        if key.inbetween_relax > MAX_INBETWEEN_RELAX {
+            self.push(
+                format!("{path}.inbetween_relax"),
+                format!(
+                    "inbetween_relax {} in {at} is above the limit of {MAX_INBETWEEN_RELAX} sweeps",
+                    group_thousands(key.inbetween_relax.into())
+                ),
+            );
+        }
     }
 
     fn pin(&mut self, path: &str, pin: &Pin, at: &str, scene: &Scene, pinned: &mut HashSet<(u32, u32)>) {
@@ -306,6 +325,39 @@ impl Checker {
                     element,
                     format!("{what}: Bezier {name} = {v} is out of range: x1 and x2 must be between 0 and 1"),
                 );
+            }
+        }
+    }
+
+    /// A layer parameter: finite, within ±[`MAX_LAYER_VALUE`] and within `range` at every key.
+    fn layer_param(&mut self, path: &str, what: &str, param: &Param, range: Range) {
+        self.param(path, what, param);
+        let values: Vec<(String, f64)> = match param {
+            Param::Constant(v) => vec![(path.to_string(), *v)],
+            Param::Keys(keys) => {
+                keys.iter().enumerate().map(|(index, key)| (format!("{path}[{index}].value"), key.value)).collect()
+            }
+        };
+        for (value_path, v) in values {
+            if !v.is_finite() {
+                continue;
+            }
+            let message = match range {
+                Range::Any if v.abs() > MAX_LAYER_VALUE => {
+                    Some(format!("{what} {v} is out of range: it must be within ±{MAX_LAYER_VALUE:e}"))
+                }
+                Range::Any => None,
+                Range::Within(lo, hi, why) if !(lo..=hi).contains(&v) => {
+                    Some(format!("{what} {v} is out of range: it must be between {lo} and {hi}{why}"))
+                }
+                Range::Within(..) => None,
+                Range::Positive(hi) if !(v > 0.0 && v <= hi) => {
+                    Some(format!("{what} {v} is out of range: it must be greater than 0 and at most {hi:e}"))
+                }
+                Range::Positive(_) => None,
+            };
+            if let Some(message) = message {
+                self.push(value_path, message);
             }
         }
     }
@@ -363,39 +415,70 @@ impl Checker {
 
     fn layer(&mut self, index: usize, layer: &Layer) {
         let path = format!("layers[{index}]");
-        let (kind, name) = match layer {
-            Layer::Sway(sway) => ("Sway", &sway.name),
-            Layer::Wave(wave) => ("Wave", &wave.name),
+        let label = layer.label(index);
+        let param = |this: &mut Self, field: &str, value: &Param, range: Range| {
+            this.layer_param(&format!("{path}.{field}"), &format!("{label}: {field}"), value, range);
         };
-        let label =
-            if name.is_empty() { format!("{kind} layer {}", index + 1) } else { format!("{kind} layer {name:?}") };
-        let param = |this: &mut Self, field: &str, value: &Param| {
-            this.param(&format!("{path}.{field}"), &format!("{label}: {field}"), value);
-        };
+        param(self, "weight", layer.weight(), Range::Any);
+        let falloff = Range::Within(0.0, MAX_FALLOFF, "");
         match layer {
-            Layer::Sway(Sway { weight, magnitude, direction, speed, frequency, phase, falloff, .. }) => {
-                param(self, "weight", weight);
-                param(self, "magnitude", magnitude);
+            Layer::Sway(Sway { magnitude, direction, speed, frequency, phase, falloff: f, .. }) => {
+                param(self, "magnitude", magnitude, Range::Any);
                 self.direction(&format!("{path}.direction"), &format!("{label}: direction"), *direction, "sway along");
-                param(self, "speed", speed);
-                param(self, "frequency", frequency);
-                param(self, "phase", phase);
-                param(self, "falloff", falloff);
+                param(self, "speed", speed, Range::Any);
+                param(self, "frequency", frequency, Range::Any);
+                param(self, "phase", phase, Range::Any);
+                param(self, "falloff", f, falloff);
             }
-            Layer::Wave(Wave { weight, magnitude, frequency, phase, speed, direction_deg, axis, falloff, .. }) => {
-                param(self, "weight", weight);
-                param(self, "magnitude", magnitude);
-                param(self, "frequency", frequency);
-                param(self, "phase", phase);
-                param(self, "speed", speed);
-                param(self, "direction_deg", direction_deg);
+            Layer::Wave(Wave { magnitude, frequency, phase, speed, direction_deg, axis, falloff: f, .. }) => {
+                param(self, "magnitude", magnitude, Range::Any);
+                param(self, "frequency", frequency, Range::Any);
+                param(self, "phase", phase, Range::Any);
+                param(self, "speed", speed, Range::Any);
+                param(self, "direction_deg", direction_deg, Range::Any);
                 if let WaveAxis::Fixed(v) = axis {
                     self.direction(&format!("{path}.axis"), &format!("{label}: axis"), *v, "displace along");
                 }
-                param(self, "falloff", falloff);
+                param(self, "falloff", f, falloff);
+            }
+            Layer::Noise(Noise { amplitude, scale, speed, direction, turbulence, octaves, falloff: f, .. }) => {
+                param(self, "amplitude", amplitude, Range::Any);
+                param(self, "scale", scale, Range::Positive(MAX_LAYER_VALUE));
+                param(self, "speed", speed, Range::Any);
+                self.direction(&format!("{path}.direction"), &format!("{label}: direction"), *direction, "blow along");
+                param(
+                    self,
+                    "turbulence",
+                    turbulence,
+                    Range::Within(0.0, 1.0, " (0 pushes downwind only, 1 swirls only)"),
+                );
+                if !(1..=MAX_NOISE_OCTAVES).contains(octaves) {
+                    self.push(
+                        format!("{path}.octaves"),
+                        format!(
+                            "{label}: octaves {octaves} is out of range: it must be between 1 and {MAX_NOISE_OCTAVES}"
+                        ),
+                    );
+                }
+                param(self, "falloff", f, falloff);
+            }
+            Layer::FollowThrough(FollowThrough { lag, falloff: f, .. }) => {
+                param(self, "lag", lag, Range::Within(0.0, MAX_LAG_SECS, " seconds"));
+                param(self, "falloff", f, falloff);
             }
         }
     }
+}
+
+/// Allowed values of a layer parameter.
+#[derive(Clone, Copy)]
+enum Range {
+    /// Within ±[`MAX_LAYER_VALUE`].
+    Any,
+    /// In [lo, hi]; the text explains the range.
+    Within(f64, f64, &'static str),
+    /// In (0, hi].
+    Positive(f64),
 }
 
 #[cfg(test)]
@@ -416,6 +499,7 @@ mod tests {
                 stiffness: 0.2,
                 relax: RelaxSettings::default(),
                 ease: Ease::EaseInOut,
+                inbetween_relax: 0,
             }],
             layers: vec![],
         }

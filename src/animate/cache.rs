@@ -1,0 +1,218 @@
+//! Rest shapes cached by content: a key is relaxed once, however often it is
+//! evaluated, and editing one key rebuilds that key only.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use super::falloff::pin_distance_ratio;
+use crate::scene::{Cloth, Key, Scene};
+use crate::shape::{Placement, RestShape};
+
+/// What animation needs from one key, built once per distinct content.
+#[derive(Debug)]
+pub struct KeyShape {
+    /// Every modelling stage (network, approximation, relaxation) in f64.
+    pub rest: RestShape,
+    /// The relaxed surface as the mesh stores it, vertex order `j·cols + i`.
+    pub positions: Vec<Vec3>,
+    /// d_cp/d_max per vertex for this key's pins (0 at the pins, 1 farthest).
+    pub ratio: Vec<f32>,
+    /// Which vertices this key pins.
+    pub pinned: Vec<bool>,
+}
+
+impl KeyShape {
+    /// Relaxes `key` on `cloth` (the scene must be valid) and derives the rest.
+    pub fn build(cloth: &Cloth, key: &Key) -> KeyShape {
+        let rest = RestShape::build(cloth, key);
+        let positions = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
+        let ratio = pin_distance_ratio(cloth, &key.pins);
+        let pinned = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
+        KeyShape { rest, positions, ratio, pinned }
+    }
+}
+
+/// Everything that decides a key's rest shape, compared bit for bit (the
+/// key's frame and ease do not change its shape, so moving a key in time
+/// keeps its cache entry).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct ShapeInputs {
+    size_bits: (u64, u64),
+    grid: (u32, u32),
+    pins: Vec<((u32, u32), [u64; 3])>,
+    elasticity_bits: u64,
+    stiffness_bits: u64,
+    iterations: u32,
+    tolerance_bits: u64,
+}
+
+impl ShapeInputs {
+    fn of(cloth: &Cloth, key: &Key) -> ShapeInputs {
+        ShapeInputs {
+            size_bits: (cloth.size.0.to_bits(), cloth.size.1.to_bits()),
+            grid: cloth.grid,
+            pins: key
+                .pins
+                .iter()
+                .map(|p| (p.grid, [p.pos.0.to_bits(), p.pos.1.to_bits(), p.pos.2.to_bits()]))
+                .collect(),
+            elasticity_bits: key.elasticity.to_bits(),
+            stiffness_bits: key.stiffness.to_bits(),
+            iterations: key.relax.iterations,
+            tolerance_bits: key.relax.tolerance.to_bits(),
+        }
+    }
+}
+
+/// Shapes no key of the latest scene uses are kept for undo and toggling
+/// back, up to this many; the least recently used go first.
+pub const RETAINED_UNUSED_SHAPES: usize = 16;
+
+/// A content-addressed store of [`KeyShape`]s.
+#[derive(Debug, Default)]
+pub struct RestShapeCache {
+    entries: HashMap<ShapeInputs, Entry>,
+    /// Counts calls to [`RestShapeCache::shapes`]; entries remember the last one that used them.
+    generation: u64,
+    builds: u64,
+}
+
+#[derive(Debug)]
+struct Entry {
+    shape: Arc<KeyShape>,
+    last_used: u64,
+}
+
+impl RestShapeCache {
+    pub fn new() -> RestShapeCache {
+        RestShapeCache::default()
+    }
+
+    /// The shape of every key of `scene`, in key order, building the ones not
+    /// cached yet. The scene must be valid.
+    pub fn shapes(&mut self, scene: &Scene) -> Vec<Arc<KeyShape>> {
+        self.generation += 1;
+        let shapes = scene.keys.iter().map(|key| self.shape(&scene.cloth, key)).collect();
+        self.evict();
+        shapes
+    }
+
+    /// The shape of one key, built if it is not cached.
+    pub fn shape(&mut self, cloth: &Cloth, key: &Key) -> Arc<KeyShape> {
+        let generation = self.generation;
+        let inputs = ShapeInputs::of(cloth, key);
+        if let Some(entry) = self.entries.get_mut(&inputs) {
+            entry.last_used = generation;
+            return entry.shape.clone();
+        }
+        let shape = Arc::new(KeyShape::build(cloth, key));
+        self.builds += 1;
+        self.entries.insert(inputs, Entry { shape: shape.clone(), last_used: generation });
+        shape
+    }
+
+    /// How many shapes have been built (relaxations run) so far.
+    pub fn builds(&self) -> u64 {
+        self.builds
+    }
+
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Drops the least recently used entries beyond those of the current
+    /// generation plus [`RETAINED_UNUSED_SHAPES`].
+    fn evict(&mut self) {
+        let current = self.generation;
+        let mut unused: Vec<(u64, ShapeInputs)> = self
+            .entries
+            .iter()
+            .filter(|(_, e)| e.last_used != current)
+            .map(|(k, e)| (e.last_used, k.clone()))
+            .collect();
+        if unused.len() <= RETAINED_UNUSED_SHAPES {
+            return;
+        }
+        unused.sort_by_key(|(last_used, _)| *last_used);
+        let excess = unused.len() - RETAINED_UNUSED_SHAPES;
+        for (_, inputs) in unused.into_iter().take(excess) {
+            self.entries.remove(&inputs);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Ease, Pin, RelaxSettings, Timeline};
+
+    fn key(frame: i32, height: f64) -> Key {
+        Key {
+            frame,
+            pins: vec![Pin { grid: (0, 0), pos: (-0.5, height, 0.0) }, Pin { grid: (8, 0), pos: (0.5, height, 0.0) }],
+            elasticity: 1.1,
+            stiffness: 0.2,
+            relax: RelaxSettings { iterations: 20, tolerance: 1e-4 },
+            ease: Ease::EaseInOut,
+            inbetween_relax: 0,
+        }
+    }
+
+    fn scene(keys: Vec<Key>) -> Scene {
+        Scene {
+            version: 1,
+            name: String::new(),
+            cloth: Cloth { size: (1.0, 1.0), grid: (9, 9) },
+            timeline: Timeline::default(),
+            keys,
+            layers: vec![],
+        }
+    }
+
+    #[test]
+    fn editing_one_key_rebuilds_only_that_key() {
+        let mut cache = RestShapeCache::new();
+        let mut s = scene(vec![key(0, 1.0), key(24, 1.2), key(48, 1.4)]);
+        let first = cache.shapes(&s);
+        assert_eq!(cache.builds(), 3);
+        cache.shapes(&s);
+        assert_eq!(cache.builds(), 3, "nothing changed, nothing rebuilt");
+        s.keys[1].pins[0].pos.1 = 1.25;
+        let second = cache.shapes(&s);
+        assert_eq!(cache.builds(), 4);
+        assert!(Arc::ptr_eq(&first[0], &second[0]) && Arc::ptr_eq(&first[2], &second[2]));
+        assert!(!Arc::ptr_eq(&first[1], &second[1]));
+        // Timing and easing do not change a shape.
+        s.keys[1].frame = 30;
+        s.keys[1].ease = Ease::Bounce;
+        cache.shapes(&s);
+        assert_eq!(cache.builds(), 4);
+    }
+
+    #[test]
+    fn equal_keys_share_one_shape() {
+        let mut cache = RestShapeCache::new();
+        let shapes = cache.shapes(&scene(vec![key(0, 1.0), key(24, 1.0)]));
+        assert_eq!(cache.builds(), 1);
+        assert!(Arc::ptr_eq(&shapes[0], &shapes[1]));
+    }
+
+    #[test]
+    fn unused_shapes_are_evicted_beyond_the_retained_count() {
+        let mut cache = RestShapeCache::new();
+        for step in 0..RETAINED_UNUSED_SHAPES + 5 {
+            cache.shapes(&scene(vec![key(0, 1.0 + step as f64 * 0.01)]));
+        }
+        assert_eq!(cache.len(), RETAINED_UNUSED_SHAPES + 1);
+        // The most recent edits are still there: undoing one step costs nothing.
+        let builds = cache.builds();
+        cache.shapes(&scene(vec![key(0, 1.0 + (RETAINED_UNUSED_SHAPES + 3) as f64 * 0.01)]));
+        assert_eq!(cache.builds(), builds);
+    }
+}

@@ -1,0 +1,143 @@
+//! `evaluate(scene, t)`: the one path from a scene and a time to a mesh.
+//!
+//! It blends the two rest shapes around t (cached per key by content), then
+//! applies the layer stack in order. Nothing depends on an earlier frame, so
+//! the same t gives a bit-identical mesh however it was reached, and the cost
+//! does not grow with t.
+
+use glam::Vec3;
+
+use super::blend::{blend_segment, segment_at};
+use super::cache::RestShapeCache;
+use super::track::sample;
+use super::wave::WaveTables;
+use super::{follow_through, gusts, sway, wave};
+use crate::mesh::{Mesh, grid_normals, grid_triangle_indices, grid_uvs};
+use crate::scene::{Layer, Scene, Timeline};
+
+/// What to include in an evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EvaluateOptions {
+    /// Apply the layer stack (false: the blended rest shapes alone).
+    pub layers: bool,
+}
+
+impl Default for EvaluateOptions {
+    fn default() -> Self {
+        EvaluateOptions { layers: true }
+    }
+}
+
+/// The time in seconds of a (possibly fractional) frame: frame / fps.
+pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
+    frame / timeline.fps
+}
+
+/// Evaluates scenes, keeping the rest-shape cache and scratch buffers
+/// between calls. Its results equal [`evaluate`]'s bit for bit: the cache only
+/// saves work.
+#[derive(Debug, Default)]
+pub struct Evaluator {
+    cache: RestShapeCache,
+    ratio: Vec<f32>,
+    normals: Vec<Vec3>,
+    wave_tables: WaveTables,
+}
+
+impl Evaluator {
+    pub fn new() -> Evaluator {
+        Evaluator::default()
+    }
+
+    pub fn cache(&self) -> &RestShapeCache {
+        &self.cache
+    }
+
+    /// The mesh of `scene` at `t_secs`, with every layer.
+    pub fn evaluate(&mut self, scene: &Scene, t_secs: f64) -> Mesh {
+        self.evaluate_with(scene, t_secs, EvaluateOptions::default())
+    }
+
+    pub fn evaluate_with(&mut self, scene: &Scene, t_secs: f64, options: EvaluateOptions) -> Mesh {
+        let mut mesh =
+            Mesh { cols: 0, rows: 0, positions: Vec::new(), normals: Vec::new(), uvs: Vec::new(), indices: Vec::new() };
+        self.evaluate_into(scene, t_secs, options, &mut mesh);
+        mesh
+    }
+
+    /// Writes the mesh of `scene` at `t_secs` into `mesh`, reusing its
+    /// buffers (UVs and indices are only rewritten when the grid changes, so
+    /// `mesh` should only be written by this evaluator).
+    ///
+    /// The scene must be valid ([`Scene::validate`]). A non-finite `t_secs`
+    /// evaluates as the first key held.
+    pub fn evaluate_into(&mut self, scene: &Scene, t_secs: f64, options: EvaluateOptions, mesh: &mut Mesh) {
+        let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
+        if mesh.cols != cols || mesh.rows != rows || mesh.indices.len() != (cols - 1) * (rows - 1) * 6 {
+            mesh.cols = cols;
+            mesh.rows = rows;
+            mesh.uvs = grid_uvs(cols, rows);
+            mesh.indices = grid_triangle_indices(cols, rows);
+        }
+        let t_secs = if t_secs.is_finite() { t_secs } else { f64::NEG_INFINITY };
+        let frame = t_secs * scene.timeline.fps;
+        if scene.keys.is_empty() {
+            // Only reachable with an unvalidated scene: lay the cloth out flat.
+            mesh.positions.clear();
+            mesh.positions.extend((0..rows).flat_map(|j| {
+                (0..cols).map(move |i| {
+                    let (u, v) = scene.cloth.material_uv(i, j);
+                    Vec3::new(u as f32, 0.0, v as f32)
+                })
+            }));
+        } else {
+            let shapes = self.cache.shapes(scene);
+            let segment = segment_at(&scene.keys, frame);
+            blend_segment(&scene.keys, &shapes, segment, &mut mesh.positions, &mut self.ratio);
+            if options.layers {
+                let spacing_m = (scene.cloth.spacing_u_m(), scene.cloth.spacing_v_m());
+                for layer in scene.layers.iter().filter(|l| l.enabled()) {
+                    let weight = sample(layer.weight(), frame);
+                    if weight == 0.0 || !weight.is_finite() {
+                        continue;
+                    }
+                    let (ratio, positions) = (&self.ratio[..], &mut mesh.positions[..]);
+                    match layer {
+                        Layer::Sway(s) => sway::apply(s, frame, t_secs, weight, ratio, positions),
+                        Layer::Wave(w) => wave::apply(
+                            w,
+                            frame,
+                            t_secs,
+                            weight,
+                            spacing_m,
+                            (cols, rows),
+                            ratio,
+                            positions,
+                            &mut self.wave_tables,
+                            &mut self.normals,
+                        ),
+                        Layer::Noise(n) => gusts::apply(n, frame, t_secs, weight, ratio, positions),
+                        Layer::FollowThrough(f) => follow_through::apply(
+                            f,
+                            &scene.keys,
+                            &shapes,
+                            scene.timeline.fps,
+                            frame,
+                            weight,
+                            ratio,
+                            positions,
+                        ),
+                    }
+                }
+            }
+        }
+        grid_normals(&mesh.positions, cols, rows, &mut mesh.normals);
+    }
+}
+
+/// The mesh of `scene` at `t_secs`: rest shapes blended under the segment's
+/// easing, then every enabled layer in order. A pure function of its inputs;
+/// it relaxes every key, so interactive callers keep an [`Evaluator`] instead.
+pub fn evaluate(scene: &Scene, t_secs: f64) -> Mesh {
+    Evaluator::new().evaluate(scene, t_secs)
+}

@@ -1,0 +1,93 @@
+//! The pin-distance attenuation of the paper's eqs. 2 and 4:
+//! a = (d_cp / d_max)^falloff, with d_cp measured in material space (u, v).
+
+use crate::scene::{Cloth, Pin};
+
+/// d_cp/d_max for every grid point of `cloth` (vertex order `j·cols + i`):
+/// the material distance to the closest of `pins`, over its largest value on
+/// the cloth. Exactly 0 at the pins, 1 at the farthest point. With no pins, or
+/// when every point is pinned, the field is all zeros (nothing may move).
+pub fn pin_distance_ratio(cloth: &Cloth, pins: &[Pin]) -> Vec<f32> {
+    let (cols, rows) = (cloth.cols(), cloth.rows());
+    let (du, dv) = (cloth.spacing_u_m(), cloth.spacing_v_m());
+    let pins_uv: Vec<(f64, f64)> = pins.iter().map(|p| (f64::from(p.grid.0) * du, f64::from(p.grid.1) * dv)).collect();
+    let mut distance = Vec::with_capacity(cols * rows);
+    for j in 0..rows {
+        let v = j as f64 * dv;
+        for i in 0..cols {
+            let u = i as f64 * du;
+            let closest2 =
+                pins_uv.iter().map(|&(pu, pv)| (u - pu) * (u - pu) + (v - pv) * (v - pv)).fold(f64::INFINITY, f64::min);
+            distance.push(closest2.sqrt());
+        }
+    }
+    let d_max = distance.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
+    if d_max <= 0.0 {
+        return vec![0.0; cols * rows];
+    }
+    distance.iter().map(|&d| if d.is_finite() { (d / d_max) as f32 } else { 0.0 }).collect()
+}
+
+/// a = ratio^falloff for a ratio in [0, 1]. A point with ratio 0 is held by
+/// a pin and never moves, whatever the exponent (so 0^0 is 0 here); a
+/// negative or NaN ratio counts as 0; falloff is clamped to ≥ 0.
+#[inline]
+pub fn attenuation(ratio: f32, falloff: f32) -> f32 {
+    if !(ratio > 0.0) {
+        return 0.0;
+    }
+    if falloff == 1.0 { ratio } else { ratio.powf(falloff.max(0.0)) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pin(i: u32, j: u32) -> Pin {
+        Pin { grid: (i, j), pos: (0.0, 0.0, 0.0) }
+    }
+
+    #[test]
+    fn ratio_is_zero_at_pins_and_one_at_the_farthest_point() {
+        let cloth = Cloth { size: (2.0, 1.0), grid: (5, 3) };
+        let ratio = pin_distance_ratio(&cloth, &[pin(0, 0), pin(4, 0)]);
+        assert_eq!(ratio[0], 0.0);
+        assert_eq!(ratio[4], 0.0);
+        // The farthest points from both top corners: bottom middle (2, 2) at √(1² + 1²).
+        assert_eq!(ratio[2 * 5 + 2], 1.0);
+        // (1, 0): 0.5 m from the left pin.
+        assert!((ratio[1] - (0.5 / 2f64.sqrt()) as f32).abs() < 1e-7);
+        assert!(ratio.iter().all(|r| (0.0..=1.0).contains(r)));
+    }
+
+    #[test]
+    fn distance_is_measured_in_material_space() {
+        // Non-square spacing: 0.5 m along u, 0.25 m along v.
+        let cloth = Cloth { size: (1.0, 0.5), grid: (3, 3) };
+        let ratio = pin_distance_ratio(&cloth, &[pin(0, 0)]);
+        let d_max = (1.0f64 + 0.25).sqrt();
+        assert!((ratio[1] - (0.5 / d_max) as f32).abs() < 1e-7);
+        assert!((ratio[3] - (0.25 / d_max) as f32).abs() < 1e-7);
+    }
+
+    #[test]
+    fn fully_pinned_or_pinless_cloth_has_a_zero_field() {
+        let cloth = Cloth { size: (1.0, 1.0), grid: (2, 2) };
+        assert_eq!(pin_distance_ratio(&cloth, &[pin(0, 0), pin(1, 0), pin(0, 1), pin(1, 1)]), vec![0.0; 4]);
+        assert_eq!(pin_distance_ratio(&cloth, &[]), vec![0.0; 4]);
+    }
+
+    #[test]
+    fn attenuation_keeps_pins_still_for_any_exponent() {
+        assert_eq!(attenuation(0.0, 0.0), 0.0);
+        assert_eq!(attenuation(0.0, 2.0), 0.0);
+        assert_eq!(attenuation(-0.5, 1.0), 0.0);
+        assert_eq!(attenuation(f32::NAN, 1.0), 0.0);
+        assert_eq!(attenuation(0.25, 1.0), 0.25);
+        assert_eq!(attenuation(0.5, 2.0), 0.25);
+        assert_eq!(attenuation(0.5, 0.0), 1.0);
+        assert_eq!(attenuation(0.5, -1.0), 1.0, "negative exponents clamp to 0");
+        assert_eq!(attenuation(1.0, f32::INFINITY), 1.0);
+        assert_eq!(attenuation(0.5, f32::NAN), 1.0, "a NaN exponent counts as 0");
+    }
+}

@@ -1,0 +1,27 @@
+//! The animation phase (paper §3.2–3.3), pure math: easing, animated
+//! parameters, pin-distance falloff, key blending and the layer stack,
+//! joined by [`evaluate`].
+//!
+//! - [`ease`]: the interpolation curves of segments and parameter keys.
+//! - [`track`]: the value of an animated parameter at a frame.
+//! - [`falloff`]: a = (d_cp/d_max)^falloff in material space.
+//! - [`cache`]: rest shapes cached per key by content.
+//! - [`blend`]: in-betweens: which keys surround a frame, and their blend.
+//! - [`sway`], [`wave`], [`gusts`], [`follow_through`]: the layers.
+//! - [`noise`]: the seeded value noise behind the gusts.
+//! - [`evaluate`](mod@evaluate): scene + time → mesh.
+
+pub mod blend;
+pub mod cache;
+pub mod ease;
+pub mod evaluate;
+pub mod falloff;
+pub mod follow_through;
+pub mod gusts;
+pub mod noise;
+pub mod sway;
+pub mod track;
+pub mod wave;
+
+pub use cache::{KeyShape, RestShapeCache};
+pub use evaluate::{EvaluateOptions, Evaluator, evaluate, frame_time_secs};

@@ -1,0 +1,34 @@
+//! The Sway layer, paper eq. 2 as DESIGN.md writes it:
+//! displacement = a · magnitude · speed · normalize(direction) · osc(t),
+//! osc = sin(2π·frequency·t + phase) when frequency > 0, else 1.
+
+use glam::{DVec3, Vec3};
+
+use super::falloff::attenuation;
+use super::track::sample;
+use crate::scene::Sway;
+
+/// The whole-cloth displacement before attenuation (metres), weight included.
+/// A zero or non-finite direction gives no displacement.
+pub fn displacement(sway: &Sway, frame: f64, t_secs: f64, weight: f64) -> DVec3 {
+    let frequency_hz = sample(&sway.frequency, frame);
+    let osc = if frequency_hz > 0.0 {
+        (std::f64::consts::TAU * frequency_hz * t_secs + sample(&sway.phase, frame)).sin()
+    } else {
+        1.0
+    };
+    let direction = DVec3::new(sway.direction.0, sway.direction.1, sway.direction.2).normalize_or_zero();
+    direction * (weight * sample(&sway.magnitude, frame) * sample(&sway.speed, frame) * osc)
+}
+
+/// Adds the sway to `positions`, attenuated per vertex by `ratio` (d_cp/d_max).
+pub fn apply(sway: &Sway, frame: f64, t_secs: f64, weight: f64, ratio: &[f32], positions: &mut [Vec3]) {
+    let d = displacement(sway, frame, t_secs, weight).as_vec3();
+    let falloff = sample(&sway.falloff, frame) as f32;
+    if d == Vec3::ZERO || !d.is_finite() {
+        return;
+    }
+    for (p, &r) in positions.iter_mut().zip(ratio) {
+        *p += d * attenuation(r, falloff);
+    }
+}

@@ -1,0 +1,93 @@
+//! The Wave layer, paper eqs. 3–4 as DESIGN.md writes it:
+//! displacement = a · magnitude · sin(x·frequency + phase + t·speed) along
+//! `axis`, with x = u·cos(direction) + v·sin(direction) the material
+//! coordinate along the wave. No azimuth (the paper leaves it out).
+//!
+//! The argument is a sum of a column term and a row term, so the sine is
+//! built from one table per column and one per row by the angle-addition
+//! formula: two multiplies per vertex instead of a sine, and the time term,
+//! reduced in f64, keeps its precision at any t.
+
+use glam::Vec3;
+
+use super::falloff::attenuation;
+use super::track::sample;
+use crate::mesh::grid_normals;
+use crate::scene::{Wave, WaveAxis};
+
+/// Per-column and per-row sines and cosines of the wave's argument.
+#[derive(Debug, Default)]
+pub struct WaveTables {
+    column_sin: Vec<f32>,
+    column_cos: Vec<f32>,
+    row_sin: Vec<f32>,
+    row_cos: Vec<f32>,
+}
+
+impl WaveTables {
+    /// Fills the tables: column i contributes u_i·cos(dir)·frequency, row j
+    /// contributes v_j·sin(dir)·frequency + phase + t·speed.
+    fn fill(&mut self, wave: &Wave, frame: f64, t_secs: f64, spacing_m: (f64, f64), grid: (usize, usize)) {
+        let frequency = sample(&wave.frequency, frame);
+        let direction = sample(&wave.direction_deg, frame).to_radians();
+        let offset = (sample(&wave.phase, frame) + t_secs * sample(&wave.speed, frame)) % std::f64::consts::TAU;
+        let along_u = direction.cos() * frequency * spacing_m.0;
+        let along_v = direction.sin() * frequency * spacing_m.1;
+        let fill = |sin: &mut Vec<f32>, cos: &mut Vec<f32>, n: usize, step: f64, offset: f64| {
+            sin.clear();
+            cos.clear();
+            for k in 0..n {
+                let (s, c) = (k as f64 * step + offset).sin_cos();
+                sin.push(s as f32);
+                cos.push(c as f32);
+            }
+        };
+        fill(&mut self.column_sin, &mut self.column_cos, grid.0, along_u, 0.0);
+        fill(&mut self.row_sin, &mut self.row_cos, grid.1, along_v, offset);
+    }
+}
+
+/// Adds the wave to the `cols × rows` grid `positions`, attenuated per vertex
+/// by `ratio` (d_cp/d_max). `normals` is scratch space for the input mesh's
+/// normals when the wave displaces along them.
+#[allow(clippy::too_many_arguments)]
+pub fn apply(
+    wave: &Wave,
+    frame: f64,
+    t_secs: f64,
+    weight: f64,
+    spacing_m: (f64, f64),
+    grid: (usize, usize),
+    ratio: &[f32],
+    positions: &mut [Vec3],
+    tables: &mut WaveTables,
+    normals: &mut Vec<Vec3>,
+) {
+    let (cols, rows) = grid;
+    let amplitude = (weight * sample(&wave.magnitude, frame)) as f32;
+    let falloff = sample(&wave.falloff, frame) as f32;
+    if amplitude == 0.0 || !amplitude.is_finite() {
+        return;
+    }
+    tables.fill(wave, frame, t_secs, spacing_m, grid);
+    let fixed_axis = match wave.axis {
+        WaveAxis::Normal => {
+            grid_normals(positions, cols, rows, normals);
+            None
+        }
+        WaveAxis::Fixed((x, y, z)) => Some(Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero()),
+    };
+    for j in 0..rows {
+        let (row_sin, row_cos) = (tables.row_sin[j], tables.row_cos[j]);
+        for i in 0..cols {
+            let k = j * cols + i;
+            // sin(A + B) = sin A cos B + cos A sin B.
+            let wave_sin = tables.column_sin[i] * row_cos + tables.column_cos[i] * row_sin;
+            let along = match fixed_axis {
+                Some(axis) => axis,
+                None => normals[k],
+            };
+            positions[k] += along * (amplitude * wave_sin * attenuation(ratio[k], falloff));
+        }
+    }
+}
