@@ -1,14 +1,16 @@
-//! The `drape` command line: check scenes and export their rest shapes.
+//! The `drape` command line: check scenes and export their rest shapes and animation.
 
+use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Result, anyhow, bail};
 use clap::{Parser, Subcommand, ValueEnum};
+use drape::animate::blend::relaxed_inbetween;
+use drape::animate::{EvaluateOptions, Evaluator, frame_time_secs};
 use drape::export::{write_atomically, write_obj};
 use drape::mesh::Mesh;
-use drape::scene::{self, Key, Layer, Scene};
-use drape::shape::RestShape;
+use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis};
 use drape::shape::relax::mean_structural_error;
 
 #[derive(Parser)]
@@ -26,22 +28,28 @@ enum Command {
         /// The scene file (.ron).
         scene: PathBuf,
     },
-    /// Write the cloth of the key in effect at a frame as a Wavefront OBJ.
+    /// Write the cloth at a frame as a Wavefront OBJ, or a numbered OBJ sequence for a frame range.
     Export {
         /// The scene file (.ron).
         scene: PathBuf,
-        /// Output file (.obj).
+        /// Output file (.obj) with --frame; output directory with --frames.
         #[arg(short, long)]
         output: PathBuf,
-        /// Frame whose key is exported (the last key at or before it; the first key before that).
-        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
-        frame: i32,
-        /// Output format; by default it follows the output's extension.
+        /// Frame to export.
+        #[arg(long, allow_negative_numbers = true, conflicts_with = "frames")]
+        frame: Option<i32>,
+        /// Frame range A..B, both ends included: writes OUT/NAME_FRAME.obj for each frame.
+        #[arg(long, value_parser = parse_frame_range, allow_hyphen_values = true)]
+        frames: Option<FrameRange>,
+        /// Output format; by default it follows the output's extension (obj for a sequence).
         #[arg(long, value_enum)]
         format: Option<Format>,
-        /// Modelling stage: before relaxation (approx) or after it (relaxed).
-        #[arg(long, value_enum, default_value_t = Stage::Relaxed)]
+        /// What to export: the animated cloth, or the key in effect before (approx) or after (relaxed) relaxation.
+        #[arg(long, value_enum, default_value_t = Stage::Animated)]
         stage: Stage,
+        /// Animated stage only: the blended rest shapes without the layer stack.
+        #[arg(long)]
+        no_layers: bool,
     },
 }
 
@@ -52,17 +60,41 @@ enum Format {
 
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
 enum Stage {
-    /// The surface approximated from the catenary network.
+    /// The surface approximated from the catenary network of the key in effect.
     Approx,
-    /// The rest shape after relaxation.
+    /// The rest shape of the key in effect, after relaxation.
     Relaxed,
+    /// The full animation: blended rest shapes and the layer stack.
+    Animated,
+}
+
+/// An inclusive frame range `A..B`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FrameRange {
+    first: i32,
+    last: i32,
+}
+
+fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
+    let (a, b) =
+        text.split_once("..").ok_or_else(|| format!("`{text}` is not a range: write it as A..B, e.g. 0..120"))?;
+    let number =
+        |s: &str| s.trim().parse::<i32>().map_err(|_| format!("`{s}` in `{text}` is not a whole frame number"));
+    let (first, last) = (number(a)?, number(b.strip_prefix('=').unwrap_or(b))?);
+    if first > last {
+        return Err(format!("the range {text} ends before it starts: write the smaller frame first"));
+    }
+    Ok(FrameRange { first, last })
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Check { scene } => check(&scene),
-        Command::Export { scene, output, frame, format, stage } => export(&scene, &output, frame, format, stage),
+        Command::Export { scene, output, frame, frames, format, stage, no_layers } => {
+            let request = ExportRequest { frame, frames, format, stage, layers: !no_layers };
+            export(&scene, &output, request)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -98,19 +130,19 @@ fn check(path: &Path) -> Result<()> {
         (tl.end - tl.start) as f64 / tl.fps
     );
     println!("  keys      {}", scene.keys.len());
-    for key in &scene.keys {
-        let shape = RestShape::build(cloth, key);
-        let error =
-            mean_structural_error(&shape.relaxed, cloth.cols(), cloth.rows(), shape.rest_u_m(), shape.rest_v_m());
-        let report = shape.relax_report;
+    let mut evaluator = Evaluator::new();
+    let shapes: Vec<_> = scene.keys.iter().map(|key| evaluator.key_shape(cloth, key)).collect();
+    for (index, (key, shape)) in scene.keys.iter().zip(&shapes).enumerate() {
+        let rest = &shape.rest;
+        let error = mean_structural_error(&rest.relaxed, cloth.cols(), cloth.rows(), rest.rest_u_m(), rest.rest_v_m());
+        let report = rest.relax_report;
         println!(
-            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}, ease {:?}; relaxed in {} sweep{} ({}), mean edge error {:.2}%",
+            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}; relaxed in {} sweep{} ({}), mean edge error {:.2}%",
             key.frame,
             key.pins.len(),
             if key.pins.len() == 1 { "" } else { "s" },
             key.elasticity,
             key.stiffness,
-            key.ease,
             report.iterations,
             if report.iterations == 1 { "" } else { "s" },
             if report.converged {
@@ -123,13 +155,104 @@ fn check(path: &Path) -> Result<()> {
         for warning in stretched_pin_warnings(&scene, key) {
             println!("      warning: {warning}");
         }
+        if let Some(next) = scene.keys.get(index + 1) {
+            println!("      → frame {}: {}", next.frame, segment_summary(&scene, index, &shapes));
+        }
     }
     println!("  layers    {}", scene.layers.len());
-    for layer in &scene.layers {
-        let (kind, name, enabled) = (layer.kind(), layer.name(), layer.enabled());
-        println!("    {kind} \"{name}\"{}", if enabled { "" } else { " (disabled)" });
+    for (index, layer) in scene.layers.iter().enumerate() {
+        println!(
+            "    {}{}: {}",
+            layer.label(index),
+            if layer.enabled() { "" } else { " (disabled)" },
+            layer_parameters(layer)
+        );
     }
     Ok(())
+}
+
+/// The easing of a segment and how much straight blending shortens the cloth
+/// halfway through it, with and without the in-between relaxation.
+fn segment_summary(scene: &Scene, from: usize, shapes: &[std::sync::Arc<drape::animate::KeyShape>]) -> String {
+    let cloth = &scene.cloth;
+    let (key_a, key_b) = (&scene.keys[from], &scene.keys[from + 1]);
+    let (a, b) = (&shapes[from], &shapes[from + 1]);
+    let elasticity = 0.5 * (key_a.elasticity + key_b.elasticity);
+    let (rest_u, rest_v) = (cloth.spacing_u_m() * elasticity, cloth.spacing_v_m() * elasticity);
+    let halfway: Vec<glam::DVec3> = a.rest.relaxed.iter().zip(&b.rest.relaxed).map(|(p, q)| (*p + *q) * 0.5).collect();
+    let plain = mean_structural_error(&halfway, cloth.cols(), cloth.rows(), rest_u, rest_v);
+    let mut text = format!("ease {:?}; halfway blend mean edge error {:.2}%", key_a.ease, plain * 100.0);
+    if key_a.inbetween_relax > 0 {
+        let mut relaxed = Vec::new();
+        relaxed_inbetween(key_a, key_b, a, b, 0.5, key_a.inbetween_relax, &mut relaxed);
+        let relaxed: Vec<glam::DVec3> = relaxed.iter().map(|p| p.as_dvec3()).collect();
+        let error = mean_structural_error(&relaxed, cloth.cols(), cloth.rows(), rest_u, rest_v);
+        text += &format!(", {:.2}% after {} in-between sweeps", error * 100.0, key_a.inbetween_relax);
+    }
+    text
+}
+
+/// A parameter with its unit, as `0.2 m` or `0 → 0.05 m (frames 0..48, 2 keys)`.
+fn describe_param(param: &Param, unit: &str) -> String {
+    match param {
+        Param::Constant(v) => format!("{v}{unit}"),
+        Param::Keys(keys) => match (keys.first(), keys.last()) {
+            (Some(first), Some(last)) if keys.len() > 1 => format!(
+                "{} → {}{unit} (frames {}..{}, {} keys)",
+                first.value,
+                last.value,
+                first.frame,
+                last.frame,
+                keys.len()
+            ),
+            (Some(only), _) => format!("{}{unit}", only.value),
+            _ => "no keys".to_string(),
+        },
+    }
+}
+
+fn layer_parameters(layer: &Layer) -> String {
+    let p = describe_param;
+    let v = |d: (f64, f64, f64)| format!("({}, {}, {})", d.0, d.1, d.2);
+    let weight = p(layer.weight(), "");
+    let specific = match layer {
+        Layer::Sway(s) => format!(
+            "magnitude {}, direction {}, speed {}, frequency {}, phase {}, falloff {}",
+            p(&s.magnitude, " m"),
+            v(s.direction),
+            p(&s.speed, ""),
+            p(&s.frequency, " Hz"),
+            p(&s.phase, " rad"),
+            p(&s.falloff, "")
+        ),
+        Layer::Wave(w) => format!(
+            "magnitude {}, frequency {}, phase {}, speed {}, direction {}, axis {}, falloff {}",
+            p(&w.magnitude, " m"),
+            p(&w.frequency, " rad/m"),
+            p(&w.phase, " rad"),
+            p(&w.speed, " rad/s"),
+            p(&w.direction_deg, "°"),
+            match w.axis {
+                WaveAxis::Normal => "normal".to_string(),
+                WaveAxis::Fixed(d) => v(d),
+            },
+            p(&w.falloff, "")
+        ),
+        Layer::Noise(n) => format!(
+            "amplitude {}, scale {}, speed {}, direction {}, turbulence {}, {} octave{}, seed {}, falloff {}",
+            p(&n.amplitude, " m"),
+            p(&n.scale, " m"),
+            p(&n.speed, " m/s"),
+            v(n.direction),
+            p(&n.turbulence, ""),
+            n.octaves,
+            if n.octaves == 1 { "" } else { "s" },
+            n.seed,
+            p(&n.falloff, "")
+        ),
+        Layer::FollowThrough(f) => format!("lag {}, falloff {}", p(&f.lag, " s"), p(&f.falloff, "")),
+    };
+    format!("weight {weight}, {specific}")
 }
 
 /// Pins further apart in space than the cloth between them can reach: the
@@ -160,34 +283,162 @@ fn key_at(scene: &Scene, frame: i32) -> &Key {
     scene.keys.iter().rev().find(|k| k.frame <= frame).unwrap_or(&scene.keys[0])
 }
 
-fn export(path: &Path, output: &Path, frame: i32, format: Option<Format>, stage: Stage) -> Result<()> {
+struct ExportRequest {
+    frame: Option<i32>,
+    frames: Option<FrameRange>,
+    format: Option<Format>,
+    stage: Stage,
+    layers: bool,
+}
+
+fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
     let scene = scene::load(path)?;
-    let format = match format {
-        Some(f) => f,
-        None => match output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-            Some("obj") => Format::Obj,
-            Some(other) => bail!(
-                "cannot tell the format from the extension .{other} of {}: use .obj or --format obj",
-                output.display()
-            ),
-            None => bail!("{} has no extension: name it .obj or pass --format obj", output.display()),
-        },
-    };
-    let key = key_at(&scene, frame);
-    let shape = RestShape::build(&scene.cloth, key);
-    let positions = if stage == Stage::Approx { &shape.approximated } else { &shape.relaxed };
-    let mesh = Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), positions);
-    match format {
-        Format::Obj => write_atomically(output, |w| write_obj(&mesh, &scene.name, w))
-            .map_err(|e| anyhow!("cannot write {}: {e}", output.display()))?,
+    if !request.layers && request.stage != Stage::Animated {
+        bail!("--no-layers applies to the animated stage only; the {:?} stage has no layers", request.stage);
     }
-    println!(
-        "wrote {} ({} vertices, {} triangles; key at frame {}, {:?} stage)",
-        output.display(),
-        mesh.vertex_count(),
-        mesh.triangle_count(),
-        key.frame,
-        stage
-    );
+    let mut exporter =
+        Exporter { scene: &scene, stage: request.stage, layers: request.layers, evaluator: Evaluator::new() };
+    match request.frames {
+        None => {
+            let format = request.format.map_or_else(|| format_from_extension(output), Ok)?;
+            let frame = request.frame.unwrap_or(0);
+            let mesh = exporter.mesh(frame);
+            write_mesh(&mesh, &scene.name, output, format)?;
+            println!(
+                "wrote {} ({} vertices, {} triangles; frame {frame}, {})",
+                output.display(),
+                mesh.vertex_count(),
+                mesh.triangle_count(),
+                exporter.describe(frame)
+            );
+        }
+        Some(range) => {
+            let format = request.format.unwrap_or(Format::Obj);
+            if output.is_file() {
+                bail!("{} is a file: --frames writes a numbered sequence into a directory", output.display());
+            }
+            fs::create_dir_all(output).map_err(|e| anyhow!("cannot create the directory {}: {e}", output.display()))?;
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+            let width = frame_number_width(range);
+            let mut first_file = None;
+            let mut last_file = None;
+            for frame in range.first..=range.last {
+                let file = output.join(format!("{stem}_{}.{}", padded_frame(frame, width), extension(format)));
+                let mesh = exporter.mesh(frame);
+                write_mesh(&mesh, &scene.name, &file, format)?;
+                first_file.get_or_insert_with(|| file.clone());
+                last_file = Some(file);
+            }
+            let count = i64::from(range.last) - i64::from(range.first) + 1;
+            println!(
+                "wrote {count} file{} to {} (frames {}..{}, {}; {} … {})",
+                if count == 1 { "" } else { "s" },
+                output.display(),
+                range.first,
+                range.last,
+                exporter.describe(range.first),
+                first_file.as_deref().and_then(Path::file_name).map(|n| n.to_string_lossy()).unwrap_or_default(),
+                last_file.as_deref().and_then(Path::file_name).map(|n| n.to_string_lossy()).unwrap_or_default(),
+            );
+        }
+    }
     Ok(())
+}
+
+/// Produces the mesh of each exported frame through the one evaluator.
+struct Exporter<'s> {
+    scene: &'s Scene,
+    stage: Stage,
+    layers: bool,
+    evaluator: Evaluator,
+}
+
+impl Exporter<'_> {
+    fn mesh(&mut self, frame: i32) -> Mesh {
+        let scene = self.scene;
+        match self.stage {
+            Stage::Animated => {
+                let t_secs = frame_time_secs(&scene.timeline, f64::from(frame));
+                self.evaluator.evaluate_with(scene, t_secs, EvaluateOptions { layers: self.layers })
+            }
+            Stage::Approx | Stage::Relaxed => {
+                let shape = self.evaluator.key_shape(&scene.cloth, key_at(scene, frame));
+                let stage = if self.stage == Stage::Approx { &shape.rest.approximated } else { &shape.rest.relaxed };
+                Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), stage)
+            }
+        }
+    }
+
+    fn describe(&self, frame: i32) -> String {
+        match self.stage {
+            Stage::Animated if self.layers => "animated".to_string(),
+            Stage::Animated => "animated, no layers".to_string(),
+            Stage::Approx => format!("approximated key at frame {}", key_at(self.scene, frame).frame),
+            Stage::Relaxed => format!("relaxed key at frame {}", key_at(self.scene, frame).frame),
+        }
+    }
+}
+
+fn format_from_extension(output: &Path) -> Result<Format> {
+    match output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("obj") => Ok(Format::Obj),
+        Some(other) => bail!(
+            "cannot tell the format from the extension .{other} of {}: use .obj or --format obj",
+            output.display()
+        ),
+        None => bail!("{} has no extension: name it .obj or pass --format obj", output.display()),
+    }
+}
+
+fn extension(format: Format) -> &'static str {
+    match format {
+        Format::Obj => "obj",
+    }
+}
+
+fn write_mesh(mesh: &Mesh, name: &str, output: &Path, format: Format) -> Result<()> {
+    match format {
+        Format::Obj => write_atomically(output, |w| write_obj(mesh, name, w))
+            .map_err(|e| anyhow!("cannot write {}: {e}", output.display())),
+    }
+}
+
+/// Digits for the frame numbers of a sequence: at least 4, more when needed,
+/// so files sort in frame order.
+fn frame_number_width(range: FrameRange) -> usize {
+    let digits = |f: i32| f.unsigned_abs().to_string().len();
+    digits(range.first).max(digits(range.last)).max(4)
+}
+
+fn padded_frame(frame: i32, width: usize) -> String {
+    let sign = if frame < 0 { "-" } else { "" };
+    format!("{sign}{:0width$}", frame.unsigned_abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_ranges_parse_and_say_what_is_wrong() {
+        assert_eq!(parse_frame_range("0..120"), Ok(FrameRange { first: 0, last: 120 }));
+        assert_eq!(parse_frame_range("-10..-2"), Ok(FrameRange { first: -10, last: -2 }));
+        assert_eq!(parse_frame_range("5..=5"), Ok(FrameRange { first: 5, last: 5 }));
+        assert_eq!(parse_frame_range("12"), Err("`12` is not a range: write it as A..B, e.g. 0..120".into()));
+        assert_eq!(parse_frame_range("a..3"), Err("`a` in `a..3` is not a whole frame number".into()));
+        assert_eq!(
+            parse_frame_range("9..3"),
+            Err("the range 9..3 ends before it starts: write the smaller frame first".into())
+        );
+    }
+
+    #[test]
+    fn sequence_numbers_are_padded_to_sort() {
+        let range = FrameRange { first: 0, last: 120 };
+        assert_eq!(padded_frame(1, frame_number_width(range)), "0001");
+        assert_eq!(padded_frame(120, frame_number_width(range)), "0120");
+        let long = FrameRange { first: -5, last: 123_456 };
+        assert_eq!(padded_frame(-5, frame_number_width(long)), "-000005");
+        assert_eq!(padded_frame(123_456, frame_number_width(long)), "123456");
+    }
 }

@@ -79,39 +79,36 @@ pub fn grid_uvs(cols: usize, rows: usize) -> Vec<Vec2> {
 /// quads are all degenerate (or not finite) gets +Y rather than NaN.
 pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
     assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
-    let (quad_cols, quad_rows) = (cols.saturating_sub(1), rows.saturating_sub(1));
-    // Area vectors of one row of quads, reused row by row: two rows in flight.
-    let mut above = vec![Vec3::ZERO; quad_cols];
-    let mut below = vec![Vec3::ZERO; quad_cols];
-    let quad_row = |j: usize, row: &mut Vec<Vec3>| {
-        for (i, area) in row.iter_mut().enumerate() {
-            let a = j * cols + i;
-            let (b, c, d) = (a + 1, a + cols, a + cols + 1);
-            *area = (positions[c] - positions[b]).cross(positions[d] - positions[a]);
-        }
-    };
     out.clear();
-    out.reserve(cols * rows);
-    for j in 0..rows {
-        std::mem::swap(&mut above, &mut below);
-        if j < quad_rows {
-            quad_row(j, &mut below);
-        } else {
-            below.fill(Vec3::ZERO);
+    out.resize(cols * rows, Vec3::ZERO);
+    if cols < 2 || rows < 2 {
+        out.fill(Vec3::Y);
+        return;
+    }
+    // One row of quads at a time: their area vectors, then each vertex of the
+    // row's two grid rows adds the quads on its left and right. Slices and
+    // zips keep the loops free of bounds checks; this runs every frame.
+    let mut areas = vec![Vec3::ZERO; cols - 1];
+    for j in 0..rows - 1 {
+        let top = &positions[j * cols..(j + 1) * cols];
+        let bottom = &positions[(j + 1) * cols..(j + 2) * cols];
+        for (area, (t, b)) in areas.iter_mut().zip(top.windows(2).zip(bottom.windows(2))) {
+            *area = (b[0] - t[1]).cross(b[1] - t[0]);
         }
-        if j == 0 {
-            above.fill(Vec3::ZERO);
+        let (out_top, out_bottom) = out[j * cols..(j + 2) * cols].split_at_mut(cols);
+        let mut left = Vec3::ZERO;
+        for ((n_top, n_bottom), right) in
+            out_top.iter_mut().zip(out_bottom.iter_mut()).zip(areas.iter().chain([&Vec3::ZERO]))
+        {
+            let sum = left + *right;
+            *n_top += sum;
+            *n_bottom += sum;
+            left = *right;
         }
-        for i in 0..cols {
-            let mut n = Vec3::ZERO;
-            if i > 0 {
-                n += above[i - 1] + below[i - 1];
-            }
-            if i < quad_cols {
-                n += above[i] + below[i];
-            }
-            out.push(n.try_normalize().unwrap_or(Vec3::Y));
-        }
+    }
+    for n in out.iter_mut() {
+        let length2 = n.length_squared();
+        *n = if length2 > 0.0 && length2.is_finite() { *n * length2.sqrt().recip() } else { Vec3::Y };
     }
 }
 

@@ -5,15 +5,17 @@
 //! the same t gives a bit-identical mesh however it was reached, and the cost
 //! does not grow with t.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
 use super::blend::{blend_segment, segment_at};
-use super::cache::RestShapeCache;
+use super::cache::{KeyShape, RestShapeCache};
 use super::track::sample;
 use super::wave::WaveTables;
 use super::{follow_through, gusts, sway, wave};
 use crate::mesh::{Mesh, grid_normals, grid_triangle_indices, grid_uvs};
-use crate::scene::{Layer, Scene, Timeline};
+use crate::scene::{Cloth, Key, Layer, Scene, Timeline};
 
 /// What to include in an evaluation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,6 +53,12 @@ impl Evaluator {
 
     pub fn cache(&self) -> &RestShapeCache {
         &self.cache
+    }
+
+    /// The cached shape of one key (built if needed), for callers that show
+    /// or export a single key's modelling stages.
+    pub fn key_shape(&mut self, cloth: &Cloth, key: &Key) -> Arc<KeyShape> {
+        self.cache.shape(cloth, key)
     }
 
     /// The mesh of `scene` at `t_secs`, with every layer.

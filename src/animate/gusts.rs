@@ -8,7 +8,7 @@
 use glam::{DVec3, IVec3, Vec3};
 
 use super::falloff::attenuation;
-use super::noise::fractal4;
+use super::noise::FractalSampler;
 use super::track::sample;
 use crate::scene::Noise;
 
@@ -36,12 +36,13 @@ pub fn apply(noise: &Noise, frame: f64, t_secs: f64, weight: f64, ratio: &[f32],
     let inverse_scale = (1.0 / scale_m) as f32;
     let push = wind.as_vec3() * (1.0 - turbulence);
     let amplitude = amplitude as f32;
+    let mut sampler = FractalSampler::new(noise.octaves, noise.seed);
     for (p, &r) in positions.iter_mut().zip(ratio) {
         let a = attenuation(r, falloff);
         if a == 0.0 {
             continue;
         }
-        let n = fractal4(*p * inverse_scale - rest, cell_offset, noise.octaves, noise.seed);
+        let n = sampler.sample(*p * inverse_scale - rest, cell_offset);
         let gust = 0.5 + 0.5 * n.x;
         let swirl = Vec3::new(n.y, n.z, n.w);
         *p += (push * gust + swirl * turbulence) * (amplitude * a);

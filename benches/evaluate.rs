@@ -1,0 +1,113 @@
+//! `evaluate` with the rest shapes cached, as the animation issue's targets
+//! state them: a 128² and a 256² cloth with a sway, two waves and a noise
+//! layer, and frame 100 000 against frame 1 (the cost must not grow with t).
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use drape::animate::{EvaluateOptions, Evaluator};
+use drape::mesh::Mesh;
+use drape::scene::{
+    Cloth, Ease, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
+};
+use std::hint::black_box;
+use std::time::Duration;
+
+fn key(frame: i32, n: u32, lift: f64) -> Key {
+    let last = n - 1;
+    Key {
+        frame,
+        pins: vec![
+            Pin { grid: (0, 0), pos: (-0.9, 1.2 + lift, -0.9) },
+            Pin { grid: (last, 0), pos: (0.9, 1.0, -0.9) },
+            Pin { grid: (0, last), pos: (-0.9, 1.0, 0.9) },
+            Pin { grid: (last, last), pos: (0.9, 1.0 + lift, 0.9) },
+        ],
+        elasticity: 1.05,
+        stiffness: 0.2,
+        relax: RelaxSettings { iterations: 200, tolerance: 1e-5 },
+        ease: Ease::EaseInOut,
+        inbetween_relax: 0,
+    }
+}
+
+fn wave(name: &str, magnitude: f64, frequency: f64, direction_deg: f64) -> Layer {
+    Layer::Wave(Wave {
+        name: name.into(),
+        enabled: true,
+        weight: 1.0.into(),
+        magnitude: Param::Keys(vec![
+            ParamKey { frame: 0, value: 0.0, ease: Ease::Linear },
+            ParamKey { frame: 24, value: magnitude, ease: Ease::EaseIn },
+        ]),
+        frequency: frequency.into(),
+        phase: 0.0.into(),
+        speed: 2.0.into(),
+        direction_deg: direction_deg.into(),
+        axis: WaveAxis::Normal,
+        falloff: 1.0.into(),
+    })
+}
+
+/// Keys far apart so that frames 1 and 100 000 are both in-betweens.
+fn scene(n: u32) -> Scene {
+    Scene {
+        version: 1,
+        name: format!("bench {n}"),
+        cloth: Cloth { size: (2.0, 2.0), grid: (n, n) },
+        timeline: Timeline::default(),
+        keys: vec![key(0, n, 0.0), key(200_000, n, 0.3)],
+        layers: vec![
+            Layer::Sway(Sway {
+                name: "sway".into(),
+                enabled: true,
+                weight: 1.0.into(),
+                magnitude: 0.2.into(),
+                direction: (1.0, 0.0, 0.0),
+                speed: 1.0.into(),
+                frequency: 0.5.into(),
+                phase: 0.0.into(),
+                falloff: 1.0.into(),
+            }),
+            wave("long", 0.05, 4.0, 0.0),
+            wave("short", 0.01, 15.0, 30.0),
+            Layer::Noise(Noise {
+                name: "gusts".into(),
+                enabled: true,
+                weight: 1.0.into(),
+                amplitude: 0.05.into(),
+                scale: 0.5.into(),
+                speed: 1.0.into(),
+                direction: (1.0, 0.0, 0.2),
+                turbulence: 0.3.into(),
+                octaves: 2,
+                seed: 1,
+                falloff: 1.0.into(),
+            }),
+        ],
+    }
+}
+
+fn evaluate(c: &mut Criterion) {
+    let mut group = c.benchmark_group("evaluate");
+    group.sample_size(50).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    for n in [128u32, 256] {
+        let scene = scene(n);
+        let mut evaluator = Evaluator::new();
+        let mut mesh = evaluator.evaluate(&scene, 0.0);
+        for frame in [1i32, 100_000] {
+            let t_secs = f64::from(frame) / scene.timeline.fps;
+            let id = BenchmarkId::new(format!("{n}x{n}"), format!("frame {frame}"));
+            group.bench_with_input(id, &t_secs, |b, &t_secs| {
+                b.iter(|| {
+                    evaluator.evaluate_into(&scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
+                    black_box(&mesh);
+                })
+            });
+        }
+        let fresh: Mesh = evaluator.evaluate(&scene, 1.0 / 24.0);
+        black_box(fresh);
+    }
+    group.finish();
+}
+
+criterion_group!(benches, evaluate);
+criterion_main!(benches);
