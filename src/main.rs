@@ -13,6 +13,17 @@ use drape::mesh::Mesh;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis};
 use drape::shape::relax::mean_structural_error;
 
+/// `println!` that ends the program quietly when stdout is closed (`drape
+/// check scene.ron | head`) instead of panicking on the broken pipe.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if writeln!(std::io::stdout(), $($arg)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
 #[derive(Parser)]
 #[command(name = "drape", version, about = "Cloth animation with fake dynamics: pins, catenaries, relaxation.")]
 #[command(arg_required_else_help = true)]
@@ -110,8 +121,8 @@ fn check(path: &Path) -> Result<()> {
     let scene = scene::load(path)?;
     let cloth = &scene.cloth;
     let name = if scene.name.is_empty() { "(unnamed)" } else { &scene.name };
-    println!("{}: {name} — valid", path.display());
-    println!(
+    say!("{}: {name} — valid", path.display());
+    say!(
         "  cloth     {} × {} m, grid {} × {} ({} points, spacing {:.4} × {:.4} m)",
         cloth.width_m(),
         cloth.height_m(),
@@ -122,21 +133,21 @@ fn check(path: &Path) -> Result<()> {
         cloth.spacing_v_m()
     );
     let tl = &scene.timeline;
-    println!(
+    say!(
         "  timeline  frames {}..{} at {} fps ({:.2} s)",
         tl.start,
         tl.end,
         tl.fps,
         (tl.end - tl.start) as f64 / tl.fps
     );
-    println!("  keys      {}", scene.keys.len());
+    say!("  keys      {}", scene.keys.len());
     let mut evaluator = Evaluator::new();
     let shapes: Vec<_> = scene.keys.iter().map(|key| evaluator.key_shape(cloth, key)).collect();
     for (index, (key, shape)) in scene.keys.iter().zip(&shapes).enumerate() {
         let rest = &shape.rest;
         let error = mean_structural_error(&rest.relaxed, cloth.cols(), cloth.rows(), rest.rest_u_m(), rest.rest_v_m());
         let report = rest.relax_report;
-        println!(
+        say!(
             "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}; relaxed in {} sweep{} ({}), mean edge error {:.2}%",
             key.frame,
             key.pins.len(),
@@ -153,15 +164,15 @@ fn check(path: &Path) -> Result<()> {
             error * 100.0
         );
         for warning in stretched_pin_warnings(&scene, key) {
-            println!("      warning: {warning}");
+            say!("      warning: {warning}");
         }
         if let Some(next) = scene.keys.get(index + 1) {
-            println!("      → frame {}: {}", next.frame, segment_summary(&scene, index, &shapes));
+            say!("      → frame {}: {}", next.frame, segment_summary(&scene, index, &shapes));
         }
     }
-    println!("  layers    {}", scene.layers.len());
+    say!("  layers    {}", scene.layers.len());
     for (index, layer) in scene.layers.iter().enumerate() {
-        println!(
+        say!(
             "    {}{}: {}",
             layer.label(index),
             if layer.enabled() { "" } else { " (disabled)" },
@@ -304,7 +315,7 @@ fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
             let frame = request.frame.unwrap_or(0);
             let mesh = exporter.mesh(frame);
             write_mesh(&mesh, &scene.name, output, format)?;
-            println!(
+            say!(
                 "wrote {} ({} vertices, {} triangles; frame {frame}, {})",
                 output.display(),
                 mesh.vertex_count(),
@@ -330,7 +341,7 @@ fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
                 last_file = Some(file);
             }
             let count = i64::from(range.last) - i64::from(range.first) + 1;
-            println!(
+            say!(
                 "wrote {count} file{} to {} (frames {}..{}, {}; {} … {})",
                 if count == 1 { "" } else { "s" },
                 output.display(),

@@ -24,7 +24,7 @@ const MALFORMED: &[(&str, &str)] = &[
     (
         "unknown_field.ron",
         "tests/data/malformed/unknown_field.ron:12:13: unknown field `elastisity` in key \
-         (expected one of: frame, pins, elasticity, stiffness, relax, ease)",
+         (expected one of: frame, pins, elasticity, stiffness, relax, ease, inbetween_relax)",
     ),
     (
         "unknown_ease.ron",
@@ -148,6 +148,30 @@ const MALFORMED: &[(&str, &str)] = &[
         "bezier_x1.ron",
         "tests/data/malformed/bezier_x1.ron:12:26: ease of the key at frame 0: Bezier x1 = 1.5 \
          is out of range: x1 and x2 must be between 0 and 1",
+    ),
+    (
+        "noise_zero_scale.ron",
+        "tests/data/malformed/noise_zero_scale.ron:15:55: Noise layer \"gusts\": scale is 0: it must be greater than 0 and at most 1e6",
+    ),
+    (
+        "negative_falloff.ron",
+        "tests/data/malformed/negative_falloff.ron:15:112: Sway layer 1: falloff at frame 24 is -2: it must be between 0 and 16",
+    ),
+    (
+        "noise_octaves.ron",
+        "tests/data/malformed/noise_octaves.ron:15:70: Noise layer 1: octaves is 9: it must be between 1 and 6",
+    ),
+    (
+        "negative_lag.ron",
+        "tests/data/malformed/negative_lag.ron:15:44: FollowThrough layer \"trail\": lag is -0.5: it must be between 0 and 60 seconds",
+    ),
+    (
+        "absurd_magnitude.ron",
+        "tests/data/malformed/absurd_magnitude.ron:15:26: Wave layer 1: magnitude is 1e30: it must be within ±1e6",
+    ),
+    (
+        "inbetween_relax_too_many.ron",
+        "tests/data/malformed/inbetween_relax_too_many.ron:12:30: inbetween_relax 5 000 in the key at frame 0 is above the limit of 1000 sweeps",
     ),
     ("not_utf8.ron", "tests/data/malformed/not_utf8.ron:3:17: the file is not UTF-8 text (invalid byte 0xE9)"),
     (

@@ -90,9 +90,13 @@ pub fn blend_segment(
 /// The blend of two rest shapes re-relaxed for `sweeps` fine-grid sweeps, in
 /// f64 from the f64 rest shapes. Every pin of either key is held at its
 /// blended position: pins in both keys move between their positions, and a
-/// pin being let go or caught travels with the blend, so the segment still
-/// starts and ends exactly on its keys' shapes. Fabric values blend with the
-/// same easing, clamped between the two keys' values.
+/// pin being let go or caught travels with the blend. Fabric values blend with
+/// the same easing, clamped between the two keys' values.
+///
+/// A rest shape relaxed to its tolerance still drifts a little under further
+/// sweeps, so the correction is faded in and out with 4·e·(1 − e): full
+/// halfway, where straight blending shortens the cloth most, and nothing at
+/// the keys, so the segment starts and ends exactly on its keys' shapes.
 pub fn relaxed_inbetween(
     key_a: &Key,
     key_b: &Key,
@@ -103,8 +107,7 @@ pub fn relaxed_inbetween(
     out: &mut Vec<Vec3>,
 ) {
     let grid = a.rest.grid;
-    let mut blended: Vec<DVec3> =
-        a.rest.relaxed.iter().zip(&b.rest.relaxed).map(|(&p, &q)| p + (q - p) * eased).collect();
+    let blended: Vec<DVec3> = a.rest.relaxed.iter().zip(&b.rest.relaxed).map(|(&p, &q)| p + (q - p) * eased).collect();
     let pinned: Vec<bool> = a.pinned.iter().zip(&b.pinned).map(|(&p, &q)| p || q).collect();
     let mix = |x: f64, y: f64| (x + (y - x) * eased).clamp(x.min(y), x.max(y));
     let elasticity = mix(key_a.elasticity, key_b.elasticity);
@@ -115,9 +118,11 @@ pub fn relaxed_inbetween(
         max_iterations: sweeps,
         tolerance: key_a.relax.tolerance.min(key_b.relax.tolerance),
     };
-    refine(&mut blended, grid.cols, grid.rows, &pinned, &params);
+    let mut relaxed = blended.clone();
+    refine(&mut relaxed, grid.cols, grid.rows, &pinned, &params);
+    let fade = (4.0 * eased * (1.0 - eased)).clamp(0.0, 1.0);
     out.clear();
-    out.extend(blended.iter().map(|p| p.as_vec3()));
+    out.extend(blended.iter().zip(&relaxed).map(|(&b, &r)| (b + (r - b) * fade).as_vec3()));
 }
 
 #[cfg(test)]

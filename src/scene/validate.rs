@@ -332,27 +332,32 @@ impl Checker {
     /// A layer parameter: finite, within ±[`MAX_LAYER_VALUE`] and within `range` at every key.
     fn layer_param(&mut self, path: &str, what: &str, param: &Param, range: Range) {
         self.param(path, what, param);
-        let values: Vec<(String, f64)> = match param {
-            Param::Constant(v) => vec![(path.to_string(), *v)],
-            Param::Keys(keys) => {
-                keys.iter().enumerate().map(|(index, key)| (format!("{path}[{index}].value"), key.value)).collect()
-            }
+        let values: Vec<(String, String, f64)> = match param {
+            Param::Constant(v) => vec![(path.to_string(), what.to_string(), *v)],
+            Param::Keys(keys) => keys
+                .iter()
+                .enumerate()
+                .map(|(index, key)| {
+                    (format!("{path}[{index}].value"), format!("{what} at frame {}", key.frame), key.value)
+                })
+                .collect(),
         };
-        for (value_path, v) in values {
+        for (value_path, what, v) in values {
             if !v.is_finite() {
                 continue;
             }
             let message = match range {
                 Range::Any if v.abs() > MAX_LAYER_VALUE => {
-                    Some(format!("{what} {v} is out of range: it must be within ±{MAX_LAYER_VALUE:e}"))
+                    Some(format!("{what} is {v:e}: it must be within ±{MAX_LAYER_VALUE:e}"))
                 }
                 Range::Any => None,
                 Range::Within(lo, hi, why) if !(lo..=hi).contains(&v) => {
-                    Some(format!("{what} {v} is out of range: it must be between {lo} and {hi}{why}"))
+                    Some(format!("{what} is {v}: it must be between {lo} and {hi}{why}"))
                 }
                 Range::Within(..) => None,
                 Range::Positive(hi) if !(v > 0.0 && v <= hi) => {
-                    Some(format!("{what} {v} is out of range: it must be greater than 0 and at most {hi:e}"))
+                    let shown = if v.abs() > hi { format!("{v:e}") } else { format!("{v}") };
+                    Some(format!("{what} is {shown}: it must be greater than 0 and at most {hi:e}"))
                 }
                 Range::Positive(_) => None,
             };
@@ -455,9 +460,7 @@ impl Checker {
                 if !(1..=MAX_NOISE_OCTAVES).contains(octaves) {
                     self.push(
                         format!("{path}.octaves"),
-                        format!(
-                            "{label}: octaves {octaves} is out of range: it must be between 1 and {MAX_NOISE_OCTAVES}"
-                        ),
+                        format!("{label}: octaves is {octaves}: it must be between 1 and {MAX_NOISE_OCTAVES}"),
                     );
                 }
                 param(self, "falloff", f, falloff);
