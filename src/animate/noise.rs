@@ -93,19 +93,17 @@ impl FractalSampler {
         if !local.is_finite() {
             return Vec4::ZERO;
         }
+        // Octave weights 1, ½, ¼, … normalised to sum to 1.
+        let mut weight = 1.0 / (2.0 - 0.5f32.powi(self.octaves as i32 - 1));
         let mut sum = Vec4::ZERO;
-        let mut amplitude = 1.0;
-        let mut total = 0.0;
         let (mut local, mut offset) = (local, cell_offset);
-        for octave in 0..self.octaves {
-            let seed = octave_seed(self.seed, octave);
-            sum += value4_cached(local, offset, seed, &mut self.cells[octave]) * amplitude;
-            total += amplitude;
-            amplitude *= 0.5;
+        for (octave, cell) in self.cells[..self.octaves].iter_mut().enumerate() {
+            sum += value4_cached(local, offset, self.seed, octave, cell) * weight;
+            weight *= 0.5;
             local *= 2.0;
             offset = IVec3::new(offset.x.wrapping_mul(2), offset.y.wrapping_mul(2), offset.z.wrapping_mul(2));
         }
-        sum / total
+        sum
     }
 }
 
@@ -115,7 +113,7 @@ fn octave_seed(seed: u32, octave: usize) -> u32 {
 
 /// One octave: the four channels of the noise at lattice point `cell_offset` + `local`.
 pub fn value4(local: Vec3, cell_offset: IVec3, seed: u32) -> Vec4 {
-    value4_cached(local, cell_offset, seed, &mut CellValues::EMPTY.clone())
+    value4_cached(local, cell_offset, seed, 0, &mut CellValues::EMPTY.clone())
 }
 
 /// floor(x) as an integer without a libm call (x86-64's baseline has no
@@ -127,7 +125,7 @@ fn floor_i32(x: f32) -> i32 {
 }
 
 #[inline(always)]
-fn value4_cached(local: Vec3, cell_offset: IVec3, seed: u32, cache: &mut CellValues) -> Vec4 {
+fn value4_cached(local: Vec3, cell_offset: IVec3, seed: u32, octave: usize, cache: &mut CellValues) -> Vec4 {
     let floor = IVec3::new(floor_i32(local.x), floor_i32(local.y), floor_i32(local.z));
     let f = local - floor.as_vec3();
     let cell = IVec3::new(
@@ -136,7 +134,7 @@ fn value4_cached(local: Vec3, cell_offset: IVec3, seed: u32, cache: &mut CellVal
         floor.z.wrapping_add(cell_offset.z),
     );
     if !cache.valid || cache.cell != cell {
-        cache.fill(cell, seed);
+        cache.fill(cell, octave_seed(seed, octave));
     }
     cache.interpolate(f * f * f * (f * (f * 6.0 - 15.0) + 10.0))
 }
