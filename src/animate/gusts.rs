@@ -5,7 +5,7 @@
 //! downwind only, swirl = (n₁, n₂, n₃) ∈ [−1, 1]³, and n are four channels of
 //! fractal value noise sampled at (p − wind · speed · t) / scale.
 
-use glam::{DVec3, IVec3, Vec3};
+use glam::{DVec3, IVec3, Vec3, Vec4};
 
 use super::falloff::attenuation;
 use super::noise::FractalSampler;
@@ -37,14 +37,32 @@ pub fn apply(noise: &Noise, frame: f64, t_secs: f64, weight: f64, ratio: &[f32],
     let push = wind.as_vec3() * (1.0 - turbulence);
     let amplitude = amplitude as f32;
     let mut sampler = FractalSampler::new(noise.octaves, noise.seed);
-    for (p, &r) in positions.iter_mut().zip(ratio) {
-        let a = attenuation(r, falloff);
-        if a == 0.0 {
-            continue;
-        }
-        let n = sampler.sample(*p * inverse_scale - rest, cell_offset);
+    let blow = |p: &mut Vec3, a: f32, n: Vec4| {
         let gust = 0.5 + 0.5 * n.x;
         let swirl = Vec3::new(n.y, n.z, n.w);
         *p += (push * gust + swirl * turbulence) * (amplitude * a);
+    };
+    // Four neighbouring vertices at a time: one SIMD lane each.
+    let mut chunks = positions.chunks_exact_mut(4).zip(ratio.chunks_exact(4));
+    for (p, r) in &mut chunks {
+        let a = [0, 1, 2, 3].map(|k| attenuation(r[k], falloff));
+        if a == [0.0; 4] {
+            continue;
+        }
+        let n = sampler.sample4([0, 1, 2, 3].map(|k| p[k] * inverse_scale - rest), cell_offset);
+        for k in 0..4 {
+            // Pins (a = 0) are left bit-for-bit alone.
+            if a[k] != 0.0 {
+                blow(&mut p[k], a[k], n[k]);
+            }
+        }
+    }
+    let done = positions.len() / 4 * 4;
+    for (p, &r) in positions[done..].iter_mut().zip(&ratio[done..]) {
+        let a = attenuation(r, falloff);
+        if a != 0.0 {
+            let n = sampler.sample(*p * inverse_scale - rest, cell_offset);
+            blow(p, a, n);
+        }
     }
 }

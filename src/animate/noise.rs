@@ -3,14 +3,19 @@
 //! Random values in [−1, 1] sit on an integer lattice (from an integer hash of
 //! the cell and the seed, so every machine gives the same noise) and are
 //! blended with a quintic fade, which makes the field C² smooth. Four channels
-//! share one hash per lattice corner and are interpolated together as a
-//! `Vec4`, which is what makes a gust layer cheap enough to run per frame.
+//! share one hash per lattice corner.
+//!
+//! Speed matters (a gust layer runs on every vertex every frame), so a cell's
+//! trilinear interpolant is kept as polynomial coefficients while points stay
+//! inside it, and [`FractalSampler::sample4`] evaluates four points at once
+//! with one SIMD lane per point. Every path performs the same operations in
+//! the same order per value, so all give bit-identical results.
 //!
 //! Positions are split into a lattice offset (integers) and a small local
 //! part, so a field scrolled far away (t = 10 000 s of wind) keeps full f32
 //! precision.
 
-use glam::{IVec3, Vec3, Vec4};
+use glam::{IVec3, IVec4, Mat4, Vec3, Vec4};
 
 /// Fractal sum of `octaves` value-noise layers at `local + cell_offset`, each
 /// octave at twice the frequency and half the amplitude of the previous,
@@ -20,7 +25,7 @@ pub fn fractal4(local: Vec3, cell_offset: IVec3, octaves: u32, seed: u32) -> Vec
     FractalSampler::new(octaves, seed).sample(local, cell_offset)
 }
 
-/// [`fractal4`] for many nearby points: it remembers the lattice values of the
+/// [`fractal4`] for many nearby points: it remembers the interpolant of the
 /// last cell of each octave, so a run of points inside one cell (neighbouring
 /// vertices of a cloth, whose spacing is much smaller than a gust) hashes its
 /// corners once. The results equal [`fractal4`]'s bit for bit.
@@ -28,6 +33,8 @@ pub fn fractal4(local: Vec3, cell_offset: IVec3, octaves: u32, seed: u32) -> Vec
 pub struct FractalSampler {
     seed: u32,
     octaves: usize,
+    /// Octave weights 1, ½, ¼, … normalised to sum to 1.
+    weights: [f32; MAX_OCTAVES],
     cells: [CellValues; MAX_OCTAVES],
 }
 
@@ -35,18 +42,24 @@ const MAX_OCTAVES: usize = 8;
 
 /// One lattice cell's trilinear interpolant as polynomial coefficients in the
 /// fade weights (w): v = c0 + c1·wx + c2·wy + c3·wz + c4·wx·wy + c5·wy·wz +
-/// c6·wx·wz + c7·wx·wy·wz. Computed once per cell, it costs a point seven
-/// multiply-adds instead of seven lerps.
+/// c6·wx·wz + c7·wx·wy·wz, summed in that order.
 #[derive(Clone, Copy, Debug)]
 struct CellValues {
     cell: IVec3,
     coefficients: [Vec4; 8],
+    /// `coefficients[k][channel]` in every lane, for [`CellValues::interpolate_lanes`].
+    splatted: [[Vec4; 8]; 4],
     valid: bool,
 }
 
 impl CellValues {
-    const EMPTY: CellValues = CellValues { cell: IVec3::ZERO, coefficients: [Vec4::ZERO; 8], valid: false };
+    const EMPTY: CellValues =
+        CellValues { cell: IVec3::ZERO, coefficients: [Vec4::ZERO; 8], splatted: [[Vec4::ZERO; 8]; 4], valid: false };
 
+    /// Kept out of line: it runs once per cell, and inlining it into the
+    /// per-point loops would crowd out their registers.
+    #[cold]
+    #[inline(never)]
     fn fill(&mut self, cell: IVec3, seed: u32) {
         // Corner index bit 0: +x, bit 1: +y, bit 2: +z.
         let v: [Vec4; 8] = std::array::from_fn(|index| {
@@ -67,41 +80,111 @@ impl CellValues {
             v[5] - v[4] - v[1] + v[0],
             v[7] - v[6] - v[5] - v[3] + v[4] + v[2] + v[1] - v[0],
         ];
+        self.splatted = std::array::from_fn(|channel| self.coefficients.map(|c| Vec4::splat(c[channel])));
         self.cell = cell;
         self.valid = true;
     }
 
     #[inline(always)]
+    fn ensure(&mut self, cell: IVec3, seed: u32, octave: usize) {
+        if !self.valid || self.cell != cell {
+            self.fill(cell, octave_seed(seed, octave));
+        }
+    }
+
+    /// The four channels at one point with fade weights w.
+    #[inline(always)]
     fn interpolate(&self, w: Vec3) -> Vec4 {
         let c = &self.coefficients;
-        let a = c[0] + c[2] * w.y;
-        let b = c[1] + c[4] * w.y;
-        let z = c[3] + c[5] * w.y;
-        let xz = c[6] + c[7] * w.y;
-        a + z * w.z + (b + xz * w.z) * w.x
+        let (wxy, wyz, wxz) = (w.x * w.y, w.y * w.z, w.x * w.z);
+        let wxyz = wxy * w.z;
+        c[0] + c[1] * w.x + c[2] * w.y + c[3] * w.z + c[4] * wxy + c[5] * wyz + c[6] * wxz + c[7] * wxyz
+    }
+
+    /// One channel at four points (one per lane) with fade weights (wx, wy, wz):
+    /// the same sums as [`CellValues::interpolate`], lane by lane.
+    #[inline(always)]
+    fn interpolate_lanes(&self, channel: usize, w: [Vec4; 7]) -> Vec4 {
+        let c = &self.splatted[channel];
+        let [wx, wy, wz, wxy, wyz, wxz, wxyz] = w;
+        c[0] + c[1] * wx + c[2] * wy + c[3] * wz + c[4] * wxy + c[5] * wyz + c[6] * wxz + c[7] * wxyz
     }
 }
 
 impl FractalSampler {
     pub fn new(octaves: u32, seed: u32) -> FractalSampler {
         let octaves = octaves.clamp(1, MAX_OCTAVES as u32) as usize;
-        FractalSampler { seed, octaves, cells: [CellValues::EMPTY; MAX_OCTAVES] }
+        let total: f32 = (0..octaves).map(|o| 0.5f32.powi(o as i32)).sum();
+        let weights = std::array::from_fn(|o| 0.5f32.powi(o as i32) / total);
+        FractalSampler { seed, octaves, weights, cells: [CellValues::EMPTY; MAX_OCTAVES] }
     }
 
+    /// The noise at one point.
     #[inline]
     pub fn sample(&mut self, local: Vec3, cell_offset: IVec3) -> Vec4 {
         if !local.is_finite() {
             return Vec4::ZERO;
         }
-        // Octave weights 1, ½, ¼, … normalised to sum to 1.
-        let mut weight = 1.0 / (2.0 - 0.5f32.powi(self.octaves as i32 - 1));
         let mut sum = Vec4::ZERO;
         let (mut local, mut offset) = (local, cell_offset);
-        for (octave, cell) in self.cells[..self.octaves].iter_mut().enumerate() {
-            sum += value4_cached(local, offset, self.seed, octave, cell) * weight;
-            weight *= 0.5;
+        for octave in 0..self.octaves {
+            let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
+            let cell = floor.as_ivec3().wrapping_add(offset);
+            let cache = &mut self.cells[octave];
+            cache.ensure(cell, self.seed, octave);
+            sum += cache.interpolate(fade3(local - floor)) * self.weights[octave];
             local *= 2.0;
-            offset = IVec3::new(offset.x.wrapping_mul(2), offset.y.wrapping_mul(2), offset.z.wrapping_mul(2));
+            offset = offset.wrapping_mul(IVec3::splat(2));
+        }
+        sum
+    }
+
+    /// The noise at four points; equal to four calls to [`FractalSampler::sample`].
+    /// Lanes that all fall in one cell are evaluated together; the rest one by one.
+    pub fn sample4(&mut self, locals: [Vec3; 4], cell_offset: IVec3) -> [Vec4; 4] {
+        if !locals.iter().all(|p| p.is_finite()) {
+            return locals.map(|p| self.sample(p, cell_offset));
+        }
+        let mut x = Vec4::new(locals[0].x, locals[1].x, locals[2].x, locals[3].x);
+        let mut y = Vec4::new(locals[0].y, locals[1].y, locals[2].y, locals[3].y);
+        let mut z = Vec4::new(locals[0].z, locals[1].z, locals[2].z, locals[3].z);
+        let mut offset = cell_offset;
+        let mut sum = [Vec4::ZERO; 4];
+        for octave in 0..self.octaves {
+            let (fx, fy, fz) = (floor4(x), floor4(y), floor4(z));
+            let (ix, iy, iz) = (fx.as_ivec4(), fy.as_ivec4(), fz.as_ivec4());
+            let weight = self.weights[octave];
+            let cache = &mut self.cells[octave];
+            if all_lanes_equal(ix) && all_lanes_equal(iy) && all_lanes_equal(iz) {
+                let cell = IVec3::new(ix.x, iy.x, iz.x).wrapping_add(offset);
+                cache.ensure(cell, self.seed, octave);
+                let (wx, wy, wz) = (fade4(x - fx), fade4(y - fy), fade4(z - fz));
+                let (wxy, wyz, wxz) = (wx * wy, wy * wz, wx * wz);
+                let w = [wx, wy, wz, wxy, wyz, wxz, wxy * wz];
+                let channels = Mat4::from_cols(
+                    cache.interpolate_lanes(0, w),
+                    cache.interpolate_lanes(1, w),
+                    cache.interpolate_lanes(2, w),
+                    cache.interpolate_lanes(3, w),
+                );
+                // Rows are channels per point: transposing gives one column per point.
+                let points = channels.transpose();
+                sum[0] += points.x_axis * weight;
+                sum[1] += points.y_axis * weight;
+                sum[2] += points.z_axis * weight;
+                sum[3] += points.w_axis * weight;
+            } else {
+                for (lane, total) in sum.iter_mut().enumerate() {
+                    let local = Vec3::new(x[lane], y[lane], z[lane]);
+                    let floor = Vec3::new(fx[lane], fy[lane], fz[lane]);
+                    cache.ensure(floor.as_ivec3().wrapping_add(offset), self.seed, octave);
+                    *total += cache.interpolate(fade3(local - floor)) * weight;
+                }
+            }
+            x *= 2.0;
+            y *= 2.0;
+            z *= 2.0;
+            offset = offset.wrapping_mul(IVec3::splat(2));
         }
         sum
     }
@@ -113,30 +196,42 @@ fn octave_seed(seed: u32, octave: usize) -> u32 {
 
 /// One octave: the four channels of the noise at lattice point `cell_offset` + `local`.
 pub fn value4(local: Vec3, cell_offset: IVec3, seed: u32) -> Vec4 {
-    value4_cached(local, cell_offset, seed, 0, &mut CellValues::EMPTY.clone())
+    let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
+    let mut cell = CellValues::EMPTY;
+    cell.ensure(floor.as_ivec3().wrapping_add(cell_offset), seed, 0);
+    cell.interpolate(fade3(local - floor))
 }
 
-/// floor(x) as an integer without a libm call (x86-64's baseline has no
-/// rounding instruction); saturates outside the i32 range.
-#[inline]
-fn floor_i32(x: f32) -> i32 {
-    let i = x as i32;
-    i - i32::from((i as f32) > x)
+/// floor(x) without a libm call (x86-64's baseline has no rounding
+/// instruction): truncate, then step down where truncation rounded up. Exact
+/// for |x| < 2³¹; beyond that the value saturates (still finite).
+#[inline(always)]
+fn floor_f32(x: f32) -> f32 {
+    let truncated = (x as i32) as f32;
+    if truncated > x { truncated - 1.0 } else { truncated }
+}
+
+/// [`floor_f32`] in every lane.
+#[inline(always)]
+fn floor4(x: Vec4) -> Vec4 {
+    let truncated = x.as_ivec4().as_vec4();
+    Vec4::select(truncated.cmpgt(x), truncated - Vec4::ONE, truncated)
 }
 
 #[inline(always)]
-fn value4_cached(local: Vec3, cell_offset: IVec3, seed: u32, octave: usize, cache: &mut CellValues) -> Vec4 {
-    let floor = IVec3::new(floor_i32(local.x), floor_i32(local.y), floor_i32(local.z));
-    let f = local - floor.as_vec3();
-    let cell = IVec3::new(
-        floor.x.wrapping_add(cell_offset.x),
-        floor.y.wrapping_add(cell_offset.y),
-        floor.z.wrapping_add(cell_offset.z),
-    );
-    if !cache.valid || cache.cell != cell {
-        cache.fill(cell, octave_seed(seed, octave));
-    }
-    cache.interpolate(f * f * f * (f * (f * 6.0 - 15.0) + 10.0))
+fn all_lanes_equal(v: IVec4) -> bool {
+    v == IVec4::splat(v.x)
+}
+
+/// The quintic fade 6f⁵ − 15f⁴ + 10f³ of each coordinate.
+#[inline(always)]
+fn fade3(f: Vec3) -> Vec3 {
+    f * f * f * (f * (f * 6.0 - 15.0) + 10.0)
+}
+
+#[inline(always)]
+fn fade4(f: Vec4) -> Vec4 {
+    f * f * f * (f * (f * 6.0 - 15.0) + 10.0)
 }
 
 /// Four values in [−1, 1] for a lattice point, one per byte of its hash.
@@ -232,9 +327,35 @@ mod tests {
         for p in points.iter().chain(points.iter().rev()) {
             assert_eq!(sampler.sample(*p, IVec3::new(4, 0, -2)), fractal4(*p, IVec3::new(4, 0, -2), 3, 11));
         }
-        for p in [-1.5f32, -1.0, -0.25, 0.0, 0.999_999_9, 2.0] {
-            assert_eq!(floor_i32(p), p.floor() as i32, "{p}");
+        for p in [-1.5f32, -1.0, -0.25, 0.0, 0.999_999_9, 2.0, -1e-30, 8_388_607.5, -8_388_607.5] {
+            assert_eq!(floor_f32(p), p.floor(), "{p}");
+            assert_eq!(floor4(Vec4::splat(p)), Vec4::splat(p.floor()), "{p}");
         }
+    }
+
+    #[test]
+    fn four_lanes_equal_four_single_samples() {
+        let points: Vec<Vec3> = grid_samples().collect();
+        let mut lanes = FractalSampler::new(2, 8);
+        let mut single = FractalSampler::new(2, 8);
+        // Neighbouring points (mostly one cell per group) and scattered ones (mixed cells).
+        for group in
+            points.chunks_exact(4).chain(points.iter().step_by(97).copied().collect::<Vec<_>>().chunks_exact(4))
+        {
+            let group = [group[0], group[1], group[2], group[3]];
+            let together = lanes.sample4(group, IVec3::new(-3, 7, 1));
+            for (p, value) in group.iter().zip(together) {
+                assert_eq!(value, single.sample(*p, IVec3::new(-3, 7, 1)), "{p}");
+            }
+        }
+        let near = Vec3::new(0.2, 0.3, 0.4);
+        let same_cell = [near, near + Vec3::splat(0.01), near + Vec3::splat(0.02), near + Vec3::splat(0.03)];
+        let together = lanes.sample4(same_cell, IVec3::ZERO);
+        for (p, value) in same_cell.iter().zip(together) {
+            assert_eq!(value, fractal4(*p, IVec3::ZERO, 2, 8));
+        }
+        let with_nan = [near, Vec3::NAN, near, near];
+        assert_eq!(lanes.sample4(with_nan, IVec3::ZERO)[1], Vec4::ZERO);
     }
 
     #[test]
