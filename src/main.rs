@@ -46,7 +46,7 @@ enum Command {
         /// Output file (.obj) with --frame; output directory with --frames.
         #[arg(short, long)]
         output: PathBuf,
-        /// Frame to export.
+        /// Frame to export (default: the timeline's start).
         #[arg(long, allow_negative_numbers = true, conflicts_with = "frames")]
         frame: Option<i32>,
         /// Frame range A..B, both ends included: writes OUT/NAME_FRAME.obj for each frame.
@@ -312,7 +312,7 @@ fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
     match request.frames {
         None => {
             let format = request.format.map_or_else(|| format_from_extension(output), Ok)?;
-            let frame = request.frame.unwrap_or(0);
+            let frame = request.frame.unwrap_or(scene.timeline.start);
             let mesh = exporter.mesh(frame);
             write_mesh(&mesh, &scene.name, output, format)?;
             say!(
