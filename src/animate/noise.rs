@@ -15,7 +15,7 @@
 //! part, so a field scrolled far away (t = 10 000 s of wind) keeps full f32
 //! precision.
 
-use glam::{IVec3, IVec4, Mat4, Vec3, Vec4};
+use glam::{IVec3, Mat4, Vec3, Vec4};
 
 /// Fractal sum of `octaves` value-noise layers at `local + cell_offset`, each
 /// octave at twice the frequency and half the amplitude of the previous,
@@ -45,7 +45,10 @@ const MAX_OCTAVES: usize = 8;
 /// c6·wx·wz + c7·wx·wy·wz, summed in that order.
 #[derive(Clone, Copy, Debug)]
 struct CellValues {
-    cell: IVec3,
+    /// The cell's corner as the floored local position and the lattice offset
+    /// it was sampled with (comparing floats avoids integer conversions per point).
+    floor_key: Vec3,
+    offset_key: IVec3,
     coefficients: [Vec4; 8],
     /// `coefficients[k][channel]` in every lane, for [`CellValues::interpolate_lanes`].
     splatted: [[Vec4; 8]; 4],
@@ -53,8 +56,13 @@ struct CellValues {
 }
 
 impl CellValues {
-    const EMPTY: CellValues =
-        CellValues { cell: IVec3::ZERO, coefficients: [Vec4::ZERO; 8], splatted: [[Vec4::ZERO; 8]; 4], valid: false };
+    const EMPTY: CellValues = CellValues {
+        floor_key: Vec3::ZERO,
+        offset_key: IVec3::ZERO,
+        coefficients: [Vec4::ZERO; 8],
+        splatted: [[Vec4::ZERO; 8]; 4],
+        valid: false,
+    };
 
     /// Kept out of line: it runs once per cell, and inlining it into the
     /// per-point loops would crowd out their registers.
@@ -81,14 +89,15 @@ impl CellValues {
             v[7] - v[6] - v[5] - v[3] + v[4] + v[2] + v[1] - v[0],
         ];
         self.splatted = std::array::from_fn(|channel| self.coefficients.map(|c| Vec4::splat(c[channel])));
-        self.cell = cell;
         self.valid = true;
     }
 
     #[inline(always)]
-    fn ensure(&mut self, cell: IVec3, seed: u32, octave: usize) {
-        if !self.valid || self.cell != cell {
-            self.fill(cell, octave_seed(seed, octave));
+    fn ensure(&mut self, floor: Vec3, offset: IVec3, seed: u32, octave: usize) {
+        if !self.valid || self.floor_key != floor || self.offset_key != offset {
+            self.fill(floor.as_ivec3().wrapping_add(offset), octave_seed(seed, octave));
+            self.floor_key = floor;
+            self.offset_key = offset;
         }
     }
 
@@ -129,9 +138,8 @@ impl FractalSampler {
         let (mut local, mut offset) = (local, cell_offset);
         for octave in 0..self.octaves {
             let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
-            let cell = floor.as_ivec3().wrapping_add(offset);
             let cache = &mut self.cells[octave];
-            cache.ensure(cell, self.seed, octave);
+            cache.ensure(floor, offset, self.seed, octave);
             sum += cache.interpolate(fade3(local - floor)) * self.weights[octave];
             local *= 2.0;
             offset = offset.wrapping_mul(IVec3::splat(2));
@@ -142,7 +150,10 @@ impl FractalSampler {
     /// The noise at four points; equal to four calls to [`FractalSampler::sample`].
     /// Lanes that all fall in one cell are evaluated together; the rest one by one.
     pub fn sample4(&mut self, locals: [Vec3; 4], cell_offset: IVec3) -> [Vec4; 4] {
-        if !locals.iter().all(|p| p.is_finite()) {
+        let largest = locals.iter().map(|p| p.abs().max_element()).fold(0.0, f32::max);
+        let finite = locals.iter().all(|p| p.is_finite());
+        if !finite || !(largest < MAGIC_FLOOR_RANGE / 2f32.powi(self.octaves as i32)) {
+            // Far out or not finite: the one-point path handles every case.
             return locals.map(|p| self.sample(p, cell_offset));
         }
         let mut x = Vec4::new(locals[0].x, locals[1].x, locals[2].x, locals[3].x);
@@ -152,12 +163,10 @@ impl FractalSampler {
         let mut sum = [Vec4::ZERO; 4];
         for octave in 0..self.octaves {
             let (fx, fy, fz) = (floor4(x), floor4(y), floor4(z));
-            let (ix, iy, iz) = (fx.as_ivec4(), fy.as_ivec4(), fz.as_ivec4());
             let weight = self.weights[octave];
             let cache = &mut self.cells[octave];
-            if all_lanes_equal(ix) && all_lanes_equal(iy) && all_lanes_equal(iz) {
-                let cell = IVec3::new(ix.x, iy.x, iz.x).wrapping_add(offset);
-                cache.ensure(cell, self.seed, octave);
+            if all_lanes_equal(fx) && all_lanes_equal(fy) && all_lanes_equal(fz) {
+                cache.ensure(Vec3::new(fx.x, fy.x, fz.x), offset, self.seed, octave);
                 let (wx, wy, wz) = (fade4(x - fx), fade4(y - fy), fade4(z - fz));
                 let (wxy, wyz, wxz) = (wx * wy, wy * wz, wx * wz);
                 let w = [wx, wy, wz, wxy, wyz, wxz, wxy * wz];
@@ -177,7 +186,7 @@ impl FractalSampler {
                 for (lane, total) in sum.iter_mut().enumerate() {
                     let local = Vec3::new(x[lane], y[lane], z[lane]);
                     let floor = Vec3::new(fx[lane], fy[lane], fz[lane]);
-                    cache.ensure(floor.as_ivec3().wrapping_add(offset), self.seed, octave);
+                    cache.ensure(floor, offset, self.seed, octave);
                     *total += cache.interpolate(fade3(local - floor)) * weight;
                 }
             }
@@ -198,29 +207,34 @@ fn octave_seed(seed: u32, octave: usize) -> u32 {
 pub fn value4(local: Vec3, cell_offset: IVec3, seed: u32) -> Vec4 {
     let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
     let mut cell = CellValues::EMPTY;
-    cell.ensure(floor.as_ivec3().wrapping_add(cell_offset), seed, 0);
+    cell.ensure(floor, cell_offset, seed, 0);
     cell.interpolate(fade3(local - floor))
 }
 
+/// Adding and subtracting 1.5·2²³ rounds an f32 to the nearest integer when
+/// |x| < 2²²: the sum lands where the spacing of f32 values is exactly 1.
+const MAGIC_ROUND: f32 = 12_582_912.0;
+const MAGIC_FLOOR_RANGE: f32 = 4_194_304.0;
+
 /// floor(x) without a libm call (x86-64's baseline has no rounding
-/// instruction): truncate, then step down where truncation rounded up. Exact
-/// for |x| < 2³¹; beyond that the value saturates (still finite).
+/// instruction): round to nearest, then step down where that rounded up.
+/// Exact for |x| < 2³¹; beyond that the value saturates (still finite).
 #[inline(always)]
 fn floor_f32(x: f32) -> f32 {
-    let truncated = (x as i32) as f32;
-    if truncated > x { truncated - 1.0 } else { truncated }
+    let rounded = if x.abs() < MAGIC_FLOOR_RANGE { (x + MAGIC_ROUND) - MAGIC_ROUND } else { (x as i32) as f32 };
+    if rounded > x { rounded - 1.0 } else { rounded }
 }
 
-/// [`floor_f32`] in every lane.
+/// [`floor_f32`] in every lane, for |x| < 2²² (the caller checks).
 #[inline(always)]
 fn floor4(x: Vec4) -> Vec4 {
-    let truncated = x.as_ivec4().as_vec4();
-    Vec4::select(truncated.cmpgt(x), truncated - Vec4::ONE, truncated)
+    let rounded = (x + Vec4::splat(MAGIC_ROUND)) - Vec4::splat(MAGIC_ROUND);
+    Vec4::select(rounded.cmpgt(x), rounded - Vec4::ONE, rounded)
 }
 
 #[inline(always)]
-fn all_lanes_equal(v: IVec4) -> bool {
-    v == IVec4::splat(v.x)
+fn all_lanes_equal(v: Vec4) -> bool {
+    v.cmpeq(Vec4::splat(v.x)).all()
 }
 
 /// The quintic fade 6f⁵ − 15f⁴ + 10f³ of each coordinate.
@@ -327,9 +341,11 @@ mod tests {
         for p in points.iter().chain(points.iter().rev()) {
             assert_eq!(sampler.sample(*p, IVec3::new(4, 0, -2)), fractal4(*p, IVec3::new(4, 0, -2), 3, 11));
         }
-        for p in [-1.5f32, -1.0, -0.25, 0.0, 0.999_999_9, 2.0, -1e-30, 8_388_607.5, -8_388_607.5] {
+        for p in [-1.5f32, -1.0, -0.25, 0.0, 0.999_999_9, 2.0, -1e-30, 2_097_151.5, -4_194_303.5, 8_388_607.5] {
             assert_eq!(floor_f32(p), p.floor(), "{p}");
-            assert_eq!(floor4(Vec4::splat(p)), Vec4::splat(p.floor()), "{p}");
+            if p.abs() < MAGIC_FLOOR_RANGE {
+                assert_eq!(floor4(Vec4::splat(p)), Vec4::splat(p.floor()), "{p}");
+            }
         }
     }
 
