@@ -435,10 +435,10 @@ impl Sweeper {
                         interior_steps::<false>(&self.position, run, &self.bounds, gravity, &mut self.steps);
                     }
                 }
-                for &(i, j) in &self.border[colour] {
-                    let step = self.border_step(i, j, gravity);
-                    for (steps, value) in self.steps.iter_mut().zip(step) {
-                        steps.push(value);
+                for chunk in self.border[colour].chunks(LANES) {
+                    let step = self.border_steps(chunk, gravity);
+                    for (steps, lanes) in self.steps.iter_mut().zip(step) {
+                        steps.extend_from_slice(&lanes[..chunk.len()]);
                     }
                 }
                 let singles = self.border[colour].iter().map(|&(i, j)| Run { i, j, len: 1 });
@@ -459,25 +459,33 @@ impl Sweeper {
         report
     }
 
-    /// The step of a point near an edge: absent neighbours are the point itself,
-    /// masked out.
-    fn border_step(&self, i: usize, j: usize, gravity: f64) -> [f64; 3] {
-        let at = |i: usize, j: usize| self.position.each_ref().map(|axis| [axis.get(i, j)]);
-        let mut q = [at(i, j); NEIGHBOURS];
-        let mut present = [[0.0]; NEIGHBOURS];
-        for n in 0..NEIGHBOURS {
-            let (ni, nj) = (i.wrapping_add_signed(STEPS[n].0), j.wrapping_add_signed(STEPS[n].1));
-            if ni < self.cols && nj < self.rows {
-                q[n] = at(ni, nj);
-                present[n] = [1.0];
+    /// Steps of up to four points near an edge, side by side: absent neighbours
+    /// are the point itself, masked out; spare lanes repeat the last point.
+    #[inline(always)]
+    fn border_steps(&self, points: &[(usize, usize)], gravity: f64) -> [Lanes; 3] {
+        let mut p = [[0.0; LANES]; 3];
+        let mut q = [[[0.0; LANES]; 3]; NEIGHBOURS];
+        let mut present = [[0.0; LANES]; NEIGHBOURS];
+        for lane in 0..LANES {
+            let (i, j) = points[lane.min(points.len() - 1)];
+            for axis in 0..3 {
+                p[axis][lane] = self.position[axis].get(i, j);
+            }
+            for n in 0..NEIGHBOURS {
+                let (ni, nj) = (i.wrapping_add_signed(STEPS[n].0), j.wrapping_add_signed(STEPS[n].1));
+                let inside = ni < self.cols && nj < self.rows;
+                let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
+                for axis in 0..3 {
+                    q[n][axis][lane] = self.position[axis].get(qi, qj);
+                }
+                present[n][lane] = if inside { 1.0 } else { 0.0 };
             }
         }
-        let step = if self.bends {
-            point_steps::<true, 1>(&at(i, j), &|n| q[n], &|n| present[n], &self.bounds, gravity)
+        if self.bends {
+            point_steps::<true, LANES>(&p, &|n| q[n], &|n| present[n], &self.bounds, gravity)
         } else {
-            point_steps::<false, 1>(&at(i, j), &|n| q[n], &|n| present[n], &self.bounds, gravity)
-        };
-        step.map(|lanes| lanes[0])
+            point_steps::<false, LANES>(&p, &|n| q[n], &|n| present[n], &self.bounds, gravity)
+        }
     }
 }
 
