@@ -269,6 +269,31 @@ fn points_on_kept_catenaries_sit_on_them() {
     let _ = Catenary::new(DVec3::ZERO, DVec3::X, 2.0);
 }
 
+#[test]
+fn pins_out_of_reach_stretch_the_cloth_without_running_away() {
+    // No shape satisfies every edge: the constraints trade moves back and forth,
+    // which momentum must not build up. Every point stays between the pins'
+    // extremes, give or take the cloth's own size.
+    for (n, far) in [(12u32, 3.0), (25, 6.0), (40, 2.5)] {
+        let last = n - 1;
+        let cloth = Cloth { size: (1.0, 1.0), grid: (n, n) };
+        let k = key(
+            &[((0, 0), (-far, 1.0, 0.0)), ((last, last), (far, 2.0, 1.0)), ((last, 0), (0.0, 0.0, -far))],
+            1.2,
+            0.5,
+            400,
+        );
+        let shape = RestShape::build(&cloth, &k);
+        pin_positions_exact(&shape, &k);
+        let reach = far + 2.0;
+        assert!(
+            shape.relaxed.iter().all(|p| p.abs().max_element() < reach),
+            "{n}²: {:?}",
+            shape.relaxed.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max)
+        );
+    }
+}
+
 fn pin_layout() -> impl Strategy<Value = (u32, u32, Vec<((u32, u32), (f64, f64, f64))>, f64, f64)> {
     (3u32..14, 3u32..14, 1usize..6, 1.0f64..1.6, 0.0f64..1.0).prop_flat_map(
         |(cols, rows, count, elasticity, stiffness)| {

@@ -78,6 +78,10 @@ const OVER_RELAXATION: f64 = 1.3;
 /// on 128² and more than ten times fewer than none; much higher oscillates.
 const MOMENTUM: f64 = 0.95;
 
+/// Largest move per sweep a point may carry on as momentum, relative to the
+/// rest spacing; faster points stop.
+const MAX_SPEED: f64 = 0.5;
+
 /// Shear angle a cell may take freely (woven fabric's locking angle).
 pub const MAX_SHEAR_DEG: f64 = 30.0;
 
@@ -405,6 +409,7 @@ impl Sweeper {
     #[inline(always)]
     fn sweeps(&mut self, params: &RelaxParams, settle: Settle) -> RelaxReport {
         let min_rest = params.rest_u_m.min(params.rest_v_m);
+        let max_speed2 = (MAX_SPEED * min_rest).powi(2);
         let mut report = RelaxReport::default();
         // Settling: the first sweeps also pull every free point down a little, fading
         // to nothing, so slack cloth hangs instead of staying where the approximation
@@ -444,7 +449,7 @@ impl Sweeper {
                 let singles = self.border[colour].iter().map(|&(i, j)| Run { i, j, len: 1 });
                 let mut done = 0;
                 for run in self.runs[colour].iter().copied().chain(singles) {
-                    let step2 = apply(&mut self.position, &mut self.velocity, &run, &self.steps, done);
+                    let step2 = apply(&mut self.position, &mut self.velocity, &run, &self.steps, done, max_speed2);
                     max_step2 = max_step2.max(step2);
                     done += run.len;
                 }
@@ -468,15 +473,15 @@ impl Sweeper {
         let mut present = [[0.0; LANES]; NEIGHBOURS];
         for lane in 0..LANES {
             let (i, j) = points[lane.min(points.len() - 1)];
-            for axis in 0..3 {
-                p[axis][lane] = self.position[axis].get(i, j);
+            for (p, axis) in p.iter_mut().zip(&self.position) {
+                p[lane] = axis.get(i, j);
             }
             for n in 0..NEIGHBOURS {
                 let (ni, nj) = (i.wrapping_add_signed(STEPS[n].0), j.wrapping_add_signed(STEPS[n].1));
                 let inside = ni < self.cols && nj < self.rows;
                 let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
-                for axis in 0..3 {
-                    q[n][axis][lane] = self.position[axis].get(qi, qj);
+                for (q, axis) in q[n].iter_mut().zip(&self.position) {
+                    q[lane] = axis.get(qi, qj);
                 }
                 present[n][lane] = if inside { 1.0 } else { 0.0 };
             }
@@ -492,8 +497,19 @@ impl Sweeper {
 /// Moves the points of `run` by their steps (`steps[axis][first..]`) and
 /// keeps their velocity (this sweep's whole move: the carried momentum plus
 /// the step); returns the largest squared step. A non-finite step is skipped.
+///
+/// A velocity above `max_speed2` (squared) is dropped: where the constraints
+/// cannot all hold (pins out of the cloth's reach) they can trade moves back
+/// and forth, and momentum would build that up without bound.
 #[inline(always)]
-fn apply(position: &mut [Split; 3], velocity: &mut [Split; 3], run: &Run, steps: &[Vec<f64>; 3], first: usize) -> f64 {
+fn apply(
+    position: &mut [Split; 3],
+    velocity: &mut [Split; 3],
+    run: &Run,
+    steps: &[Vec<f64>; 3],
+    first: usize,
+    max_speed2: f64,
+) -> f64 {
     let len = run.len;
     let [sx, sy, sz] = steps.each_ref().map(|s| &s[first..first + len]);
     let mut max_step2 = 0.0f64;
@@ -507,7 +523,9 @@ fn apply(position: &mut [Split; 3], velocity: &mut [Split; 3], run: &Run, steps:
         px[t] += dx;
         py[t] += dy;
         pz[t] += dz;
-        (vx[t], vy[t], vz[t]) = (vx[t] * MOMENTUM + dx, vy[t] * MOMENTUM + dy, vz[t] * MOMENTUM + dz);
+        let v = (vx[t] * MOMENTUM + dx, vy[t] * MOMENTUM + dy, vz[t] * MOMENTUM + dz);
+        let keep = v.0 * v.0 + v.1 * v.1 + v.2 * v.2 <= max_speed2;
+        (vx[t], vy[t], vz[t]) = if keep { v } else { (0.0, 0.0, 0.0) };
         let step2 = dx * dx + dy * dy + dz * dz;
         max_step2 = if step2 > max_step2 { step2 } else { max_step2 };
     }
