@@ -15,8 +15,9 @@
 //! average of what its violated constraints ask, over-relaxed, plus momentum:
 //! a share of the previous sweep's move is carried on (heavy-ball
 //! acceleration), which speeds up the slow, cloth-wide modes that plain
-//! Gauss–Seidel crawls through. Constraints use squared lengths, so a sweep
-//! needs neither square roots nor divisions per edge.
+//! Gauss–Seidel crawls through; a point faster than half a cell per sweep
+//! drops it, so pins out of the cloth's reach cannot build up a runaway.
+//! Constraints use squared lengths, so a sweep needs no square roots.
 //!
 //! Points are visited in four colours by the parity of their distance to the
 //! nearest edge in i and in j; the points of one colour all move at once from
@@ -34,10 +35,10 @@
 //!
 //! Convergence: a level stops after `max_iterations` sweeps, or once no
 //! constraint asks any point to move by more than `tolerance` × the smaller
-//! rest spacing in a sweep (the move the constraints ask for, not the
-//! momentum carried over, which only coasts along near-isometric bends and
-//! changes no edge length). Pins never move. Output is bit-for-bit
-//! deterministic.
+//! rest spacing in a sweep. The carried momentum is not counted, so a slow
+//! slide along a near-isometric bend, which changes no edge length, does not
+//! keep a relaxed cloth sweeping until the cap. Pins never move. Output is
+//! bit-for-bit deterministic.
 
 use glam::DVec3;
 
