@@ -1,9 +1,12 @@
 //! Building a rest shape (approximate + relax) for square grids hung from four
 //! corners, as the modelling issue's targets state them: 32², 64², 128², 256².
+//! The approximation alone is measured too: it is the fixed part of the cost.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::scene::{Cloth, Ease, Key, Pin, RelaxSettings};
-use drape::shape::RestShape;
+use drape::shape::rest_shape::grid_spec;
+use drape::shape::{PinPoint, RestShape, approximate};
+use glam::DVec3;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -38,5 +41,26 @@ fn rest_shape(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, rest_shape);
+fn approximation(c: &mut Criterion) {
+    let mut group = c.benchmark_group("approximate");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    for n in [32u32, 64, 128, 256] {
+        let grid = grid_spec(&Cloth { size: (2.0, 2.0), grid: (n, n) });
+        let key = four_corner_key(n);
+        let pins: Vec<PinPoint> = key
+            .pins
+            .iter()
+            .map(|p| PinPoint {
+                grid: (p.grid.0 as usize, p.grid.1 as usize),
+                pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2),
+            })
+            .collect();
+        group.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, _| {
+            b.iter(|| black_box(approximate(grid, &pins, key.elasticity)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, rest_shape, approximation);
 criterion_main!(benches);

@@ -2,7 +2,7 @@
 //! invariants the editor and exporters rely on.
 
 use drape::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings};
-use drape::shape::relax::mean_structural_error;
+use drape::shape::relax::{RelaxParams, mean_structural_error, relax};
 use drape::shape::{Catenary, PinLayout, Placement, RestShape};
 use glam::DVec3;
 use proptest::prelude::*;
@@ -107,9 +107,11 @@ fn symmetric_tent_gives_symmetric_shape() {
         200,
     );
     let shape = RestShape::build(&cloth, &k);
-    // Only the approximation is exactly symmetric: Gauss–Seidel relaxation visits
-    // one side first and a slack edge may fold towards either side.
-    for (stage, positions, tolerance) in [("approximated", &shape.approximated, 1e-12)] {
+    // The approximation is symmetric to rounding; relaxation keeps symmetry
+    // exactly, so only that rounding (amplified where a slack edge buckles) remains.
+    for (stage, positions, tolerance) in
+        [("approximated", &shape.approximated, 1e-12), ("relaxed", &shape.relaxed, 1e-9)]
+    {
         for j in 0..17 {
             for i in 0..17 {
                 let p = positions[j * 17 + i];
@@ -118,6 +120,83 @@ fn symmetric_tent_gives_symmetric_shape() {
                 assert!(p.distance(expected) < tolerance, "{stage} ({i}, {j}): {p} vs mirrored {expected}");
             }
         }
+    }
+}
+
+#[test]
+fn mirror_symmetric_input_relaxes_to_a_bit_for_bit_symmetric_shape() {
+    // Odd and even sides, with and without coarsening: a four-corner cloth whose
+    // start is made exactly mirror-symmetric in x.
+    for n in [9usize, 16, 17, 33, 40] {
+        let last = n as u32 - 1;
+        let cloth = Cloth { size: (1.6, 1.6), grid: (n as u32, n as u32) };
+        let k = key(
+            &[
+                ((0, 0), (-0.7, 1.0, -0.7)),
+                ((last, 0), (0.7, 1.0, -0.7)),
+                ((0, last), (-0.7, 1.2, 0.7)),
+                ((last, last), (0.7, 1.2, 0.7)),
+            ],
+            1.05,
+            0.2,
+            200,
+        );
+        let shape = RestShape::build(&cloth, &k);
+        let mirrored = |p: DVec3| DVec3::new(-p.x, p.y, p.z);
+        let mut start = shape.approximated.clone();
+        for j in 0..n {
+            for i in n / 2..n {
+                start[j * n + i] = if 2 * i + 1 == n {
+                    DVec3::new(0.0, start[j * n + i].y, start[j * n + i].z)
+                } else {
+                    mirrored(start[j * n + n - 1 - i])
+                };
+            }
+        }
+        let pinned: Vec<bool> = shape.placement.iter().map(|p| *p == Placement::Pin).collect();
+        let params = RelaxParams {
+            rest_u_m: shape.rest_u_m(),
+            rest_v_m: shape.rest_v_m(),
+            stiffness: 0.2,
+            max_iterations: 200,
+            tolerance: 1e-5,
+        };
+        let mut relaxed = start.clone();
+        relax(&mut relaxed, n, n, &pinned, &params);
+        assert_ne!(relaxed, start);
+        for j in 0..n {
+            for i in 0..n {
+                let (p, q) = (relaxed[j * n + i], relaxed[j * n + n - 1 - i]);
+                assert!(p == mirrored(q), "{n}²: ({i}, {j}) {p} vs mirror of {q}");
+            }
+        }
+    }
+}
+
+#[test]
+fn curtain_keeps_its_sagging_top_edge_after_relaxation() {
+    // Shear resists only past the fabric's locking angle, so the cells under the
+    // top catenary may lean instead of lifting the edge flat.
+    let scene = scene::load("scenes/curtain.ron".as_ref()).unwrap();
+    let key = &scene.keys[0];
+    let shape = RestShape::build(&scene.cloth, key);
+    let cols = scene.cloth.cols();
+    let pin_y = key.pins[0].pos.1;
+    let catenary_sag = pin_y - shape.approximated[cols / 2].y;
+    let relaxed_sag = pin_y - shape.relaxed[cols / 2].y;
+    assert!(relaxed_sag > 0.8 * catenary_sag, "relaxed sag {relaxed_sag} vs catenary {catenary_sag}");
+    // And the top edge still falls from each pin towards the middle.
+    let top: Vec<f64> = (0..cols).map(|i| shape.relaxed[i].y).collect();
+    assert!(top[cols / 4] < pin_y && top[cols / 2] < top[cols / 4], "{top:?}");
+}
+
+#[test]
+fn example_scenes_converge_within_their_sweep_budget() {
+    for name in ["tablecloth", "tent", "curtain", "corner"] {
+        let scene = scene::load(format!("scenes/{name}.ron").as_ref()).unwrap();
+        let shape = RestShape::build(&scene.cloth, &scene.keys[0]);
+        let report = shape.relax_report;
+        assert!(report.converged && report.last_move < scene.keys[0].relax.tolerance, "{name}: {report:?}");
     }
 }
 
@@ -189,6 +268,31 @@ fn points_on_kept_catenaries_sit_on_them() {
         }
     }
     let _ = Catenary::new(DVec3::ZERO, DVec3::X, 2.0);
+}
+
+#[test]
+fn pins_out_of_reach_stretch_the_cloth_without_running_away() {
+    // No shape satisfies every edge: the constraints trade moves back and forth,
+    // which momentum must not build up. Every point stays between the pins'
+    // extremes, give or take the cloth's own size.
+    for (n, far) in [(12u32, 3.0), (25, 6.0), (40, 2.5)] {
+        let last = n - 1;
+        let cloth = Cloth { size: (1.0, 1.0), grid: (n, n) };
+        let k = key(
+            &[((0, 0), (-far, 1.0, 0.0)), ((last, last), (far, 2.0, 1.0)), ((last, 0), (0.0, 0.0, -far))],
+            1.2,
+            0.5,
+            400,
+        );
+        let shape = RestShape::build(&cloth, &k);
+        pin_positions_exact(&shape, &k);
+        let reach = far + 2.0;
+        assert!(
+            shape.relaxed.iter().all(|p| p.abs().max_element() < reach),
+            "{n}²: {:?}",
+            shape.relaxed.iter().map(|p| p.abs().max_element()).fold(0.0, f64::max)
+        );
+    }
 }
 
 fn pin_layout() -> impl Strategy<Value = (u32, u32, Vec<((u32, u32), (f64, f64, f64))>, f64, f64)> {
