@@ -5,7 +5,7 @@
 //! `∂p/∂v × ∂p/∂u`, which for a curtain hanging in the XY plane (u along +X,
 //! v down) points towards +Z.
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
 
 /// A grid cloth ready to draw or export.
 #[derive(Clone, Debug, PartialEq)]
@@ -85,30 +85,61 @@ pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<
         out.fill(Vec3::Y);
         return;
     }
-    // One row of quads at a time: their area vectors, then each vertex of the
-    // row's two grid rows adds the quads on its left and right. Slices and
-    // zips keep the loops free of bounds checks; this runs every frame.
-    let mut areas = vec![Vec3::ZERO; cols - 1];
-    for j in 0..rows - 1 {
+    // Two rows of quad area vectors in flight (above and below the vertex
+    // row); each vertex sums its up to four quads. SIMD vectors inside, and
+    // the normalisation runs four normals per square root and division: this
+    // runs on every frame, several times when waves follow the normals.
+    let quads = cols - 1;
+    let mut above = vec![Vec3A::ZERO; quads + 2];
+    let mut below = vec![Vec3A::ZERO; quads + 2];
+    let quad_row = |j: usize, row: &mut [Vec3A]| {
         let top = &positions[j * cols..(j + 1) * cols];
         let bottom = &positions[(j + 1) * cols..(j + 2) * cols];
-        for (area, (t, b)) in areas.iter_mut().zip(top.windows(2).zip(bottom.windows(2))) {
-            *area = (b[0] - t[1]).cross(b[1] - t[0]);
+        // row[0] and row[quads + 1] stay zero: the missing quads beyond the sides.
+        for (area, (t, b)) in row[1..=quads].iter_mut().zip(top.windows(2).zip(bottom.windows(2))) {
+            let (a, b1, c, d) = (Vec3A::from(t[0]), Vec3A::from(t[1]), Vec3A::from(b[0]), Vec3A::from(b[1]));
+            *area = (c - b1).cross(d - a);
         }
-        let (out_top, out_bottom) = out[j * cols..(j + 2) * cols].split_at_mut(cols);
-        let mut left = Vec3::ZERO;
-        for ((n_top, n_bottom), right) in
-            out_top.iter_mut().zip(out_bottom.iter_mut()).zip(areas.iter().chain([&Vec3::ZERO]))
-        {
-            let sum = left + *right;
-            *n_top += sum;
-            *n_bottom += sum;
-            left = *right;
+    };
+    out.clear();
+    out.reserve(cols * rows);
+    for j in 0..rows {
+        std::mem::swap(&mut above, &mut below);
+        if j + 1 < rows {
+            quad_row(j, &mut below);
+        } else {
+            below.fill(Vec3A::ZERO);
+        }
+        let (up, down) = (&above, &below);
+        // Vertex i touches quads i − 1 and i, stored at i and i + 1.
+        for (upper, lower) in up.windows(2).zip(down.windows(2)) {
+            out.push(Vec3::from(upper[0] + upper[1] + lower[0] + lower[1]));
         }
     }
-    for n in out.iter_mut() {
-        let length2 = n.length_squared();
-        *n = if length2 > 0.0 && length2.is_finite() { *n * length2.sqrt().recip() } else { Vec3::Y };
+    normalize_all(out);
+}
+
+/// Scales every vector to unit length, four at a time; a zero, tiny or
+/// non-finite vector becomes +Y.
+fn normalize_all(vectors: &mut [Vec3]) {
+    let mut chunks = vectors.chunks_exact_mut(4);
+    for chunk in &mut chunks {
+        let length2 = Vec4::new(
+            chunk[0].length_squared(),
+            chunk[1].length_squared(),
+            chunk[2].length_squared(),
+            chunk[3].length_squared(),
+        );
+        let inverse = Vec4::ONE / length2.sqrt();
+        for (k, v) in chunk.iter_mut().enumerate() {
+            let (l2, inv) = (length2[k], inverse[k]);
+            *v = if l2 > 0.0 && l2.is_finite() && inv.is_finite() { *v * inv } else { Vec3::Y };
+        }
+    }
+    for v in chunks.into_remainder() {
+        let length2 = v.length_squared();
+        let inverse = 1.0 / length2.sqrt();
+        *v = if length2 > 0.0 && length2.is_finite() && inverse.is_finite() { *v * inverse } else { Vec3::Y };
     }
 }
 
@@ -188,5 +219,11 @@ mod tests {
         assert!(mesh.normals.iter().all(|n| *n == Vec3::Y));
         let nan = Mesh::from_grid(2, 2, &vec![DVec3::NAN; 4]);
         assert!(nan.normals.iter().all(|n| n.is_finite()));
+        let huge = Mesh::from_grid(
+            3,
+            2,
+            &[DVec3::ZERO, DVec3::X * 1e30, DVec3::X * 2e30, -DVec3::Y, DVec3::Y * 1e30, DVec3::ONE],
+        );
+        assert!(huge.normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-5), "{:?}", huge.normals);
     }
 }

@@ -35,7 +35,21 @@ pub struct FractalSampler {
     octaves: usize,
     /// Octave weights 1, ½, ¼, … normalised to sum to 1.
     weights: [f32; MAX_OCTAVES],
-    cells: [CellValues; MAX_OCTAVES],
+    /// [`CELL_SLOTS`] recently used cells per octave, direct-mapped by their
+    /// corner, so the next row of a cloth finds the cells of the previous one.
+    cells: Vec<CellValues>,
+}
+
+/// Cells remembered per octave (a power of two).
+const CELL_SLOTS: usize = 16;
+
+/// The slot of a cell among [`CELL_SLOTS`], from the bits of its floored
+/// coordinates (cheaper than converting them to integers).
+#[inline(always)]
+fn slot(floor: Vec3) -> usize {
+    let h = floor.x.to_bits() ^ floor.y.to_bits().rotate_left(11) ^ floor.z.to_bits().rotate_left(22);
+    let h = h.wrapping_mul(0x9e37_79b9);
+    (h >> 28) as usize & (CELL_SLOTS - 1)
 }
 
 const MAX_OCTAVES: usize = 8;
@@ -125,7 +139,7 @@ impl FractalSampler {
         let octaves = octaves.clamp(1, MAX_OCTAVES as u32) as usize;
         let total: f32 = (0..octaves).map(|o| 0.5f32.powi(o as i32)).sum();
         let weights = std::array::from_fn(|o| 0.5f32.powi(o as i32) / total);
-        FractalSampler { seed, octaves, weights, cells: [CellValues::EMPTY; MAX_OCTAVES] }
+        FractalSampler { seed, octaves, weights, cells: vec![CellValues::EMPTY; octaves * CELL_SLOTS] }
     }
 
     /// The noise at one point.
@@ -138,7 +152,7 @@ impl FractalSampler {
         let (mut local, mut offset) = (local, cell_offset);
         for octave in 0..self.octaves {
             let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
-            let cache = &mut self.cells[octave];
+            let cache = &mut self.cells[octave * CELL_SLOTS + slot(floor)];
             cache.ensure(floor, offset, self.seed, octave);
             sum += cache.interpolate(fade3(local - floor)) * self.weights[octave];
             local *= 2.0;
@@ -164,9 +178,11 @@ impl FractalSampler {
         for octave in 0..self.octaves {
             let (fx, fy, fz) = (floor4(x), floor4(y), floor4(z));
             let weight = self.weights[octave];
-            let cache = &mut self.cells[octave];
+            let slots = &mut self.cells[octave * CELL_SLOTS..(octave + 1) * CELL_SLOTS];
             if all_lanes_equal(fx) && all_lanes_equal(fy) && all_lanes_equal(fz) {
-                cache.ensure(Vec3::new(fx.x, fy.x, fz.x), offset, self.seed, octave);
+                let floor = Vec3::new(fx.x, fy.x, fz.x);
+                let cache = &mut slots[slot(floor)];
+                cache.ensure(floor, offset, self.seed, octave);
                 let (wx, wy, wz) = (fade4(x - fx), fade4(y - fy), fade4(z - fz));
                 let (wxy, wyz, wxz) = (wx * wy, wy * wz, wx * wz);
                 let w = [wx, wy, wz, wxy, wyz, wxz, wxy * wz];
@@ -186,6 +202,7 @@ impl FractalSampler {
                 for (lane, total) in sum.iter_mut().enumerate() {
                     let local = Vec3::new(x[lane], y[lane], z[lane]);
                     let floor = Vec3::new(fx[lane], fy[lane], fz[lane]);
+                    let cache = &mut slots[slot(floor)];
                     cache.ensure(floor, offset, self.seed, octave);
                     *total += cache.interpolate(fade3(local - floor)) * weight;
                 }
