@@ -121,8 +121,9 @@ pub struct Pin {
     pub pos: (f64, f64, f64),
 }
 
-/// When relaxation stops: after `iterations` sweeps, or earlier once the largest
-/// move of a sweep is below `tolerance` × the grid spacing.
+/// When relaxation stops: after `iterations` sweeps per grid level, or earlier
+/// once no constraint asks any point to move by more than `tolerance` × the
+/// grid spacing in a sweep.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RelaxSettings {
