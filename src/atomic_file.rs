@@ -70,6 +70,16 @@ fn sync_dir(dir: &Path) {
     let _ = dir;
 }
 
+/// The OS's description of an I/O error without the `(os error N)` suffix,
+/// for messages that already say which file and what was being done.
+pub fn io_reason(error: &io::Error) -> String {
+    let text = error.to_string();
+    match text.rfind(" (os error ") {
+        Some(cut) if text.ends_with(')') => text[..cut].to_owned(),
+        _ => text,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,6 +8,7 @@ use anyhow::{Result, anyhow, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use drape::animate::blend::relaxed_inbetween;
 use drape::animate::{EvaluateOptions, Evaluator, frame_time_secs};
+use drape::atomic_file::io_reason;
 use drape::export::{write_atomically, write_obj};
 use drape::mesh::Mesh;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis};
@@ -328,7 +329,8 @@ fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
             if output.is_file() {
                 bail!("{} is a file: --frames writes a numbered sequence into a directory", output.display());
             }
-            fs::create_dir_all(output).map_err(|e| anyhow!("cannot create the directory {}: {e}", output.display()))?;
+            fs::create_dir_all(output)
+                .map_err(|e| anyhow!("cannot create the directory {}: {}", output.display(), io_reason(&e)))?;
             let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
             let width = frame_number_width(range);
             let mut first_file = None;
@@ -410,7 +412,7 @@ fn extension(format: Format) -> &'static str {
 fn write_mesh(mesh: &Mesh, name: &str, output: &Path, format: Format) -> Result<()> {
     match format {
         Format::Obj => write_atomically(output, |w| write_obj(mesh, name, w))
-            .map_err(|e| anyhow!("cannot write {}: {e}", output.display())),
+            .map_err(|e| anyhow!("cannot write {}: {}", output.display(), io_reason(&e))),
     }
 }
 

@@ -7,6 +7,8 @@
 use std::io;
 use std::path::PathBuf;
 
+use crate::atomic_file::io_reason;
+
 use super::locate::{
     Found, TextPosition, TokenKind, closing, found_at, position_after, unclosed_bracket, unclosed_comment,
 };
@@ -154,15 +156,6 @@ fn located(file: &str, position: &Option<TextPosition>, message: &str) -> String
     match position {
         Some(p) => format!("{file}:{}:{}: {message}", p.line, p.col),
         None => format!("{file}: {message}"),
-    }
-}
-
-/// The OS's description of an I/O error without the `(os error N)` suffix.
-pub(crate) fn io_reason(error: &io::Error) -> String {
-    let text = error.to_string();
-    match text.rfind(" (os error ") {
-        Some(cut) if text.ends_with(')') => text[..cut].to_owned(),
-        _ => text,
     }
 }
 
