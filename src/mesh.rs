@@ -5,7 +5,7 @@
 //! `∂p/∂v × ∂p/∂u`, which for a curtain hanging in the XY plane (u along +X,
 //! v down) points towards +Z.
 
-use glam::{DVec3, Vec2, Vec3, Vec3A, Vec4};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 
 /// A grid cloth ready to draw or export.
 #[derive(Clone, Debug, PartialEq)]
@@ -80,66 +80,100 @@ pub fn grid_uvs(cols: usize, rows: usize) -> Vec<Vec2> {
 pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
     assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
     out.clear();
-    out.resize(cols * rows, Vec3::ZERO);
     if cols < 2 || rows < 2 {
-        out.fill(Vec3::Y);
+        out.resize(cols * rows, Vec3::Y);
         return;
     }
-    // Two rows of quad area vectors in flight (above and below the vertex
-    // row); each vertex sums its up to four quads. SIMD vectors inside, and
-    // the normalisation runs four normals per square root and division: this
-    // runs on every frame, several times when waves follow the normals.
-    let quads = cols - 1;
-    let mut above = vec![Vec3A::ZERO; quads + 2];
-    let mut below = vec![Vec3A::ZERO; quads + 2];
-    let quad_row = |j: usize, row: &mut [Vec3A]| {
-        let top = &positions[j * cols..(j + 1) * cols];
-        let bottom = &positions[(j + 1) * cols..(j + 2) * cols];
-        // row[0] and row[quads + 1] stay zero: the missing quads beyond the sides.
-        for (area, (t, b)) in row[1..=quads].iter_mut().zip(top.windows(2).zip(bottom.windows(2))) {
-            let (a, b1, c, d) = (Vec3A::from(t[0]), Vec3A::from(t[1]), Vec3A::from(b[0]), Vec3A::from(b[1]));
-            *area = (c - b1).cross(d - a);
-        }
-    };
-    out.clear();
+    // This runs on every frame, more than once when waves follow the normals,
+    // so it works on separate x, y, z arrays: the loops below are plain f32
+    // arithmetic over slices, which the compiler turns into SIMD. The sums run
+    // in a fixed order, so results do not depend on how they were vectorised.
+    let split = |axis: fn(&Vec3) -> f32| positions.iter().map(axis).collect::<Vec<f32>>();
+    let (xs, ys, zs) = (split(|p| p.x), split(|p| p.y), split(|p| p.z));
+    // Area vectors of the quads above and below the current vertex row, with a
+    // zero quad padded on each side: vertex i touches padded quads i and i + 1.
+    let mut above = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
+    let mut below = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
+    let mut sum = [vec![0.0f32; cols], vec![0.0; cols], vec![0.0; cols]];
     out.reserve(cols * rows);
     for j in 0..rows {
         std::mem::swap(&mut above, &mut below);
         if j + 1 < rows {
-            quad_row(j, &mut below);
+            quad_areas(&xs, &ys, &zs, cols, j, &mut below);
         } else {
-            below.fill(Vec3A::ZERO);
+            below.iter_mut().for_each(|row| row.fill(0.0));
         }
-        let (up, down) = (&above, &below);
-        // Vertex i touches quads i − 1 and i, stored at i and i + 1.
-        for (upper, lower) in up.windows(2).zip(down.windows(2)) {
-            out.push(Vec3::from(upper[0] + upper[1] + lower[0] + lower[1]));
+        for axis in 0..3 {
+            let (up, down) = (&above[axis], &below[axis]);
+            for (i, total) in sum[axis].iter_mut().enumerate() {
+                *total = (up[i] + up[i + 1]) + (down[i] + down[i + 1]);
+            }
         }
+        let [nx, ny, nz] = &mut sum;
+        normalize_soa(nx, ny, nz);
+        out.extend(nx.iter().zip(ny.iter()).zip(nz.iter()).map(|((&x, &y), &z)| Vec3::new(x, y, z)));
     }
-    normalize_all(out);
 }
 
-/// Scales every vector to unit length, four at a time; a zero, tiny or
-/// non-finite vector becomes +Y.
-fn normalize_all(vectors: &mut [Vec3]) {
-    let mut chunks = vectors.chunks_exact_mut(4);
-    for chunk in &mut chunks {
-        let length2 = Vec4::new(
-            chunk[0].length_squared(),
-            chunk[1].length_squared(),
-            chunk[2].length_squared(),
-            chunk[3].length_squared(),
-        );
+/// Scales the vectors (xs[i], ys[i], zs[i]) to unit length, four per SIMD
+/// step; a zero, tiny or non-finite vector becomes +Y.
+fn normalize_soa(xs: &mut [f32], ys: &mut [f32], zs: &mut [f32]) {
+    let unit = |x: Vec4, y: Vec4, z: Vec4| {
+        let length2 = x * x + y * y + z * z;
         let inverse = Vec4::ONE / length2.sqrt();
-        for (k, v) in chunk.iter_mut().enumerate() {
-            let (l2, inv) = (length2[k], inverse[k]);
-            *v = if l2 > 0.0 && l2.is_finite() && inv.is_finite() { *v * inv } else { Vec3::Y };
-        }
+        let infinity = Vec4::splat(f32::INFINITY);
+        let good = length2.cmpgt(Vec4::ZERO) & length2.cmplt(infinity) & inverse.cmplt(infinity);
+        (
+            Vec4::select(good, x * inverse, Vec4::ZERO),
+            Vec4::select(good, y * inverse, Vec4::ONE),
+            Vec4::select(good, z * inverse, Vec4::ZERO),
+        )
+    };
+    let n = xs.len();
+    let whole = n / 4 * 4;
+    for start in (0..whole).step_by(4) {
+        let range = start..start + 4;
+        let (x, y, z) = unit(
+            Vec4::from_slice(&xs[range.clone()]),
+            Vec4::from_slice(&ys[range.clone()]),
+            Vec4::from_slice(&zs[range.clone()]),
+        );
+        x.write_to_slice(&mut xs[range.clone()]);
+        y.write_to_slice(&mut ys[range.clone()]);
+        z.write_to_slice(&mut zs[range]);
     }
-    for v in chunks.into_remainder() {
-        let length2 = v.length_squared();
-        let inverse = 1.0 / length2.sqrt();
-        *v = if length2 > 0.0 && length2.is_finite() && inverse.is_finite() { *v * inverse } else { Vec3::Y };
+    for k in whole..n {
+        let (x, y, z) = unit(Vec4::splat(xs[k]), Vec4::splat(ys[k]), Vec4::splat(zs[k]));
+        (xs[k], ys[k], zs[k]) = (x.x, y.x, z.x);
+    }
+}
+
+/// One coordinate of the four corners (a b / c d) of every quad between grid
+/// rows `j` and `j + 1`, as four slices of `cols − 1` values.
+#[allow(clippy::type_complexity)]
+fn quad_corners(v: &[f32], cols: usize, j: usize) -> (&[f32], &[f32], &[f32], &[f32]) {
+    let n = cols - 1;
+    let (top, bottom) = (&v[j * cols..(j + 1) * cols], &v[(j + 1) * cols..(j + 2) * cols]);
+    (&top[..n], &top[1..], &bottom[..n], &bottom[1..])
+}
+
+/// Area vectors (c − b) × (d − a) of the quads between grid rows `j` and
+/// `j + 1` (a, b the quad's top corners, c, d its bottom ones), written to
+/// `areas[axis][1..cols]`; entries 0 and `cols` stay zero.
+fn quad_areas(xs: &[f32], ys: &[f32], zs: &[f32], cols: usize, j: usize, areas: &mut [Vec<f32>; 3]) {
+    let n = cols - 1;
+    // Every slice is n long, so the loop has no bounds checks left to stop it vectorising.
+    let (ax_, bx, cx, dx) = quad_corners(xs, cols, j);
+    let (ay_, by, cy, dy) = quad_corners(ys, cols, j);
+    let (az_, bz, cz, dz) = quad_corners(zs, cols, j);
+    let [out_x, out_y, out_z] = areas;
+    let (out_x, out_y, out_z) = (&mut out_x[1..=n], &mut out_y[1..=n], &mut out_z[1..=n]);
+    for i in 0..n {
+        let (ex, ey, ez) = (cx[i] - bx[i], cy[i] - by[i], cz[i] - bz[i]);
+        let (fx, fy, fz) = (dx[i] - ax_[i], dy[i] - ay_[i], dz[i] - az_[i]);
+        out_x[i] = ey * fz - ez * fy;
+        out_y[i] = ez * fx - ex * fz;
+        out_z[i] = ex * fy - ey * fx;
     }
 }
 
