@@ -231,7 +231,7 @@ impl Hanging {
         } else {
             // atanh near 1 is ill-conditioned; here delta > 1 so the
             // difference is well-conditioned instead.
-            sinh_u.asinh() - self.u_start
+            asinh(sinh_u) - self.u_start
         };
         (delta / (2.0 * self.xi)).clamp(0.0, 1.0)
     }
@@ -273,7 +273,7 @@ fn classify(start: DVec3, end: DVec3, length: f64) -> Form {
     }
     // t = artanh(v/L), taken as asinh(ν/w) so that the curve ends exactly at
     // height v whatever the rounding in w; clamped as |v| → L.
-    let t = (nu / w).asinh().clamp(-MAX_T, MAX_T);
+    let t = asinh(nu / w).clamp(-MAX_T, MAX_T);
     let u_start = t - xi;
     // One exponential for both, of |u| so that e = expm1 + 1 cannot cancel;
     // |u_start| ≤ MAX_T + ξ stays far from overflow.
@@ -289,6 +289,13 @@ fn classify(start: DVec3, end: DVec3, length: f64) -> Form {
         sinh_span: 2.0 * xi / eta,
         a: h / (2.0 * xi),
     })
+}
+
+/// `asinh(x)` as `ln(1 + |x| + x²/(1 + √(1 + x²)))` with the sign of `x`,
+/// without the `hypot` that `f64::asinh` spends where `x²` cannot overflow.
+fn asinh(x: f64) -> f64 {
+    let ax = x.abs();
+    if ax < 1e150 { (ax + ax * ax / (1.0 + (1.0 + ax * ax).sqrt())).ln_1p().copysign(x) } else { x.asinh() }
 }
 
 /// `√(a² + b²)`: a plain square root where the squares can neither overflow
