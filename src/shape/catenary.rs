@@ -141,7 +141,7 @@ impl Catenary {
         match self.form {
             Form::Taut => self.start * (1.0 - s) + self.end * s,
             Form::Vertical => self.vertical_point(s),
-            Form::Hanging(c) => self.hanging_point(&c, c.lambda_at_arc(s)),
+            Form::Hanging(c) => self.hanging_point_at_arc(&c, s),
         }
     }
 
@@ -194,6 +194,21 @@ impl Catenary {
         DVec3::new(xz.x, y, xz.z)
     }
 
+    /// The point at arc fraction `s ∈ (0, 1)` with one square root and one
+    /// logarithm: the height comes from `sinh u` and `cosh u` directly.
+    fn hanging_point_at_arc(&self, c: &Hanging, s: f64) -> DVec3 {
+        let d = s * c.sinh_span;
+        let sinh_u = c.sinh_start + d;
+        let cosh_u = (1.0 + sinh_u * sinh_u).sqrt();
+        let lambda = c.lambda_at_arc(d, sinh_u, cosh_u);
+        // a·(cosh u − cosh u_start) = a·(sinh²u − sinh²u_start)/(cosh u + cosh u_start)
+        // with a·(sinh u − sinh u_start) = s·L: no cancellation beyond the
+        // genuine zero of sinh u + sinh u_start, and no overflow as a → ∞.
+        let y = s * self.length_m * ((sinh_u + c.sinh_start) / (cosh_u + c.cosh_start));
+        let dir = self.end - self.start;
+        DVec3::new(self.start.x + dir.x * lambda, self.start.y + y, self.start.z + dir.z * lambda)
+    }
+
     fn hanging_point(&self, c: &Hanging, lambda: f64) -> DVec3 {
         let half = c.xi * lambda;
         // a·(cosh u − cosh u_start) = 2a·sinh(mid)·sinh(half), written with
@@ -205,20 +220,18 @@ impl Catenary {
 }
 
 impl Hanging {
-    /// Horizontal fraction at arc fraction `s`, from
-    /// `sinh(u) = sinh(u_start) + s·L/a`.
-    fn lambda_at_arc(&self, s: f64) -> f64 {
-        let d = s * self.sinh_span;
-        let sinh_u = self.sinh_start + d;
+    /// Horizontal fraction where `sinh(u) = sinh(u_start) + d` (`d = s·L/a` at
+    /// arc fraction `s`), given `sinh u` and `cosh u`.
+    fn lambda_at_arc(&self, d: f64, sinh_u: f64, cosh_u: f64) -> f64 {
         // tanh((u − u_start)/2) = (sinh u − sinh u_start)/(cosh u + cosh u_start):
         // no cancellation for small steps, unlike asinh(sinh_u) − u_start.
-        let z = d / ((1.0 + sinh_u * sinh_u).sqrt() + self.cosh_start);
+        let z = d / (cosh_u + self.cosh_start);
         let delta = if z < 0.5 {
             2.0 * z.atanh()
         } else {
             // atanh near 1 is ill-conditioned; here delta > 1 so the
             // difference is well-conditioned instead.
-            sinh_u.asinh() - self.u_start
+            asinh(sinh_u) - self.u_start
         };
         (delta / (2.0 * self.xi)).clamp(0.0, 1.0)
     }
@@ -226,9 +239,9 @@ impl Hanging {
 
 fn classify(start: DVec3, end: DVec3, length: f64) -> Form {
     let d = end - start;
-    let h = d.x.hypot(d.z);
+    let h = hypot(d.x, d.z);
     let v = d.y;
-    let chord = h.hypot(v);
+    let chord = hypot(h, v);
     // A finite chord implies finite pins (inf − inf is NaN).
     if !(chord.is_finite() && length.is_finite() && length > chord) {
         return Form::Taut;
@@ -260,35 +273,50 @@ fn classify(start: DVec3, end: DVec3, length: f64) -> Form {
     }
     // t = artanh(v/L), taken as asinh(ν/w) so that the curve ends exactly at
     // height v whatever the rounding in w; clamped as |v| → L.
-    let t = (nu / w).asinh().clamp(-MAX_T, MAX_T);
+    let t = asinh(nu / w).clamp(-MAX_T, MAX_T);
     let u_start = t - xi;
+    // One exponential for both, of |u| so that e = expm1 + 1 cannot cancel;
+    // |u_start| ≤ MAX_T + ξ stays far from overflow.
+    let em1 = u_start.abs().exp_m1();
+    let e = em1 + 1.0;
     Form::Hanging(Hanging {
         eta,
         xi,
         u_start,
-        sinh_start: u_start.sinh(),
-        cosh_start: u_start.cosh(),
-        sinh_span: 2.0 * t.cosh() * xi.sinh(),
+        sinh_start: (0.5 * em1 * (1.0 + 1.0 / e)).copysign(u_start),
+        cosh_start: 0.5 * (e + 1.0 / e),
+        // L/a = 2ξ·L/h.
+        sinh_span: 2.0 * xi / eta,
         a: h / (2.0 * xi),
     })
 }
 
+/// `asinh(x)` as `ln(1 + |x| + x²/(1 + √(1 + x²)))` with the sign of `x`,
+/// without the `hypot` that `f64::asinh` spends where `x²` cannot overflow.
+fn asinh(x: f64) -> f64 {
+    let ax = x.abs();
+    if ax < 1e150 { (ax + ax * ax / (1.0 + (1.0 + ax * ax).sqrt())).ln_1p().copysign(x) } else { x.asinh() }
+}
+
+/// `√(a² + b²)`: a plain square root where the squares can neither overflow
+/// nor lose precision to underflow, `f64::hypot` otherwise.
+fn hypot(a: f64, b: f64) -> f64 {
+    let sum = a * a + b * b;
+    if sum > 1e-280 && sum < 1e280 { sum.sqrt() } else { a.hypot(b) }
+}
+
 /// The positive root ξ of `sinh(ξ)/ξ = 1 + r_m1` (`r_m1 > 0`), to ~1e-15
-/// relative: Newton on the convex `ln(sinh ξ/ξ) − ln r`, kept inside a
-/// shrinking bracket and bisecting whenever a step would leave it.
+/// relative: Newton on the convex increasing `sinh ξ/ξ − r` (on
+/// `ln(sinh ξ/ξ) − ln r` where `sinh` would overflow), kept inside a shrinking
+/// bracket and bisecting whenever a step would leave it. The initial guess is
+/// within 2.3% everywhere, so one to four steps suffice.
 fn solve_xi(r_m1: f64) -> f64 {
-    let target = r_m1.ln_1p();
     let mut lo = 0.0_f64;
     // sinh(ξ)/ξ ≥ 1 + ξ²/6, so the root is at most √(6(r − 1)).
     let mut hi = (6.0 * r_m1).sqrt();
-    let mut x = if r_m1 < 2.0 {
-        hi
-    } else {
-        let l = (2.0 * (1.0 + r_m1)).ln();
-        (l + l.ln()).min(hi)
-    };
+    let mut x = initial_xi(r_m1).min(hi);
     for _ in 0..200 {
-        let g = ln_sinhc(x) - target;
+        let (g, slope) = sinhc_residual(x, r_m1);
         if g == 0.0 {
             return x;
         }
@@ -297,16 +325,58 @@ fn solve_xi(r_m1: f64) -> f64 {
         } else {
             lo = x;
         }
-        let mut next = x - g / d_ln_sinhc(x);
+        let step = -g / slope;
+        // Newton converges quadratically (the error after a step is about
+        // step²/ξ), so a step below 1e-8·ξ leaves an error below ~1e-16. Tested
+        // before the bracket: a step below half an ulp would land on x itself.
+        if step.abs() <= 1e-8 * x {
+            return (x + step).clamp(lo, hi);
+        }
+        let mut next = x + step;
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }
-        if (next - x).abs() <= 1e-15 * next || hi - lo <= 1e-15 * hi {
+        if hi - lo <= 1e-15 * hi {
             return next;
         }
         x = next;
     }
     x
+}
+
+/// Starting point for [`solve_xi`], within 2.3% of the root everywhere: the
+/// series inversion `ξ² ≈ 6ρ − 1.8ρ² + (144/175)ρ³` (error O(ρ⁴)) for small
+/// `ρ = r − 1`; above, the asymptotic `ξ − ln ξ = ln 2r` (from `sinh ξ ≈ e^ξ/2`)
+/// by one Newton step from `ln 2r + ln ln 2r`.
+fn initial_xi(r_m1: f64) -> f64 {
+    if r_m1 < SERIES_UP_TO {
+        return (r_m1 * (6.0 - r_m1 * (1.8 - r_m1 * (144.0 / 175.0)))).sqrt();
+    }
+    let l = (2.0 * (1.0 + r_m1)).ln();
+    let x = l + l.ln();
+    x - (x - x.ln() - l) / (1.0 - 1.0 / x)
+}
+
+/// Where the series guess and the asymptotic one are equally good (both 2.3%).
+const SERIES_UP_TO: f64 = 0.9;
+
+/// Residual of [`solve_xi`]'s equation at `x > 0` and its derivative: with
+/// `sinh(x)/x − 1` by its series for small `x` (no cancellation), from one
+/// exponential up to 20, and in logarithmic form beyond (no overflow).
+fn sinhc_residual(x: f64, r_m1: f64) -> (f64, f64) {
+    if x < 0.5 {
+        let x2 = x * x;
+        let slope =
+            x * (1.0 / 3.0 + x2 * (1.0 / 30.0 + x2 * (1.0 / 840.0 + x2 * (1.0 / 45360.0 + x2 * (1.0 / 3991680.0)))));
+        (sinhc_m1_small(x) - r_m1, slope)
+    } else if x < 20.0 {
+        let e = x.exp();
+        let (sinh, cosh) = (0.5 * (e - 1.0 / e), 0.5 * (e + 1.0 / e));
+        let sinhc = sinh / x;
+        (sinhc - (1.0 + r_m1), (cosh - sinhc) / x)
+    } else {
+        (ln_sinhc(x) - r_m1.ln_1p(), d_ln_sinhc(x))
+    }
 }
 
 /// `sinh(x)/x − 1` for `|x| < 0.5`, by its Taylor series (no cancellation).
