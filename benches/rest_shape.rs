@@ -4,9 +4,8 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::scene::{Cloth, Ease, Key, Pin, RelaxSettings};
-use drape::shape::rest_shape::grid_spec;
-use drape::shape::{PinPoint, RestShape, approximate};
-use glam::DVec3;
+use drape::shape::rest_shape::{grid_spec, pin_points};
+use drape::shape::{RestShape, approximate};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -47,14 +46,7 @@ fn approximation(c: &mut Criterion) {
     for n in [32u32, 64, 128, 256] {
         let grid = grid_spec(&Cloth { size: (2.0, 2.0), grid: (n, n) });
         let key = four_corner_key(n);
-        let pins: Vec<PinPoint> = key
-            .pins
-            .iter()
-            .map(|p| PinPoint {
-                grid: (p.grid.0 as usize, p.grid.1 as usize),
-                pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2),
-            })
-            .collect();
+        let pins = pin_points(&key);
         group.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, _| {
             b.iter(|| black_box(approximate(grid, &pins, key.elasticity)))
         });

@@ -25,14 +25,7 @@ impl RestShape {
     /// finite and has every pin exactly at its position.
     pub fn build(cloth: &Cloth, key: &Key) -> RestShape {
         let grid = grid_spec(cloth);
-        let pins: Vec<PinPoint> = key
-            .pins
-            .iter()
-            .map(|p| PinPoint {
-                grid: (p.grid.0 as usize, p.grid.1 as usize),
-                pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2),
-            })
-            .collect();
+        let pins = pin_points(key);
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = positions.clone();
@@ -62,6 +55,14 @@ impl RestShape {
     pub fn rest_v_m(&self) -> f64 {
         self.grid.spacing_v_m * self.elasticity
     }
+}
+
+/// A key's pins as the approximation takes them.
+pub fn pin_points(key: &Key) -> Vec<PinPoint> {
+    key.pins
+        .iter()
+        .map(|p| PinPoint { grid: (p.grid.0 as usize, p.grid.1 as usize), pos: DVec3::new(p.pos.0, p.pos.1, p.pos.2) })
+        .collect()
 }
 
 /// The grid of a cloth.
