@@ -88,8 +88,18 @@ pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<
     // so it works on separate x, y, z arrays: the loops below are plain f32
     // arithmetic over slices, which the compiler turns into SIMD. The sums run
     // in a fixed order, so results do not depend on how they were vectorised.
-    let split = |axis: fn(&Vec3) -> f32| positions.iter().map(axis).collect::<Vec<f32>>();
-    let (xs, ys, zs) = (split(|p| p.x), split(|p| p.y), split(|p| p.z));
+    // Only two grid rows are needed at a time, split into x, y, z; the buffers
+    // are small so nothing here grows with the grid (no fresh pages per frame).
+    let split_row = |j: usize, row: &mut [Vec<f32>; 3]| {
+        let points = &positions[j * cols..(j + 1) * cols];
+        for (axis, values) in row.iter_mut().enumerate() {
+            values.clear();
+            values.extend(points.iter().map(|p| p[axis]));
+        }
+    };
+    let mut top_row = [Vec::with_capacity(cols), Vec::with_capacity(cols), Vec::with_capacity(cols)];
+    let mut bottom_row = [Vec::with_capacity(cols), Vec::with_capacity(cols), Vec::with_capacity(cols)];
+    split_row(0, &mut bottom_row);
     // Area vectors of the quads above and below the current vertex row, with a
     // zero quad padded on each side: vertex i touches padded quads i and i + 1.
     let mut above = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
@@ -99,7 +109,9 @@ pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<
     for j in 0..rows {
         std::mem::swap(&mut above, &mut below);
         if j + 1 < rows {
-            quad_areas(&xs, &ys, &zs, cols, j, &mut below);
+            std::mem::swap(&mut top_row, &mut bottom_row);
+            split_row(j + 1, &mut bottom_row);
+            quad_areas(&top_row, &bottom_row, &mut below);
         } else {
             below.iter_mut().for_each(|row| row.fill(0.0));
         }
@@ -148,29 +160,20 @@ fn normalize_soa(xs: &mut [f32], ys: &mut [f32], zs: &mut [f32]) {
     }
 }
 
-/// One coordinate of the four corners (a b / c d) of every quad between grid
-/// rows `j` and `j + 1`, as four slices of `cols − 1` values.
-#[allow(clippy::type_complexity)]
-fn quad_corners(v: &[f32], cols: usize, j: usize) -> (&[f32], &[f32], &[f32], &[f32]) {
-    let n = cols - 1;
-    let (top, bottom) = (&v[j * cols..(j + 1) * cols], &v[(j + 1) * cols..(j + 2) * cols]);
-    (&top[..n], &top[1..], &bottom[..n], &bottom[1..])
-}
-
-/// Area vectors (c − b) × (d − a) of the quads between grid rows `j` and
-/// `j + 1` (a, b the quad's top corners, c, d its bottom ones), written to
-/// `areas[axis][1..cols]`; entries 0 and `cols` stay zero.
-fn quad_areas(xs: &[f32], ys: &[f32], zs: &[f32], cols: usize, j: usize, areas: &mut [Vec<f32>; 3]) {
-    let n = cols - 1;
-    // Every slice is n long, so the loop has no bounds checks left to stop it vectorising.
-    let (ax_, bx, cx, dx) = quad_corners(xs, cols, j);
-    let (ay_, by, cy, dy) = quad_corners(ys, cols, j);
-    let (az_, bz, cz, dz) = quad_corners(zs, cols, j);
+/// Area vectors (c − b) × (d − a) of the quads between two grid rows given
+/// as x, y, z arrays (a, b the quad's top corners, c, d its bottom ones),
+/// written to `areas[axis][1..cols]`; entries 0 and `cols` stay zero.
+fn quad_areas(top: &[Vec<f32>; 3], bottom: &[Vec<f32>; 3], areas: &mut [Vec<f32>; 3]) {
+    let n = top[0].len() - 1;
+    // a, b, c, d of one coordinate of every quad, each n long, so the loop has
+    // no bounds checks left to stop it vectorising.
+    let corners = |axis: usize| (&top[axis][..n], &top[axis][1..], &bottom[axis][..n], &bottom[axis][1..]);
+    let ((ax, bx, cx, dx), (ay, by, cy, dy), (az, bz, cz, dz)) = (corners(0), corners(1), corners(2));
     let [out_x, out_y, out_z] = areas;
     let (out_x, out_y, out_z) = (&mut out_x[1..=n], &mut out_y[1..=n], &mut out_z[1..=n]);
     for i in 0..n {
         let (ex, ey, ez) = (cx[i] - bx[i], cy[i] - by[i], cz[i] - bz[i]);
-        let (fx, fy, fz) = (dx[i] - ax_[i], dy[i] - ay_[i], dz[i] - az_[i]);
+        let (fx, fy, fz) = (dx[i] - ax[i], dy[i] - ay[i], dz[i] - az[i]);
         out_x[i] = ey * fz - ez * fy;
         out_y[i] = ez * fx - ex * fz;
         out_z[i] = ex * fy - ey * fx;
