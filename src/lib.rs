@@ -27,5 +27,6 @@ pub mod animate;
 pub mod atomic_file;
 pub mod export;
 pub mod mesh;
+pub mod render;
 pub mod scene;
 pub mod shape;

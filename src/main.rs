@@ -11,6 +11,7 @@ use drape::animate::{EvaluateOptions, Evaluator, frame_time_secs};
 use drape::atomic_file::io_reason;
 use drape::export::{write_atomically, write_obj};
 use drape::mesh::Mesh;
+use drape::render::headless::SceneOverlays;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis};
 use drape::shape::relax::mean_structural_error;
 
@@ -24,6 +25,8 @@ macro_rules! say {
         }
     }};
 }
+
+mod render_command;
 
 #[derive(Parser)]
 #[command(name = "drape", version, about = "Cloth animation with fake dynamics: pins, catenaries, relaxation.")]
@@ -62,6 +65,32 @@ enum Command {
         /// Animated stage only: the blended rest shapes without the layer stack.
         #[arg(long)]
         no_layers: bool,
+    },
+    /// Draw the cloth: a PNG of one frame, a numbered PNG sequence (--frames into a directory) or an animated GIF.
+    Render {
+        /// The scene file (.ron).
+        scene: PathBuf,
+        /// out.png (one frame), out.gif (an animation at the scene's fps), or a directory with --frames.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Frame to render (default: the timeline's start).
+        #[arg(long, allow_negative_numbers = true, conflicts_with = "frames")]
+        frame: Option<i32>,
+        /// Frame range A..B, both ends included (a GIF without it shows the whole timeline).
+        #[arg(long, value_parser = parse_frame_range, allow_hyphen_values = true)]
+        frames: Option<FrameRange>,
+        /// Picture size WIDTHxHEIGHT in pixels (default 1280x720; 640x360 for a GIF).
+        #[arg(long, value_parser = render_command::parse_size)]
+        size: Option<(u32, u32)>,
+        /// Draw the grid's edges over the cloth.
+        #[arg(long)]
+        wireframe: bool,
+        /// Draw the pins of the key in effect as red dots.
+        #[arg(long)]
+        pins: bool,
+        /// Draw the key's catenary network, conflicting catenaries included.
+        #[arg(long)]
+        catenaries: bool,
     },
 }
 
@@ -106,6 +135,11 @@ fn main() -> ExitCode {
         Command::Export { scene, output, frame, frames, format, stage, no_layers } => {
             let request = ExportRequest { frame, frames, format, stage, layers: !no_layers };
             export(&scene, &output, request)
+        }
+        Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries } => {
+            let overlays = SceneOverlays { wireframe, pins, catenaries };
+            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays };
+            render_command::render(&scene, &output, request)
         }
     };
     match result {
@@ -290,11 +324,6 @@ fn stretched_pin_warnings(scene: &Scene, key: &Key) -> Vec<String> {
     warnings
 }
 
-/// The key in effect at `frame`: the last one at or before it, else the first.
-fn key_at(scene: &Scene, frame: i32) -> &Key {
-    scene.keys.iter().rev().find(|k| k.frame <= frame).unwrap_or(&scene.keys[0])
-}
-
 struct ExportRequest {
     frame: Option<i32>,
     frames: Option<FrameRange>,
@@ -375,7 +404,7 @@ impl Exporter<'_> {
                 self.evaluator.evaluate_with(scene, t_secs, EvaluateOptions { layers: self.layers })
             }
             Stage::Approx | Stage::Relaxed => {
-                let shape = self.evaluator.key_shape(&scene.cloth, key_at(scene, frame));
+                let shape = self.evaluator.key_shape(&scene.cloth, scene.key_in_effect(frame as f64));
                 let stage = if self.stage == Stage::Approx { &shape.rest.approximated } else { &shape.rest.relaxed };
                 Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), stage)
             }
@@ -386,8 +415,8 @@ impl Exporter<'_> {
         match self.stage {
             Stage::Animated if self.layers => "animated".to_string(),
             Stage::Animated => "animated, no layers".to_string(),
-            Stage::Approx => format!("approximated key at frame {}", key_at(self.scene, frame).frame),
-            Stage::Relaxed => format!("relaxed key at frame {}", key_at(self.scene, frame).frame),
+            Stage::Approx => format!("approximated key at frame {}", self.scene.key_in_effect(frame as f64).frame),
+            Stage::Relaxed => format!("relaxed key at frame {}", self.scene.key_in_effect(frame as f64).frame),
         }
     }
 }

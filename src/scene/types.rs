@@ -26,6 +26,15 @@ pub struct Scene {
     pub layers: Vec<Layer>,
 }
 
+impl Scene {
+    /// The key in effect at `frame`: the last one at or before it, else the
+    /// first (frames before the first key hold it). Panics on a scene with no
+    /// keys, which validation rejects.
+    pub fn key_in_effect(&self, frame: f64) -> &Key {
+        self.keys.iter().rev().find(|k| k.frame as f64 <= frame).unwrap_or(&self.keys[0])
+    }
+}
+
 /// The cloth's material: a rectangle of `size` metres sampled by a `grid` of points.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -61,6 +70,18 @@ impl Cloth {
     pub fn material_uv(&self, i: usize, j: usize) -> (f64, f64) {
         (i as f64 * self.spacing_u_m(), j as f64 * self.spacing_v_m())
     }
+}
+
+/// The picture on the cloth: none (a plain dyed fabric) or one of the textures
+/// Drape ships in `assets/`, mapped once across the cloth by its UVs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ClothTexture {
+    #[default]
+    Plain,
+    /// A woven rug: borders, a medallion, a diamond field.
+    Carpet,
+    /// A UV checker: shows stretch, flips and seams.
+    Checker,
 }
 
 /// Frames are integers; `t_secs = frame / fps`. The range includes both ends.

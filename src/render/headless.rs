@@ -1,0 +1,150 @@
+//! Pictures without a window: a mesh, or a scene at a frame, to an RGBA image.
+
+use glam::Vec3;
+
+use super::camera::{OrbitCamera, bounds};
+use super::context::{ContextError, GpuContext};
+use super::image::{ImageError, RgbaImage, read_texture};
+use super::overlay::{Overlay, PinState};
+use super::renderer::{FrameInput, Ground, RenderOptions, Renderer};
+use super::target::OffscreenTarget;
+use crate::animate::{Evaluator, frame_time_secs};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Context(#[from] ContextError),
+    #[error(transparent)]
+    Image(#[from] ImageError),
+}
+
+/// Renders one picture of `input` at `size_px` on `context`, or on a device of
+/// its own when none is given.
+pub fn render_mesh(
+    context: Option<&GpuContext>,
+    input: FrameInput,
+    size_px: (u32, u32),
+) -> Result<RgbaImage, RenderError> {
+    let owned;
+    let context = match context {
+        Some(context) => context,
+        None => {
+            owned = GpuContext::headless()?;
+            &owned
+        }
+    };
+    let mut renderer = Renderer::new(&context.device, &context.queue);
+    let target = OffscreenTarget::new(&context.device, size_px);
+    renderer.render(&context.device, &context.queue, &target, input);
+    Ok(read_texture(&context.device, &context.queue, target.resolved())?)
+}
+
+/// Which overlays a scene picture shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneOverlays {
+    pub wireframe: bool,
+    /// Red dots on the pins of the key in effect.
+    pub pins: bool,
+    /// The catenary network (with conflicts) of the key in effect.
+    pub catenaries: bool,
+}
+
+/// Renders frames of one scene in turn, reusing the device, the renderer's
+/// buffers, the target and the evaluator's rest-shape cache: the way to render
+/// a sequence. Memory does not grow with the number of frames.
+pub struct SceneRenderer {
+    context: GpuContext,
+    renderer: Renderer,
+    target: OffscreenTarget,
+    evaluator: Evaluator,
+    camera: OrbitCamera,
+    options: RenderOptions,
+    overlays: SceneOverlays,
+    mesh: Mesh,
+}
+
+impl SceneRenderer {
+    /// Builds every key's rest shape, frames the camera on all of them (so the
+    /// view holds still through the animation) and puts the ground under them.
+    pub fn new(context: GpuContext, scene: &Scene, size_px: (u32, u32), overlays: SceneOverlays) -> SceneRenderer {
+        let mut evaluator = Evaluator::new();
+        let (min, max) = scene_bounds(&mut evaluator, scene);
+        let aspect = size_px.0 as f32 / size_px.1.max(1) as f32;
+        let mut camera = OrbitCamera::default();
+        camera.frame_bounds(min, max, aspect);
+        let options = RenderOptions {
+            wireframe: overlays.wireframe,
+            ground: Some(Ground::under(min, max)),
+            ..RenderOptions::default()
+        }
+        .with_texture(crate::scene::ClothTexture::Plain);
+        let renderer = Renderer::new(&context.device, &context.queue);
+        let target = OffscreenTarget::new(&context.device, size_px);
+        let mesh = evaluator.evaluate(scene, frame_time_secs(&scene.timeline, scene.timeline.start as f64));
+        SceneRenderer { context, renderer, target, evaluator, camera, options, overlays, mesh }
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.context
+    }
+
+    pub fn camera(&self) -> &OrbitCamera {
+        &self.camera
+    }
+
+    pub fn size_px(&self) -> (u32, u32) {
+        self.target.size_px()
+    }
+
+    /// The mesh of the last rendered frame.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Renders `scene` (the one given to `new`, or an edit of it with the same
+    /// framing) at `frame` and reads the picture back.
+    pub fn render_frame(&mut self, scene: &Scene, frame: f64) -> Result<RgbaImage, RenderError> {
+        let t_secs = frame_time_secs(&scene.timeline, frame);
+        self.evaluator.evaluate_into(scene, t_secs, Default::default(), &mut self.mesh);
+        let mut overlay = Overlay::default();
+        let key = scene.key_in_effect(frame);
+        if self.overlays.catenaries {
+            let shape = self.evaluator.key_shape(&scene.cloth, key);
+            overlay.add_catenary_network(&shape.rest.network);
+        }
+        if self.overlays.pins {
+            let pins = key.pins.iter().map(|p| ((p.grid.0 as usize, p.grid.1 as usize), PinState::Normal));
+            overlay.add_pins(&self.mesh, pins);
+        }
+        let input = FrameInput {
+            mesh: &self.mesh,
+            camera: &self.camera,
+            options: &self.options,
+            ghosts: &[],
+            overlay: &overlay,
+        };
+        self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
+        Ok(read_texture(&self.context.device, &self.context.queue, self.target.resolved())?)
+    }
+}
+
+/// The box holding every key's relaxed rest shape, widened by 10% of its size
+/// on each side for the layers' motion.
+pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
+    let mut min = Vec3::splat(f32::INFINITY);
+    let mut max = Vec3::splat(f32::NEG_INFINITY);
+    for key in &scene.keys {
+        let shape = evaluator.key_shape(&scene.cloth, key);
+        if let Some((lo, hi)) = bounds(&shape.positions) {
+            min = min.min(lo);
+            max = max.max(hi);
+        }
+    }
+    if !(min.is_finite() && max.is_finite()) {
+        return (Vec3::ZERO, Vec3::ONE);
+    }
+    let margin = (max - min).max_element() * 0.1;
+    (min - Vec3::splat(margin), max + Vec3::splat(margin))
+}

@@ -1,0 +1,114 @@
+//! An RGBA8 picture in memory (sRGB, rows top to bottom), PNG decoding for
+//! the built-in textures and the tests, and reading a GPU texture back into one.
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RgbaImage {
+    pub width: u32,
+    pub height: u32,
+    /// `width·height·4` bytes, row-major from the top-left corner.
+    pub pixels: Vec<u8>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error("not a PNG Drape can read: {0}")]
+    Decode(String),
+    #[error("reading the picture back from the GPU failed: {0}")]
+    Readback(String),
+}
+
+impl RgbaImage {
+    pub fn new(width: u32, height: u32) -> RgbaImage {
+        RgbaImage { width, height, pixels: vec![0; width as usize * height as usize * 4] }
+    }
+
+    /// The pixel at column `x`, row `y`; panics outside the image.
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside {}×{}", self.width, self.height);
+        let at = (y as usize * self.width as usize + x as usize) * 4;
+        [self.pixels[at], self.pixels[at + 1], self.pixels[at + 2], self.pixels[at + 3]]
+    }
+
+    /// Decodes a PNG of any colour type and bit depth into RGBA8.
+    pub fn decode_png(bytes: &[u8]) -> Result<RgbaImage, ImageError> {
+        let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+        decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+        let mut reader = decoder.read_info().map_err(|e| ImageError::Decode(e.to_string()))?;
+        let size = reader.output_buffer_size().ok_or_else(|| ImageError::Decode("image too large".into()))?;
+        let mut buffer = vec![0; size];
+        let info = reader.next_frame(&mut buffer).map_err(|e| ImageError::Decode(e.to_string()))?;
+        let (width, height) = (info.width, info.height);
+        let channels = match info.color_type {
+            png::ColorType::Grayscale => 1,
+            png::ColorType::GrayscaleAlpha => 2,
+            png::ColorType::Rgb => 3,
+            png::ColorType::Rgba => 4,
+            png::ColorType::Indexed => return Err(ImageError::Decode("palette left unexpanded".into())),
+        };
+        let mut image = RgbaImage::new(width, height);
+        for y in 0..height as usize {
+            let row = &buffer[y * info.line_size..][..width as usize * channels];
+            for x in 0..width as usize {
+                let src = &row[x * channels..][..channels];
+                let rgba = match channels {
+                    1 => [src[0], src[0], src[0], 255],
+                    2 => [src[0], src[0], src[0], src[1]],
+                    3 => [src[0], src[1], src[2], 255],
+                    _ => [src[0], src[1], src[2], src[3]],
+                };
+                image.pixels[(y * width as usize + x) * 4..][..4].copy_from_slice(&rgba);
+            }
+        }
+        Ok(image)
+    }
+}
+
+/// Copies an RGBA8 texture (single sample, mip 0) to the CPU and waits for it.
+pub fn read_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<RgbaImage, ImageError> {
+    let (width, height) = (texture.width(), texture.height());
+    let unpadded_row = width * 4;
+    let padded_row = unpadded_row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("drape readback"),
+        size: padded_row as u64 * height as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("drape readback") });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded_row),
+                rows_per_image: Some(height),
+            },
+        },
+        texture.size(),
+    );
+    queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+        let _ = sender.send(result);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ImageError::Readback(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|_| ImageError::Readback("the device dropped the mapping".into()))?
+        .map_err(|e| ImageError::Readback(e.to_string()))?;
+    let mut image = RgbaImage::new(width, height);
+    {
+        let mapped = buffer.get_mapped_range(..).map_err(|e| ImageError::Readback(e.to_string()))?;
+        for y in 0..height as usize {
+            let src = &mapped[y * padded_row as usize..][..unpadded_row as usize];
+            image.pixels[y * unpadded_row as usize..][..unpadded_row as usize].copy_from_slice(src);
+        }
+    }
+    buffer.unmap();
+    Ok(image)
+}

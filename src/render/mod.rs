@@ -1,0 +1,28 @@
+//! Drawing the cloth with wgpu: the same code for the editor's viewport and
+//! for headless pictures (CLI, tests). No egui or window code lives here.
+//!
+//! - [`context`]: a device without a window (Mesa's lavapipe or llvmpipe on GPU-less machines);
+//! - [`camera`]: the orbit camera and projection;
+//! - [`renderer`]: pipelines and buffers; draws a mesh, ghosts and overlays into a target;
+//! - [`target`]: the 4× MSAA offscreen target with depth, resolved to sRGB;
+//! - [`overlay`]: pins, catenary network and triangulation as drawable items;
+//! - [`headless`]: one call from a mesh or a scene frame to an image.
+
+pub mod camera;
+pub mod context;
+pub mod gpu_mesh;
+pub mod headless;
+pub mod image;
+pub mod overlay;
+pub mod pipelines;
+pub mod renderer;
+pub mod target;
+pub mod textures;
+pub mod uniforms;
+
+pub use camera::OrbitCamera;
+pub use context::{ContextError, GpuContext};
+pub use image::RgbaImage;
+pub use overlay::{Overlay, PinState};
+pub use renderer::{FrameInput, Ghost, Ground, RenderOptions, Renderer};
+pub use target::OffscreenTarget;

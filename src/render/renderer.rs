@@ -1,0 +1,490 @@
+//! The renderer: owns the pipelines and every GPU buffer, takes a [`Mesh`]
+//! with a camera, ghosts and overlays, and draws them into an
+//! [`OffscreenTarget`]. It knows nothing of windows or egui: the editor
+//! calls [`Renderer::prepare`] and [`Renderer::encode`] from its paint
+//! callback, headless code through [`Renderer::render`].
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec2, Vec3};
+
+use super::camera::OrbitCamera;
+use super::gpu_mesh::GpuMesh;
+use super::overlay::Overlay;
+use super::pipelines::{Pipelines, SHADOW_FORMAT};
+use super::target::OffscreenTarget;
+use super::textures;
+use super::uniforms::{FrameUniform, MaterialUniform, SHADOW_MAP_PX, shadow_clip_from_world};
+use crate::mesh::Mesh;
+use crate::scene::ClothTexture;
+
+/// How the cloth and its surroundings look. Colours are linear RGB.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderOptions {
+    pub texture: ClothTexture,
+    pub front_tint: [f32; 3],
+    pub back_tint: [f32; 3],
+    pub wireframe: bool,
+    pub wire_color: [f32; 4],
+    pub ground: Option<Ground>,
+    pub background: [f32; 3],
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            texture: ClothTexture::Plain,
+            front_tint: [0.62, 0.55, 0.48],
+            back_tint: [0.34, 0.29, 0.26],
+            wireframe: false,
+            wire_color: [0.02, 0.02, 0.03, 0.55],
+            ground: Some(Ground::default()),
+            background: [0.045, 0.05, 0.06],
+        }
+    }
+}
+
+impl RenderOptions {
+    /// Tints that suit a texture: white lets the picture show, the back a shade darker.
+    pub fn with_texture(mut self, texture: ClothTexture) -> Self {
+        self.texture = texture;
+        if texture != ClothTexture::Plain {
+            self.front_tint = [1.0, 1.0, 1.0];
+            self.back_tint = [0.55, 0.52, 0.5];
+        }
+        self
+    }
+}
+
+/// Where the ground is and how much of it is drawn. The shadow covers the
+/// square of half size `shadow_half_m` round `center`; the grid fades out at
+/// `half_size_m`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ground {
+    pub height_m: f32,
+    pub center: Vec2,
+    pub half_size_m: f32,
+    pub shadow_half_m: f32,
+    pub grid_spacing_m: f32,
+}
+
+impl Default for Ground {
+    fn default() -> Self {
+        Ground { height_m: 0.0, center: Vec2::ZERO, half_size_m: 6.0, shadow_half_m: 2.0, grid_spacing_m: 0.25 }
+    }
+}
+
+impl Ground {
+    /// A ground under the box `min..max`: at height 0, or just below the box
+    /// when it reaches under 0, with a grid spacing of 1, 2.5 or 5 × 10ⁿ metres
+    /// giving about ten lines across the box.
+    pub fn under(min: Vec3, max: Vec3) -> Ground {
+        let extent_m = (max - min).max_element().max(0.1);
+        let center = Vec2::new(min.x + max.x, min.z + max.z) * 0.5;
+        let horizontal_m = (max.x - min.x).max(max.z - min.z).max(0.1);
+        let wanted = extent_m / 10.0;
+        let decade = 10f32.powf(wanted.log10().floor());
+        let grid_spacing_m = [1.0, 2.5, 5.0, 10.0].iter().map(|m| m * decade).find(|s| *s >= wanted).unwrap_or(decade);
+        Ground {
+            height_m: min.y.min(0.0) - if min.y < 0.0 { 0.005 * extent_m } else { 0.0 },
+            center,
+            half_size_m: extent_m * 3.0,
+            shadow_half_m: horizontal_m * 0.5 + extent_m * 0.25,
+            grid_spacing_m,
+        }
+    }
+}
+
+/// A translucent copy of the cloth at another time (onion skin).
+#[derive(Clone, Copy)]
+pub struct Ghost<'a> {
+    pub mesh: &'a Mesh,
+    pub tint: [f32; 3],
+    pub opacity: f32,
+}
+
+/// Everything one picture needs.
+#[derive(Clone, Copy)]
+pub struct FrameInput<'a> {
+    pub mesh: &'a Mesh,
+    pub camera: &'a OrbitCamera,
+    pub options: &'a RenderOptions,
+    pub ghosts: &'a [Ghost<'a>],
+    pub overlay: &'a Overlay,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct SegmentInstance {
+    a: [f32; 3],
+    width_px: f32,
+    b: [f32; 3],
+    pad: f32,
+    color: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct MarkerInstance {
+    center: [f32; 3],
+    radius_px: f32,
+    fill: [f32; 4],
+    ring: [f32; 4],
+}
+
+/// A buffer that grows (doubling) but is otherwise rewritten in place.
+struct GrowingBuffer {
+    buffer: wgpu::Buffer,
+    label: &'static str,
+    usage: wgpu::BufferUsages,
+}
+
+impl GrowingBuffer {
+    fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages, size: u64) -> GrowingBuffer {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage,
+            mapped_at_creation: false,
+        });
+        GrowingBuffer { buffer, label, usage }
+    }
+
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
+        if bytes.len() as u64 > self.buffer.size() {
+            let size = (bytes.len() as u64).next_power_of_two();
+            *self = GrowingBuffer::new(device, self.label, self.usage, size);
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(&self.buffer, 0, bytes);
+        }
+    }
+}
+
+/// A mesh with its own material: the cloth, or one ghost.
+struct MeshSlot {
+    mesh: GpuMesh,
+    material: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    texture: ClothTexture,
+}
+
+pub struct Renderer {
+    pipelines: Pipelines,
+    frame_uniform: wgpu::Buffer,
+    frame_bind_group: wgpu::BindGroup,
+    sampler: wgpu::Sampler,
+    texture_views: [(ClothTexture, wgpu::TextureView); 3],
+    shadow_view: wgpu::TextureView,
+    shadow_bind_group: wgpu::BindGroup,
+    cloth: Option<MeshSlot>,
+    ghosts: Vec<MeshSlot>,
+    ghost_count: usize,
+    segments: GrowingBuffer,
+    segment_count: u32,
+    markers: GrowingBuffer,
+    marker_count: u32,
+    wireframe: bool,
+    ground: bool,
+    background: wgpu::Color,
+}
+
+impl Renderer {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Renderer {
+        let pipelines = Pipelines::new(device);
+        let frame_uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniform"),
+            size: std::mem::size_of::<FrameUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &pipelines.frame_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: frame_uniform.as_entire_binding() }],
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("linear"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let texture_views = [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker].map(|texture| {
+            let image = textures::builtin_image(texture);
+            let gpu = textures::upload(device, queue, &image, "cloth texture");
+            (texture, gpu.create_view(&Default::default()))
+        });
+        let shadow_map = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow map"),
+            size: wgpu::Extent3d { width: SHADOW_MAP_PX, height: SHADOW_MAP_PX, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let shadow_view = shadow_map.create_view(&Default::default());
+        let clamp_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let shadow_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow map"),
+            layout: &pipelines.shadow_map_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&shadow_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&clamp_sampler) },
+            ],
+        });
+        Renderer {
+            frame_uniform,
+            frame_bind_group,
+            sampler,
+            texture_views,
+            shadow_view,
+            shadow_bind_group,
+            cloth: None,
+            ghosts: Vec::new(),
+            ghost_count: 0,
+            segments: GrowingBuffer::new(device, "overlay segments", wgpu::BufferUsages::VERTEX, 4096),
+            segment_count: 0,
+            markers: GrowingBuffer::new(device, "overlay markers", wgpu::BufferUsages::VERTEX, 1024),
+            marker_count: 0,
+            wireframe: false,
+            ground: true,
+            background: wgpu::Color::BLACK,
+            pipelines,
+        }
+    }
+
+    fn mesh_slot(&self, device: &wgpu::Device, mesh: &Mesh, texture: ClothTexture) -> MeshSlot {
+        let material = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("material"),
+            size: std::mem::size_of::<MaterialUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = self.material_bind_group(device, &material, texture);
+        MeshSlot { mesh: GpuMesh::new(device, mesh), material, bind_group, texture }
+    }
+
+    fn material_bind_group(
+        &self,
+        device: &wgpu::Device,
+        material: &wgpu::Buffer,
+        texture: ClothTexture,
+    ) -> wgpu::BindGroup {
+        let view = &self.texture_views.iter().find(|(t, _)| *t == texture).expect("every texture is uploaded").1;
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("material"),
+            layout: &self.pipelines.material_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: material.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.sampler) },
+            ],
+        })
+    }
+
+    /// Uploads one picture's data for a target of `size_px`. Buffers are
+    /// rewritten in place; they are only reallocated when the grid or the
+    /// number of ghosts or overlay items grows.
+    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, size_px: (u32, u32), input: FrameInput) {
+        let options = input.options;
+        self.wireframe = options.wireframe;
+        self.ground = options.ground.is_some();
+        let [r, g, b] = options.background;
+        self.background = wgpu::Color { r: r as f64, g: g as f64, b: b as f64, a: 1.0 };
+        queue.write_buffer(&self.frame_uniform, 0, bytemuck::bytes_of(&frame_uniform(input.camera, options, size_px)));
+
+        let mut cloth = match self.cloth.take() {
+            Some(slot) => slot,
+            None => self.mesh_slot(device, input.mesh, options.texture),
+        };
+        self.update_slot(device, queue, &mut cloth, input.mesh, options.texture);
+        let textured = if options.texture == ClothTexture::Plain { 0.0 } else { 1.0 };
+        let material = MaterialUniform {
+            front_tint: [options.front_tint[0], options.front_tint[1], options.front_tint[2], 1.0],
+            back_tint: [options.back_tint[0], options.back_tint[1], options.back_tint[2], 1.0],
+            params: [textured, 1.0, 1.0, 0.0],
+        };
+        queue.write_buffer(&cloth.material, 0, bytemuck::bytes_of(&material));
+        self.cloth = Some(cloth);
+
+        let mut ghosts = std::mem::take(&mut self.ghosts);
+        for (index, ghost) in input.ghosts.iter().enumerate() {
+            if index == ghosts.len() {
+                ghosts.push(self.mesh_slot(device, ghost.mesh, ClothTexture::Plain));
+            }
+            let slot = &mut ghosts[index];
+            self.update_slot(device, queue, slot, ghost.mesh, ClothTexture::Plain);
+            let [r, g, b] = ghost.tint;
+            let material = MaterialUniform {
+                front_tint: [r, g, b, 1.0],
+                back_tint: [r, g, b, 1.0],
+                params: [0.0, ghost.opacity.clamp(0.0, 1.0), 1.0, 0.0],
+            };
+            queue.write_buffer(&slot.material, 0, bytemuck::bytes_of(&material));
+        }
+        self.ghosts = ghosts;
+        self.ghost_count = input.ghosts.len();
+
+        let segments: Vec<SegmentInstance> = input
+            .overlay
+            .segments
+            .iter()
+            .map(|s| SegmentInstance {
+                a: s.a.to_array(),
+                width_px: s.width_px,
+                b: s.b.to_array(),
+                pad: 0.0,
+                color: s.color,
+            })
+            .collect();
+        self.segments.write(device, queue, bytemuck::cast_slice(&segments));
+        self.segment_count = segments.len() as u32;
+        let markers: Vec<MarkerInstance> = input
+            .overlay
+            .markers
+            .iter()
+            .map(|m| MarkerInstance { center: m.center.to_array(), radius_px: m.radius_px, fill: m.fill, ring: m.ring })
+            .collect();
+        self.markers.write(device, queue, bytemuck::cast_slice(&markers));
+        self.marker_count = markers.len() as u32;
+    }
+
+    fn update_slot(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        slot: &mut MeshSlot,
+        mesh: &Mesh,
+        texture: ClothTexture,
+    ) {
+        slot.mesh.update(device, queue, mesh);
+        if slot.texture != texture {
+            slot.bind_group = self.material_bind_group(device, &slot.material, texture);
+            slot.texture = texture;
+        }
+    }
+
+    /// Records the shadow pass and the main pass into `encoder`, drawing what
+    /// the last [`Renderer::prepare`] uploaded into `target`.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, target: &OffscreenTarget) {
+        let Some(cloth) = &self.cloth else {
+            return;
+        };
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("contact shadow"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &self.shadow_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            if self.ground {
+                pass.set_pipeline(&self.pipelines.shadow);
+                pass.set_bind_group(0, &self.frame_bind_group, &[]);
+                pass.set_vertex_buffer(0, cloth.mesh.positions.slice(..));
+                pass.set_index_buffer(cloth.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..cloth.mesh.index_count, 0, 0..1);
+            }
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target.msaa_view(),
+                depth_slice: None,
+                resolve_target: Some(target.resolved_view()),
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(self.background), store: wgpu::StoreOp::Discard },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: target.depth_view(),
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.frame_bind_group, &[]);
+        if self.ground {
+            pass.set_pipeline(&self.pipelines.ground);
+            pass.set_bind_group(1, &self.shadow_bind_group, &[]);
+            pass.draw(0..6, 0..1);
+        }
+        let draw_mesh = |pass: &mut wgpu::RenderPass, slot: &MeshSlot| {
+            pass.set_bind_group(1, &slot.bind_group, &[]);
+            pass.set_vertex_buffer(0, slot.mesh.positions.slice(..));
+            pass.set_vertex_buffer(1, slot.mesh.normals.slice(..));
+            pass.set_vertex_buffer(2, slot.mesh.uvs.slice(..));
+            pass.set_index_buffer(slot.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..slot.mesh.index_count, 0, 0..1);
+        };
+        pass.set_pipeline(&self.pipelines.cloth);
+        draw_mesh(&mut pass, cloth);
+        if self.wireframe {
+            pass.set_pipeline(&self.pipelines.wire);
+            pass.set_vertex_buffer(0, cloth.mesh.positions.slice(..));
+            pass.set_index_buffer(cloth.mesh.wire_indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..cloth.mesh.wire_index_count, 0, 0..1);
+        }
+        // Ghosts after the opaque cloth: they are hidden behind it, and blend over what is behind them.
+        pass.set_pipeline(&self.pipelines.ghost);
+        for slot in &self.ghosts[..self.ghost_count] {
+            draw_mesh(&mut pass, slot);
+        }
+        if self.segment_count > 0 {
+            pass.set_pipeline(&self.pipelines.segment);
+            pass.set_vertex_buffer(0, self.segments.buffer.slice(..));
+            pass.draw(0..6, 0..self.segment_count);
+        }
+        if self.marker_count > 0 {
+            pass.set_pipeline(&self.pipelines.marker);
+            pass.set_vertex_buffer(0, self.markers.buffer.slice(..));
+            pass.draw(0..6, 0..self.marker_count);
+        }
+    }
+
+    /// Prepares, draws and submits one picture into `target`.
+    pub fn render(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &OffscreenTarget, input: FrameInput) {
+        self.prepare(device, queue, target.size_px(), input);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("drape frame") });
+        self.encode(&mut encoder, target);
+        queue.submit([encoder.finish()]);
+    }
+}
+
+fn frame_uniform(camera: &OrbitCamera, options: &RenderOptions, size_px: (u32, u32)) -> FrameUniform {
+    let (w, h) = (size_px.0.max(1) as f32, size_px.1.max(1) as f32);
+    let ground = options.ground.unwrap_or_default();
+    let shadow_center = Vec3::new(ground.center.x, ground.height_m, ground.center.y);
+    let [r, g, b] = options.background;
+    FrameUniform {
+        clip_from_world: camera.clip_from_world(size_px).to_cols_array_2d(),
+        shadow_clip_from_world: shadow_clip_from_world(shadow_center, ground.shadow_half_m).to_cols_array_2d(),
+        eye_world: camera.eye().extend(1.0).to_array(),
+        viewport_px: [w, h, 1.0 / w, 1.0 / h],
+        ground: [ground.height_m, ground.grid_spacing_m, ground.half_size_m, options.ground.is_some() as u32 as f32],
+        ground_center: [ground.center.x, 0.0, ground.center.y, 0.0],
+        // Fully faded at about a third of the shadow square's width; blur ~1.5% of it.
+        shadow: [(ground.shadow_half_m * 0.6).max(0.05), 0.012, 0.55, 0.0],
+        background: [r, g, b, 1.0],
+        wire_color: options.wire_color,
+    }
+}

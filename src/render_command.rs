@@ -1,0 +1,199 @@
+//! `drape render`: pictures of a scene as a PNG, a numbered PNG sequence or an animated GIF.
+
+use std::io::{self, IsTerminal};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Instant;
+
+use anyhow::{Context as _, Result, anyhow, bail};
+use drape::atomic_file::io_reason;
+use drape::export::{GifWriter, write_atomically, write_png};
+use drape::render::headless::{SceneOverlays, SceneRenderer};
+use drape::render::{GpuContext, RgbaImage};
+use drape::scene::{self, Scene};
+
+use crate::{FrameRange, frame_number_width, padded_frame};
+
+/// Sizes used when `--size` is not given: a full-HD-ish still, a lighter GIF.
+pub const DEFAULT_PNG_SIZE: (u32, u32) = (1280, 720);
+pub const DEFAULT_GIF_SIZE: (u32, u32) = (640, 360);
+/// Largest side accepted by `--size`.
+pub const MAX_SIDE_PX: u32 = 8192;
+
+pub struct RenderRequest {
+    pub frame: Option<i32>,
+    pub frames: Option<FrameRange>,
+    pub size_px: Option<(u32, u32)>,
+    pub overlays: SceneOverlays,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Output {
+    Png,
+    Gif,
+    Sequence,
+}
+
+/// Parses `WxH`, e.g. `1280x720`.
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X', '×'])
+        .ok_or_else(|| format!("`{text}` is not a size: write it as WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let side = |s: &str| match s.trim().parse::<u32>() {
+        Ok(v) if (1..=MAX_SIDE_PX).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}` in `{text}` is not a side of 1 to {MAX_SIDE_PX} pixels")),
+    };
+    Ok((side(w)?, side(h)?))
+}
+
+pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> {
+    let scene = scene::load(path)?;
+    let extension = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let kind = match (extension.as_deref(), request.frames.is_some()) {
+        (Some("gif"), _) => Output::Gif,
+        (Some("png"), false) => Output::Png,
+        (Some("png"), true) => bail!(
+            "--frames writes a numbered PNG sequence into a directory, but {} names a PNG file: \
+             give a directory, or a .gif for an animation",
+            output.display()
+        ),
+        (None, true) => Output::Sequence,
+        (None, false) => {
+            bail!("{} has no extension: name it .png or .gif (or give --frames for a sequence)", output.display())
+        }
+        (Some(other), _) => bail!("cannot render to .{other} ({}): use .png, .gif or a directory", output.display()),
+    };
+    let default_size = if kind == Output::Gif { DEFAULT_GIF_SIZE } else { DEFAULT_PNG_SIZE };
+    let size_px = request.size_px.unwrap_or(default_size);
+    let start = scene.timeline.start;
+    let range = match (request.frames, request.frame, kind) {
+        (Some(range), _, _) => range,
+        (None, frame, Output::Png) => {
+            let frame = frame.unwrap_or(start);
+            FrameRange { first: frame, last: frame }
+        }
+        // A GIF without --frames shows the whole timeline.
+        (None, _, _) => FrameRange { first: start, last: scene.timeline.end },
+    };
+
+    let context = GpuContext::headless()?;
+    let adapter = context.describe();
+    let mut renderer = SceneRenderer::new(context, &scene, size_px, request.overlays);
+    let started = Instant::now();
+    match kind {
+        Output::Png => {
+            let image = renderer.render_frame(&scene, range.first as f64)?;
+            write_atomically(output, |w| write_png(&image, w))
+                .map_err(|e| anyhow!("cannot write {}: {}", output.display(), io_reason(&e)))?;
+            say!("wrote {} ({}×{}, frame {}, {adapter})", output.display(), size_px.0, size_px.1, range.first);
+        }
+        Output::Gif => {
+            let progress = progress_bar(range);
+            write_atomically(output, |w| {
+                let mut gif = GifWriter::new(w, size_px, scene.timeline.fps)?;
+                for frame in range.first..=range.last {
+                    let image = renderer.render_frame(&scene, frame as f64).map_err(io::Error::other)?;
+                    gif.write_frame(&image)?;
+                    progress.inc(1);
+                }
+                gif.finish().map(|_| ())
+            })
+            .map_err(|e| anyhow!("cannot write {}: {}", output.display(), io_reason(&e)))?;
+            progress.finish_and_clear();
+            report(output, range, size_px, started, &adapter, &format!("GIF at {} fps", scene.timeline.fps));
+        }
+        Output::Sequence => {
+            render_sequence(&mut renderer, &scene, path, output, range)?;
+            report(output, range, size_px, started, &adapter, "PNG sequence");
+        }
+    }
+    Ok(())
+}
+
+/// Renders on this thread while a second thread encodes and writes the PNGs;
+/// at most two finished frames wait between them, so memory stays bounded.
+fn render_sequence(
+    renderer: &mut SceneRenderer,
+    scene: &Scene,
+    path: &Path,
+    dir: &Path,
+    range: FrameRange,
+) -> Result<()> {
+    if dir.is_file() {
+        bail!("{} is a file: --frames writes a numbered sequence into a directory", dir.display());
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow!("cannot create the directory {}: {}", dir.display(), io_reason(&e)))?;
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
+    let width = frame_number_width(range);
+    let progress = progress_bar(range);
+    let (sender, receiver) = mpsc::sync_channel::<(PathBuf, RgbaImage)>(2);
+    let writer = std::thread::spawn(move || -> Result<()> {
+        for (file, image) in receiver {
+            write_atomically(&file, |w| write_png(&image, w))
+                .map_err(|e| anyhow!("cannot write {}: {}", file.display(), io_reason(&e)))?;
+        }
+        Ok(())
+    });
+    let mut rendered = Ok(());
+    for frame in range.first..=range.last {
+        let image = match renderer.render_frame(scene, frame as f64) {
+            Ok(image) => image,
+            Err(error) => {
+                rendered = Err(anyhow!(error));
+                break;
+            }
+        };
+        let file = dir.join(format!("{stem}_{}.png", padded_frame(frame, width)));
+        // A send fails only when the writer stopped on an error, which join reports.
+        if sender.send((file, image)).is_err() {
+            break;
+        }
+        progress.inc(1);
+    }
+    drop(sender);
+    let written = writer.join().map_err(|_| anyhow!("the PNG writer thread panicked"))?;
+    progress.finish_and_clear();
+    rendered.and(written).context("rendering the sequence stopped")
+}
+
+fn progress_bar(range: FrameRange) -> indicatif::ProgressBar {
+    let count = (i64::from(range.last) - i64::from(range.first) + 1) as u64;
+    if !io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(count);
+    let style = indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {per_sec}  eta {eta}")
+        .expect("the progress template is valid");
+    bar.set_style(style);
+    bar
+}
+
+fn report(output: &Path, range: FrameRange, size_px: (u32, u32), started: Instant, adapter: &str, what: &str) {
+    let count = i64::from(range.last) - i64::from(range.first) + 1;
+    let secs = started.elapsed().as_secs_f64();
+    say!(
+        "wrote {} ({what}, frames {}..{}, {count} frame{} at {}×{}) in {secs:.1} s: {:.1} frames/s on {adapter}",
+        output.display(),
+        range.first,
+        range.last,
+        if count == 1 { "" } else { "s" },
+        size_px.0,
+        size_px.1,
+        count as f64 / secs.max(1e-9),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_say_what_is_wrong() {
+        assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
+        assert_eq!(parse_size("64X48"), Ok((64, 48)));
+        assert_eq!(parse_size("1280"), Err("`1280` is not a size: write it as WIDTHxHEIGHT, e.g. 1280x720".into()));
+        assert_eq!(parse_size("0x10"), Err("`0` in `0x10` is not a side of 1 to 8192 pixels".into()));
+        assert!(parse_size("99999x10").is_err());
+    }
+}
