@@ -37,7 +37,7 @@ fn lit(albedo: vec3<f32>, n: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
     let key_dir = normalize(vec3<f32>(0.45, 0.8, 0.55));
     let fill_dir = normalize(vec3<f32>(-0.7, 0.25, 0.45));
     let rim_dir = normalize(vec3<f32>(-0.2, 0.5, -0.9));
-    let key = vec3<f32>(1.0, 0.95, 0.86) * 1.05 * wrapped(n, key_dir, 0.35);
+    let key = vec3<f32>(1.0, 0.95, 0.86) * 0.9 * wrapped(n, key_dir, 0.35);
     let fill = vec3<f32>(0.62, 0.72, 0.95) * 0.38 * wrapped(n, fill_dir, 0.5);
     let sky = mix(vec3<f32>(0.16, 0.14, 0.12), vec3<f32>(0.32, 0.36, 0.42), n.y * 0.5 + 0.5);
     let facing = 1.0 - max(dot(n, view), 0.0);

@@ -51,8 +51,8 @@ fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
     let on_x_axis = 1.0 - min(axis_distance.y, 1.0);
     let on_z_axis = 1.0 - min(axis_distance.x, 1.0);
 
-    var color = vec3<f32>(0.30, 0.30, 0.31);
-    color = mix(color, vec3<f32>(0.40, 0.40, 0.42), line * density * 0.8);
+    var color = vec3<f32>(0.105, 0.108, 0.115);
+    color = mix(color, vec3<f32>(0.2, 0.205, 0.215), line * density * 0.8);
     color = mix(color, vec3<f32>(0.55, 0.24, 0.22), on_x_axis * 0.7);
     color = mix(color, vec3<f32>(0.22, 0.32, 0.55), on_z_axis * 0.7);
     color = color * (1.0 - shadow_at(in.world) * frame.shadow.z);

@@ -38,6 +38,17 @@ impl Default for OrbitCamera {
 }
 
 impl OrbitCamera {
+    /// The default three-quarter view of a box, framed: from the front-right,
+    /// a little above, or from the side when the box is much deeper than wide
+    /// (a cloth that travels along z), so the long side runs across the picture.
+    pub fn framing(min: Vec3, max: Vec3, aspect: f32) -> OrbitCamera {
+        let size = max - min;
+        let yaw_deg = if size.z > 1.5 * size.x { 65.0 } else { 25.0 };
+        let mut camera = OrbitCamera { yaw_deg, ..OrbitCamera::default() };
+        camera.frame_bounds(min, max, aspect);
+        camera
+    }
+
     /// Unit vector from the target towards the eye.
     pub fn backward(&self) -> Vec3 {
         let (yaw, pitch) = (self.yaw_deg.to_radians(), self.pitch_deg.to_radians());
@@ -106,19 +117,33 @@ impl OrbitCamera {
     }
 
     /// Aims at the centre of the box `min..max` from the current direction, at
-    /// the distance where the box's bounding sphere fills the view with a small
+    /// the nearest distance where all eight corners are in view with a 5%
     /// margin. An empty or non-finite box leaves the camera unchanged.
     pub fn frame_bounds(&mut self, min: Vec3, max: Vec3, aspect: f32) {
         if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
             return;
         }
-        let radius_m = ((max - min).length() * 0.5).max(0.05);
-        let half_fov_y = self.fov_y_deg.to_radians() * 0.5;
         let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
-        let half_fov_x = (half_fov_y.tan() * aspect).atan();
-        let half_fov = half_fov_y.min(half_fov_x);
-        self.target = (min + max) * 0.5;
-        self.distance_m = (radius_m / half_fov.sin() * 1.05).clamp(MIN_DISTANCE_M, MAX_DISTANCE_M);
+        let tan_y = (self.fov_y_deg.to_radians() * 0.5).tan() * 0.95;
+        let tan_x = tan_y * aspect;
+        let center = (min + max) * 0.5;
+        let backward = self.backward();
+        let right = Vec3::Y.cross(backward).normalize_or(Vec3::X);
+        let up = backward.cross(right);
+        // A corner at view offset (x, y, z) from the centre is in view from
+        // distance d when |x| ≤ (d − z)·tan_x and |y| ≤ (d − z)·tan_y.
+        let mut distance_m: f32 = 0.0;
+        for k in 0..8 {
+            let corner = Vec3::new(
+                if k & 1 == 0 { min.x } else { max.x },
+                if k & 2 == 0 { min.y } else { max.y },
+                if k & 4 == 0 { min.z } else { max.z },
+            ) - center;
+            let (x, y, z) = (corner.dot(right), corner.dot(up), corner.dot(backward));
+            distance_m = distance_m.max(z + x.abs() / tan_x).max(z + y.abs() / tan_y);
+        }
+        self.target = center;
+        self.distance_m = distance_m.max(0.05).clamp(MIN_DISTANCE_M, MAX_DISTANCE_M);
     }
 
     /// The pixel where `world` is drawn in a target of `size_px`, or `None`

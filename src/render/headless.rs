@@ -55,6 +55,8 @@ pub struct SceneOverlays {
 /// buffers, the target and the evaluator's rest-shape cache: the way to render
 /// a sequence. Memory does not grow with the number of frames.
 pub struct SceneRenderer {
+    /// Whether the camera and ground move with the cloth (see [`SceneRenderer::new`]).
+    follow: bool,
     context: GpuContext,
     renderer: Renderer,
     target: OffscreenTarget,
@@ -66,24 +68,35 @@ pub struct SceneRenderer {
 }
 
 impl SceneRenderer {
-    /// Builds every key's rest shape, frames the camera on all of them (so the
-    /// view holds still through the animation) and puts the ground under them.
+    /// Builds every key's rest shape and frames the camera on all of them, so
+    /// the view holds still through the animation, with the ground under them.
+    /// When the cloth travels much farther than its own size (a flying carpet),
+    /// a fixed view would show it tiny: the camera then keeps the framing of
+    /// the largest single key and follows the cloth's centre, the ground grid
+    /// showing the travel.
     pub fn new(context: GpuContext, scene: &Scene, size_px: (u32, u32), overlays: SceneOverlays) -> SceneRenderer {
         let mut evaluator = Evaluator::new();
         let (min, max) = scene_bounds(&mut evaluator, scene);
+        let key_extent_m = largest_key_extent(&mut evaluator, scene);
+        let follow = (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m;
         let aspect = size_px.0 as f32 / size_px.1.max(1) as f32;
-        let mut camera = OrbitCamera::default();
-        camera.frame_bounds(min, max, aspect);
-        let options = RenderOptions {
-            wireframe: overlays.wireframe,
-            ground: Some(Ground::under(min, max)),
-            ..RenderOptions::default()
-        }
-        .with_texture(crate::scene::ClothTexture::Plain);
+        let (camera, ground) = if follow {
+            let half = Vec3::splat(key_extent_m * 0.6);
+            let center = (min + max) * 0.5;
+            let mut camera = OrbitCamera::framing(min, max, aspect);
+            camera.frame_bounds(center - half, center + half, aspect);
+            let mut ground = Ground::under(center - half, center + half);
+            ground.height_m = Ground::under(min, max).height_m;
+            (camera, ground)
+        } else {
+            (OrbitCamera::framing(min, max, aspect), Ground::under(min, max))
+        };
+        let options = RenderOptions { wireframe: overlays.wireframe, ground: Some(ground), ..RenderOptions::default() }
+            .with_texture(crate::scene::ClothTexture::Plain);
         let renderer = Renderer::new(&context.device, &context.queue);
         let target = OffscreenTarget::new(&context.device, size_px);
         let mesh = evaluator.evaluate(scene, frame_time_secs(&scene.timeline, scene.timeline.start as f64));
-        SceneRenderer { context, renderer, target, evaluator, camera, options, overlays, mesh }
+        SceneRenderer { follow, context, renderer, target, evaluator, camera, options, overlays, mesh }
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -108,6 +121,15 @@ impl SceneRenderer {
     pub fn render_frame(&mut self, scene: &Scene, frame: f64) -> Result<RgbaImage, RenderError> {
         let t_secs = frame_time_secs(&scene.timeline, frame);
         self.evaluator.evaluate_into(scene, t_secs, Default::default(), &mut self.mesh);
+        if self.follow
+            && let Some((lo, hi)) = bounds(&self.mesh.positions)
+        {
+            let center = (lo + hi) * 0.5;
+            self.camera.target = center;
+            if let Some(ground) = &mut self.options.ground {
+                ground.center = glam::Vec2::new(center.x, center.z);
+            }
+        }
         let mut overlay = Overlay::default();
         let key = scene.key_in_effect(frame);
         if self.overlays.catenaries {
@@ -128,6 +150,20 @@ impl SceneRenderer {
         self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
         Ok(read_texture(&self.context.device, &self.context.queue, self.target.resolved())?)
     }
+}
+
+/// The camera follows the cloth when its keys span more than this many times the largest key's own size.
+pub const FOLLOW_TRAVEL_RATIO: f32 = 2.5;
+
+/// The largest side of any single key's rest shape box.
+fn largest_key_extent(evaluator: &mut Evaluator, scene: &Scene) -> f32 {
+    let mut extent_m: f32 = 0.0;
+    for key in &scene.keys {
+        if let Some((lo, hi)) = bounds(&evaluator.key_shape(&scene.cloth, key).positions) {
+            extent_m = extent_m.max((hi - lo).max_element());
+        }
+    }
+    extent_m.max(0.1)
 }
 
 /// The box holding every key's relaxed rest shape, widened by 10% of its size

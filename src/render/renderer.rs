@@ -33,12 +33,12 @@ impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
             texture: ClothTexture::Plain,
-            front_tint: [0.62, 0.55, 0.48],
-            back_tint: [0.34, 0.29, 0.26],
+            front_tint: [0.52, 0.45, 0.37],
+            back_tint: [0.3, 0.25, 0.21],
             wireframe: false,
             wire_color: [0.02, 0.02, 0.03, 0.55],
             ground: Some(Ground::default()),
-            background: [0.045, 0.05, 0.06],
+            background: [0.028, 0.031, 0.036],
         }
     }
 }
@@ -87,7 +87,7 @@ impl Ground {
         Ground {
             height_m: min.y.min(0.0) - if min.y < 0.0 { 0.005 * extent_m } else { 0.0 },
             center,
-            half_size_m: extent_m * 3.0,
+            half_size_m: extent_m * 4.0,
             shadow_half_m: horizontal_m * 0.5 + extent_m * 0.25,
             grid_spacing_m,
         }
