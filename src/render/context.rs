@@ -10,6 +10,7 @@
 use std::fmt::Write as _;
 
 /// A device and its queue, with a description of the adapter behind them.
+#[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,

@@ -76,7 +76,8 @@ impl SceneRenderer {
     /// showing the travel.
     pub fn new(context: GpuContext, scene: &Scene, size_px: (u32, u32), overlays: SceneOverlays) -> SceneRenderer {
         let mut evaluator = Evaluator::new();
-        let (min, max) = scene_bounds(&mut evaluator, scene);
+        let (rest_min, rest_max) = scene_bounds(&mut evaluator, scene);
+        let (min, max) = padded((rest_min, rest_max));
         let key_extent_m = largest_key_extent(&mut evaluator, scene);
         let follow = (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m;
         let aspect = size_px.0 as f32 / size_px.1.max(1) as f32;
@@ -86,10 +87,12 @@ impl SceneRenderer {
             let mut camera = OrbitCamera::framing(min, max, aspect);
             camera.frame_bounds(center - half, center + half, aspect);
             let mut ground = Ground::under(center - half, center + half);
-            ground.height_m = Ground::under(min, max).height_m;
+            ground.height_m = Ground::under(rest_min, rest_max).height_m;
             (camera, ground)
         } else {
-            (OrbitCamera::framing(min, max, aspect), Ground::under(min, max))
+            let mut ground = Ground::under(min, max);
+            ground.height_m = Ground::under(rest_min, rest_max).height_m;
+            (OrbitCamera::framing(min, max, aspect), ground)
         };
         let options = RenderOptions { wireframe: overlays.wireframe, ground: Some(ground), ..RenderOptions::default() }
             .with_texture(crate::scene::ClothTexture::Plain);
@@ -166,8 +169,7 @@ fn largest_key_extent(evaluator: &mut Evaluator, scene: &Scene) -> f32 {
     extent_m.max(0.1)
 }
 
-/// The box holding every key's relaxed rest shape, widened by 10% of its size
-/// on each side for the layers' motion.
+/// The box holding every key's relaxed rest shape.
 pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
     let mut min = Vec3::splat(f32::INFINITY);
     let mut max = Vec3::splat(f32::NEG_INFINITY);
@@ -181,6 +183,11 @@ pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
     if !(min.is_finite() && max.is_finite()) {
         return (Vec3::ZERO, Vec3::ONE);
     }
-    let margin = (max - min).max_element() * 0.1;
-    (min - Vec3::splat(margin), max + Vec3::splat(margin))
+    (min, max)
+}
+
+/// `min..max` widened by 10% of its largest side all round: room for the layers' motion.
+fn padded((min, max): (Vec3, Vec3)) -> (Vec3, Vec3) {
+    let margin = Vec3::splat((max - min).max_element() * 0.1);
+    (min - margin, max + margin)
 }

@@ -52,14 +52,14 @@ const UV: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
     step_mode: wgpu::VertexStepMode::Vertex,
     attributes: &wgpu::vertex_attr_array![2 => Float32x2],
 };
-/// `render::renderer::SegmentInstance`: a, width_px, b, (pad), color.
-const SEGMENT_INSTANCE: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
-    array_stride: 48,
+/// `render::renderer::SegmentInstance`: a, width_px, b, color, packed.
+pub(crate) const SEGMENT_INSTANCE: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+    array_stride: 44,
     step_mode: wgpu::VertexStepMode::Instance,
     attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Float32x4],
 };
 /// `render::renderer::MarkerInstance`: center, radius_px, fill, ring.
-const MARKER_INSTANCE: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
+pub(crate) const MARKER_INSTANCE: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
     array_stride: 48,
     step_mode: wgpu::VertexStepMode::Instance,
     attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x4, 3 => Float32x4],

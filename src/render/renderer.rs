@@ -118,7 +118,6 @@ struct SegmentInstance {
     a: [f32; 3],
     width_px: f32,
     b: [f32; 3],
-    pad: f32,
     color: [f32; 4],
 }
 
@@ -339,13 +338,7 @@ impl Renderer {
             .overlay
             .segments
             .iter()
-            .map(|s| SegmentInstance {
-                a: s.a.to_array(),
-                width_px: s.width_px,
-                b: s.b.to_array(),
-                pad: 0.0,
-                color: s.color,
-            })
+            .map(|s| SegmentInstance { a: s.a.to_array(), width_px: s.width_px, b: s.b.to_array(), color: s.color })
             .collect();
         self.segments.write(device, queue, bytemuck::cast_slice(&segments));
         self.segment_count = segments.len() as u32;
@@ -486,5 +479,29 @@ fn frame_uniform(camera: &OrbitCamera, options: &RenderOptions, size_px: (u32, u
         shadow: [(ground.shadow_half_m * 0.6).max(0.05), 0.012, 0.55, 0.0],
         background: [r, g, b, 1.0],
         wire_color: options.wire_color,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::pipelines::{MARKER_INSTANCE, SEGMENT_INSTANCE};
+
+    #[test]
+    fn instance_structs_match_their_vertex_layouts() {
+        assert_eq!(std::mem::size_of::<SegmentInstance>() as u64, SEGMENT_INSTANCE.array_stride);
+        assert_eq!(std::mem::size_of::<MarkerInstance>() as u64, MARKER_INSTANCE.array_stride);
+        // The colour is the last attribute and ends the struct.
+        assert_eq!(SEGMENT_INSTANCE.attributes[3].offset, 28);
+        assert_eq!(MARKER_INSTANCE.attributes[3].offset, 32);
+    }
+
+    #[test]
+    fn ground_sits_at_zero_unless_the_cloth_goes_below() {
+        let above = Ground::under(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
+        assert_eq!(above.height_m, 0.0);
+        assert_eq!(above.grid_spacing_m, 0.25);
+        let below = Ground::under(Vec3::new(-1.0, -0.5, -1.0), Vec3::new(1.0, 2.0, 1.0));
+        assert!(below.height_m < -0.5);
     }
 }

@@ -1,0 +1,266 @@
+//! The renderer on a real (software) GPU: golden images of every example
+//! scene, overlays and ghosts, a projection check, and naga validation of the
+//! shaders. `WGPU_BACKEND=gl` runs them on llvmpipe, `=vulkan` on lavapipe;
+//! unset, Vulkan is tried first. Set `DRAPE_UPDATE_GOLDEN=1` to rewrite the
+//! expected pictures after a deliberate change (and look at them).
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use drape::animate::{Evaluator, frame_time_secs};
+use drape::export::write_png;
+use drape::mesh::Mesh;
+use drape::render::headless::{SceneOverlays, SceneRenderer, render_mesh};
+use drape::render::overlay::colors;
+use drape::render::pipelines::SHADER_SOURCES;
+use drape::render::{FrameInput, Ghost, GpuContext, OrbitCamera, Overlay, PinState, RenderOptions, RgbaImage};
+use drape::scene::{self, ClothTexture};
+
+const GOLDEN_SIZE: (u32, u32) = (320, 180);
+
+fn context() -> GpuContext {
+    static CONTEXT: OnceLock<GpuContext> = OnceLock::new();
+    CONTEXT.get_or_init(|| GpuContext::headless().unwrap_or_else(|error| panic!("{error}"))).clone()
+}
+
+fn golden_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
+}
+
+/// sRGB byte to CIELAB (D65), for a colour difference that follows what the eye sees.
+fn lab(rgb: [u8; 3]) -> [f32; 3] {
+    let linear = rgb.map(|v| {
+        let v = v as f32 / 255.0;
+        if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+    });
+    let [r, g, b] = linear;
+    let x = (0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.95047;
+    let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    let z = (0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.08883;
+    let f = |t: f32| if t > 0.008856 { t.cbrt() } else { 7.787 * t + 16.0 / 116.0 };
+    let (fx, fy, fz) = (f(x), f(y), f(z));
+    [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)]
+}
+
+fn delta_e(a: [u8; 4], b: [u8; 4]) -> f32 {
+    let (la, lb) = (lab([a[0], a[1], a[2]]), lab([b[0], b[1], b[2]]));
+    ((la[0] - lb[0]).powi(2) + (la[1] - lb[1]).powi(2) + (la[2] - lb[2]).powi(2)).sqrt()
+}
+
+/// The tolerance, and why:
+/// - A pixel "differs" when its CIE76 ΔE exceeds 8: about where two flat patches
+///   side by side look different to most viewers. Shading changes from a
+///   different light, normal or texture lookup exceed it over whole regions.
+/// - Up to 0.5% of the pixels may differ: on a 320×180 picture that is a
+///   one-pixel band along about 290 px of silhouette or overlay edge, which is
+///   what rasterisers legitimately disagree on (sample positions, the last bit
+///   of interpolation, MSAA resolve). Moving the cloth by one pixel changes far more.
+/// - The mean ΔE over the picture stays under 1: no global tint or exposure shift.
+/// llvmpipe through GL and through Vulkan (lavapipe) agree to within 1/255 on
+/// every pixel here; the slack is for other Mesa and LLVM versions.
+const DIFFERING_DELTA_E: f32 = 8.0;
+const MAX_DIFFERING_FRACTION: f64 = 0.005;
+const MAX_MEAN_DELTA_E: f64 = 1.0;
+
+/// Compares `actual` with `tests/golden/<name>.png`; on failure writes
+/// `<name>.actual.png` and `<name>.diff.png` beside it and panics with the figures.
+fn assert_matches_golden(name: &str, actual: &RgbaImage) {
+    let expected_path = golden_dir().join(format!("{name}.png"));
+    if std::env::var_os("DRAPE_UPDATE_GOLDEN").is_some() {
+        std::fs::create_dir_all(golden_dir()).unwrap();
+        // Best compression: these files live in the repository.
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, actual.width, actual.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_compression(png::Compression::High);
+        encoder.write_header().unwrap().write_image_data(&actual.pixels).unwrap();
+        std::fs::write(&expected_path, bytes).unwrap();
+        return;
+    }
+    let bytes = std::fs::read(&expected_path)
+        .unwrap_or_else(|e| panic!("{}: {e} (DRAPE_UPDATE_GOLDEN=1 creates it)", expected_path.display()));
+    let expected = RgbaImage::decode_png(&bytes).unwrap();
+    assert_eq!((expected.width, expected.height), (actual.width, actual.height), "{name}: size differs");
+    let mut diff = RgbaImage::new(actual.width, actual.height);
+    let (mut differing, mut sum) = (0usize, 0f64);
+    for y in 0..actual.height {
+        for x in 0..actual.width {
+            let (a, e) = (actual.pixel(x, y), expected.pixel(x, y));
+            let de = delta_e(a, e);
+            sum += de as f64;
+            let at = ((y * actual.width + x) * 4) as usize;
+            // Differing pixels in red over a faded copy of the expected picture.
+            let faded = (e[0] as u32 + e[1] as u32 + e[2] as u32) / 12;
+            let px = if de > DIFFERING_DELTA_E {
+                differing += 1;
+                [255, 0, 0, 255]
+            } else {
+                [faded as u8, faded as u8, faded as u8, 255]
+            };
+            diff.pixels[at..at + 4].copy_from_slice(&px);
+        }
+    }
+    let count = (actual.width * actual.height) as f64;
+    let fraction = differing as f64 / count;
+    let mean = sum / count;
+    if fraction > MAX_DIFFERING_FRACTION || mean > MAX_MEAN_DELTA_E {
+        for (suffix, image) in [("actual", actual), ("diff", &diff)] {
+            let mut bytes = Vec::new();
+            write_png(image, &mut bytes).unwrap();
+            std::fs::write(golden_dir().join(format!("{name}.{suffix}.png")), bytes).unwrap();
+        }
+        panic!(
+            "{name}: {:.3}% of pixels differ by ΔE > {DIFFERING_DELTA_E} (allowed {:.3}%), mean ΔE {mean:.3} \
+             (allowed {MAX_MEAN_DELTA_E}); wrote {name}.actual.png and {name}.diff.png in {}",
+            fraction * 100.0,
+            MAX_DIFFERING_FRACTION * 100.0,
+            golden_dir().display()
+        );
+    }
+}
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(format!("{name}.ron"))
+}
+
+fn render_scene(name: &str, frames: &[i32], overlays: SceneOverlays) -> Vec<RgbaImage> {
+    let scene = scene::load(&scene_path(name)).unwrap();
+    let mut renderer = SceneRenderer::new(context(), &scene, GOLDEN_SIZE, overlays);
+    frames.iter().map(|&f| renderer.render_frame(&scene, f as f64).unwrap()).collect()
+}
+
+/// (scene, frames): rest poses, and frames where in-betweens and layers show.
+const GOLDEN_FRAMES: [(&str, &[i32]); 8] = [
+    ("curtain", &[0]),
+    ("tablecloth", &[0]),
+    ("tent", &[0]),
+    ("corner", &[0]),
+    ("flag", &[0, 60]),
+    ("tablecloth_pull", &[0, 30]),
+    ("swing", &[12]),
+    ("magic_carpet", &[0, 36, 100]),
+];
+
+#[test]
+fn every_example_scene_matches_its_golden_images() {
+    let mut failures = Vec::new();
+    for (name, frames) in GOLDEN_FRAMES {
+        let images = render_scene(name, frames, SceneOverlays::default());
+        for (frame, image) in frames.iter().zip(&images) {
+            let golden = format!("{name}_f{frame:04}");
+            if let Err(panic) = std::panic::catch_unwind(|| assert_matches_golden(&golden, image)) {
+                failures.push(panic.downcast_ref::<String>().cloned().unwrap_or_default());
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn every_scene_in_the_folder_has_golden_images() {
+    for entry in std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")).unwrap() {
+        let path = entry.unwrap().path();
+        let stem = path.file_stem().unwrap().to_string_lossy().to_string();
+        assert!(GOLDEN_FRAMES.iter().any(|(name, _)| *name == stem), "scenes/{stem}.ron has no golden image");
+    }
+}
+
+#[test]
+fn overlays_match_their_golden_image() {
+    let overlays = SceneOverlays { wireframe: true, pins: true, catenaries: true };
+    let image = render_scene("tent", &[0], overlays).remove(0);
+    assert_matches_golden("tent_overlays_f0000", &image);
+}
+
+fn carpet_mesh(frame: i32) -> (Mesh, scene::Scene) {
+    let scene = scene::load(&scene_path("magic_carpet")).unwrap();
+    let mesh = Evaluator::new().evaluate(&scene, frame_time_secs(&scene.timeline, frame as f64));
+    (mesh, scene)
+}
+
+#[test]
+fn textures_and_ghosts_match_their_golden_image() {
+    let (mesh, scene) = carpet_mesh(40);
+    let before = Evaluator::new().evaluate(&scene, frame_time_secs(&scene.timeline, 34.0));
+    let after = Evaluator::new().evaluate(&scene, frame_time_secs(&scene.timeline, 46.0));
+    let ghosts = [
+        Ghost { mesh: &before, tint: [0.9, 0.25, 0.15], opacity: 0.35 },
+        Ghost { mesh: &after, tint: [0.15, 0.55, 0.9], opacity: 0.35 },
+    ];
+    let (lo, hi) =
+        drape::render::camera::bounds(&[before.positions.clone(), after.positions.clone()].concat()).unwrap();
+    let camera = OrbitCamera::framing(lo, hi, 16.0 / 9.0);
+    for texture in [ClothTexture::Carpet, ClothTexture::Checker] {
+        let options = RenderOptions::default().with_texture(texture);
+        let overlay = Overlay::default();
+        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &ghosts, overlay: &overlay };
+        let image = render_mesh(Some(&context()), input, GOLDEN_SIZE).unwrap();
+        assert_matches_golden(&format!("magic_carpet_{texture:?}_ghosts_f0040").to_lowercase(), &image);
+    }
+}
+
+#[test]
+fn a_pin_is_drawn_on_the_pixel_it_projects_to() {
+    let scene = scene::load(&scene_path("tent")).unwrap();
+    let mesh = Evaluator::new().evaluate(&scene, 0.0);
+    let (lo, hi) = drape::render::camera::bounds(&mesh.positions).unwrap();
+    let camera = OrbitCamera::framing(lo, hi, 4.0 / 3.0);
+    let size = (400, 300);
+    let options = RenderOptions::default();
+    for pin in &scene.keys[0].pins {
+        let grid = (pin.grid.0 as usize, pin.grid.1 as usize);
+        let mut overlay = Overlay::default();
+        overlay.add_pins(&mesh, [(grid, PinState::Normal)]);
+        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay };
+        let image = render_mesh(Some(&context()), input, size).unwrap();
+        let world = mesh.positions[grid.1 * mesh.cols + grid.0];
+        let pixel = camera.project(world, size).expect("the pin is in front of the camera");
+        let (x, y) = (pixel.x.floor() as u32, pixel.y.floor() as u32);
+        let drawn = image.pixel(x, y);
+        let pin_srgb = colors::PIN.map(|c| if c <= 0.0031308 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 });
+        let expected = [0, 1, 2].map(|c| (pin_srgb[c] * 255.0).round() as i32);
+        for c in 0..3 {
+            assert!(
+                (drawn[c] as i32 - expected[c]).abs() <= 2,
+                "pin {grid:?} at {world} projects to ({x}, {y}) where the picture has {drawn:?}, not the pin's {expected:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn every_shader_passes_naga_validation() {
+    let mut validated = Vec::new();
+    for (name, source) in SHADER_SOURCES {
+        let module =
+            naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+        validated.push(name.to_string());
+    }
+    // Every file in shaders/ is compiled (frame.wgsl as the prefix of all of them).
+    for entry in std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders")).unwrap() {
+        let file = entry.unwrap().file_name().to_string_lossy().to_string();
+        assert!(file == "frame.wgsl" || validated.contains(&file), "shaders/{file} is not in SHADER_SOURCES");
+    }
+}
+
+#[test]
+fn a_missing_driver_is_an_error_that_says_what_was_tried_and_what_to_install() {
+    let scene = scene_path("curtain");
+    let out = std::env::temp_dir().join("drape_no_driver.png");
+    // Vulkan with no driver to load: the adapter search fails for real.
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_drape"))
+        .args(["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .env("WGPU_BACKEND", "vulkan")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no GPU adapter found. Tried: Vulkan (lavapipe on Mesa)"), "{stderr}");
+    assert!(stderr.contains("apt-get install mesa-vulkan-drivers"), "{stderr}");
+    assert!(!out.exists());
+}
