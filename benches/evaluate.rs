@@ -53,7 +53,7 @@ fn scene(n: u32) -> Scene {
     Scene {
         version: 1,
         name: format!("bench {n}"),
-        cloth: Cloth { size: (2.0, 2.0), grid: (n, n) },
+        cloth: Cloth::new((2.0, 2.0), (n, n)),
         timeline: Timeline::default(),
         keys: vec![key(0, n, 0.0), key(200_000, n, 0.3)],
         layers: vec![
@@ -84,6 +84,7 @@ fn scene(n: u32) -> Scene {
                 falloff: 1.0.into(),
             }),
         ],
+        view: None,
     }
 }
 

@@ -31,7 +31,7 @@ fn rest_shape(c: &mut Criterion) {
     let mut group = c.benchmark_group("rest_shape");
     group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
     for n in [32u32, 64, 128, 256] {
-        let cloth = Cloth { size: (2.0, 2.0), grid: (n, n) };
+        let cloth = Cloth::new((2.0, 2.0), (n, n));
         let key = four_corner_key(n);
         group.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, _| {
             b.iter(|| black_box(RestShape::build(&cloth, &key)))
@@ -44,7 +44,7 @@ fn approximation(c: &mut Criterion) {
     let mut group = c.benchmark_group("approximate");
     group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
     for n in [32u32, 64, 128, 256] {
-        let grid = grid_spec(&Cloth { size: (2.0, 2.0), grid: (n, n) });
+        let grid = grid_spec(&Cloth::new((2.0, 2.0), (n, n)));
         let key = four_corner_key(n);
         let pins = pin_points(&key);
         group.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, _| {

@@ -129,6 +129,7 @@ fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
 }
 
 fn main() -> ExitCode {
+    quiet_wayland_probe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Check { scene } => check(&scene),
@@ -149,6 +150,18 @@ fn main() -> ExitCode {
             eprintln!("error: {error}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Mesa's Vulkan driver probes for a Wayland display when the device opens,
+/// and libwayland prints "error: XDG_RUNTIME_DIR is invalid or not set" when
+/// that variable is missing (a headless shell, CI), although rendering works.
+/// Pointing it at the temporary directory, which holds no Wayland socket,
+/// makes the probe fail silently. Runs before any thread exists.
+fn quiet_wayland_probe() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
+        // SAFETY: called first thing in `main`, while the process has one thread.
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir()) };
     }
 }
 

@@ -38,7 +38,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
     Scene {
         version: 1,
         name: "test".into(),
-        cloth: Cloth { size: (1.2, 0.8), grid: (COLS, ROWS) },
+        cloth: Cloth::new((1.2, 0.8), (COLS, ROWS)),
         timeline: Timeline { fps: 24.0, start: 0, end: 48 },
         keys: vec![
             key(0, vec![pin(0, 0, (-0.6, 1.0, 0.0)), pin(last, 0, (0.6, 1.0, 0.0))], 1.1, Ease::EaseInOut),
@@ -51,6 +51,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
             key(48, vec![pin(0, 0, (-0.6, 1.0, 0.0)), pin(last, 0, (0.6, 1.0, 0.0))], 1.1, Ease::EaseInOut),
         ],
         layers,
+        view: None,
     }
 }
 

@@ -264,3 +264,92 @@ fn a_missing_driver_is_an_error_that_says_what_was_tried_and_what_to_install() {
     assert!(stderr.contains("apt-get install mesa-vulkan-drivers"), "{stderr}");
     assert!(!out.exists());
 }
+
+fn drape(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_drape")).args(args).output().unwrap()
+}
+
+#[test]
+fn render_writes_a_gif_with_every_frame_at_the_scene_fps() {
+    let dir = tempfile::tempdir().unwrap();
+    let gif_path = dir.path().join("carpet.gif");
+    let scene = scene_path("magic_carpet");
+    let run = drape(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        gif_path.to_str().unwrap(),
+        "--frames",
+        "10..21",
+        "--size",
+        "96x54",
+    ]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("frames 10..21, 12 frames at 96×54") && stdout.contains("frames/s"), "{stdout}");
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::RGBA);
+    let mut decoder = options.read_info(std::fs::File::open(&gif_path).unwrap()).unwrap();
+    assert_eq!((decoder.width(), decoder.height()), (96, 54));
+    let mut delays_cs = Vec::new();
+    let mut first_pixels = Vec::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        delays_cs.push(frame.delay as u32);
+        first_pixels.push(frame.buffer.to_vec());
+    }
+    assert_eq!(delays_cs.len(), 12);
+    // 24 fps: 12 frames last half a second.
+    assert_eq!(delays_cs.iter().sum::<u32>(), 50);
+    // The cloth moves: consecutive frames differ.
+    assert!(first_pixels.windows(2).all(|w| w[0] != w[1]));
+}
+
+#[test]
+fn render_writes_a_numbered_png_sequence_and_one_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("flag");
+    let seq = dir.path().join("seq");
+    let run =
+        drape(&["render", scene.to_str().unwrap(), "-o", seq.to_str().unwrap(), "--frames", "0..3", "--size", "64x48"]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let mut names: Vec<String> =
+        std::fs::read_dir(&seq).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+    names.sort();
+    assert_eq!(names, ["flag_0000.png", "flag_0001.png", "flag_0002.png", "flag_0003.png"]);
+    let frame_2 = RgbaImage::decode_png(&std::fs::read(seq.join("flag_0002.png")).unwrap()).unwrap();
+    assert_eq!((frame_2.width, frame_2.height), (64, 48));
+
+    // A single frame matches the same frame of the sequence exactly.
+    let one = dir.path().join("one.png");
+    let run =
+        drape(&["render", scene.to_str().unwrap(), "-o", one.to_str().unwrap(), "--frame", "2", "--size", "64x48"]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(RgbaImage::decode_png(&std::fs::read(&one).unwrap()).unwrap(), frame_2);
+}
+
+#[test]
+fn render_refuses_bad_requests_with_a_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("flag");
+    let scene = scene.to_str().unwrap();
+    let cases: [(&[&str], &str); 4] = [
+        (&["-o", "x.jpg"], "cannot render to .jpg"),
+        (&["-o", "x.png", "--frames", "0..3"], "names a PNG file"),
+        (&["-o", "x.png", "--size", "0x10"], "not a side of 1 to 8192 pixels"),
+        (&["-o", "noext"], "has no extension"),
+    ];
+    for (args, message) in cases {
+        // The argument after -o is a file name in the temporary directory.
+        let out_args: Vec<String> = args
+            .iter()
+            .enumerate()
+            .map(|(k, a)| if k == 1 { dir.path().join(a).display().to_string() } else { a.to_string() })
+            .collect();
+        let mut all = vec!["render", scene];
+        all.extend(out_args.iter().map(String::as_str));
+        let run = drape(&all);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success() && stderr.contains(message), "{args:?}: {stderr}");
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing is written on a refused request");
+}

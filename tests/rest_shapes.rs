@@ -93,7 +93,7 @@ fn rest_shapes_are_bit_identical_across_runs() {
 #[test]
 fn symmetric_tent_gives_symmetric_shape() {
     // Mirror-symmetric pins and a mirror-symmetric triangulation (a fan round the pole).
-    let cloth = Cloth { size: (1.6, 1.6), grid: (17, 17) };
+    let cloth = Cloth::new((1.6, 1.6), (17, 17));
     let k = key(
         &[
             ((0, 0), (-0.7, 0.0, -0.7)),
@@ -129,7 +129,7 @@ fn mirror_symmetric_input_relaxes_to_a_bit_for_bit_symmetric_shape() {
     // start is made exactly mirror-symmetric in x.
     for n in [9usize, 16, 17, 33, 40] {
         let last = n as u32 - 1;
-        let cloth = Cloth { size: (1.6, 1.6), grid: (n as u32, n as u32) };
+        let cloth = Cloth::new((1.6, 1.6), (n as u32, n as u32));
         let k = key(
             &[
                 ((0, 0), (-0.7, 1.0, -0.7)),
@@ -203,7 +203,7 @@ fn example_scenes_converge_within_their_sweep_budget() {
 #[test]
 fn conflicting_catenaries_are_the_lower_ones() {
     // Four corners of a square: the two diagonals cross; the lower one goes.
-    let cloth = Cloth { size: (1.0, 1.0), grid: (11, 11) };
+    let cloth = Cloth::new((1.0, 1.0), (11, 11));
     let k = key(
         &[
             ((0, 0), (0.0, 1.0, 0.0)),
@@ -230,7 +230,7 @@ fn conflicting_catenaries_are_the_lower_ones() {
 
 #[test]
 fn collinear_and_single_pins_drape_without_degenerate_edges() {
-    let cloth = Cloth { size: (1.0, 1.0), grid: (9, 9) };
+    let cloth = Cloth::new((1.0, 1.0), (9, 9));
     let cases = [
         key(&[((4, 4), (0.0, 2.0, 0.0))], 1.0, 0.2, 100),
         key(&[((0, 4), (0.0, 2.0, 0.0)), ((8, 4), (0.9, 2.0, 0.0))], 1.0, 0.2, 100),
@@ -277,7 +277,7 @@ fn pins_out_of_reach_stretch_the_cloth_without_running_away() {
     // extremes, give or take the cloth's own size.
     for (n, far) in [(12u32, 3.0), (25, 6.0), (40, 2.5)] {
         let last = n - 1;
-        let cloth = Cloth { size: (1.0, 1.0), grid: (n, n) };
+        let cloth = Cloth::new((1.0, 1.0), (n, n));
         let k = key(
             &[((0, 0), (-far, 1.0, 0.0)), ((last, last), (far, 2.0, 1.0)), ((last, 0), (0.0, 0.0, -far))],
             1.2,
@@ -311,7 +311,7 @@ proptest! {
     fn any_valid_layout_gives_a_finite_shape_with_exact_pins((cols, rows, pins, elasticity, stiffness) in pin_layout()) {
         let mut seen = std::collections::HashSet::new();
         let pins: Vec<_> = pins.into_iter().filter(|p| seen.insert(p.0)).collect();
-        let cloth = Cloth { size: (cols as f64 * 0.1, rows as f64 * 0.1), grid: (cols, rows) };
+        let cloth = Cloth::new((cols as f64 * 0.1, rows as f64 * 0.1), (cols, rows));
         let k = key(&pins, elasticity, stiffness, 60);
         let shape = RestShape::build(&cloth, &k);
         prop_assert!(shape.approximated.iter().all(|p| p.is_finite()));
@@ -326,7 +326,7 @@ proptest! {
         let (w, h) = (cols as f64 * 0.1, rows as f64 * 0.1);
         let lift = lift_fraction * 0.5 * w.min(h);
         let (x, z) = (0.4 * w, 0.4 * h);
-        let cloth = Cloth { size: (w, h), grid: (cols, rows) };
+        let cloth = Cloth::new((w, h), (cols, rows));
         let k = key(&[((0, 0), (-x, 1.0 + lift, -z)), ((cols - 1, 0), (x, 1.0, -z)), ((0, rows - 1), (-x, 1.0, z)), ((cols - 1, rows - 1), (x, 1.0, z))], elasticity, 0.2, 3000);
         let shape = RestShape::build(&cloth, &k);
         let error = mean_structural_error(&shape.relaxed, cols as usize, rows as usize, shape.rest_u_m(), shape.rest_v_m());

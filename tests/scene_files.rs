@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, Ease, FollowThrough, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene, SceneError, Sway,
-    Timeline, Wave, WaveAxis,
+    self, Cloth, ClothTexture, Ease, FollowThrough, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene,
+    SceneError, Sway, Timeline, View, Wave, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -30,6 +30,16 @@ const MALFORMED: &[(&str, &str)] = &[
         "unknown_ease.ron",
         "tests/data/malformed/unknown_ease.ron:12:19: unknown ease `Smooth` (expected one of: \
          Linear, Step, EaseIn, EaseOut, EaseInOut, Bezier, Back, Elastic, Bounce)",
+    ),
+    (
+        "unknown_texture.ron",
+        "tests/data/malformed/unknown_texture.ron:4:56: unknown cloth texture `Velvet` \
+         (expected one of: Plain, Carpet, Checker)",
+    ),
+    (
+        "view_pitch.ron",
+        "tests/data/malformed/view_pitch.ron:14:63: view pitch 90° is out of range: \
+         it must be between -89° and 89°",
     ),
     ("wrong_type.ron", "tests/data/malformed/wrong_type.ron:12:24: expected a number, found `\"high\"`"),
     (
@@ -516,15 +526,32 @@ fn any_scene() -> impl Strategy<Value = Scene> {
         (finite(), any::<i32>(), any::<i32>()),
         proptest::collection::vec(key(), 0..3),
         proptest::collection::vec(layer(), 0..3),
+        (proptest::option::of(view()), 0..3u8),
     )
-        .prop_map(|(version, name, (size, grid), (fps, start, end), keys, layers)| Scene {
+        .prop_map(|(version, name, (size, grid), (fps, start, end), keys, layers, (view, texture))| Scene {
             version,
             name,
-            cloth: Cloth { size, grid },
+            cloth: Cloth {
+                texture: [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker][texture as usize],
+                ..Cloth::new(size, grid)
+            },
             timeline: Timeline { fps, start, end },
             keys,
             layers,
+            view,
         })
+}
+
+fn view() -> impl Strategy<Value = View> {
+    ((finite(), finite(), finite()), finite(), finite(), finite(), finite()).prop_map(
+        |(target, yaw_deg, pitch_deg, distance_m, fov_y_deg)| View {
+            target,
+            yaw_deg,
+            pitch_deg,
+            distance_m,
+            fov_y_deg,
+        },
+    )
 }
 
 /// One edit of a byte string: delete, insert, overwrite or duplicate a span.

@@ -168,10 +168,11 @@ mod tests {
         Scene {
             version: 1,
             name: String::new(),
-            cloth: Cloth { size: (1.0, 1.0), grid: (9, 9) },
+            cloth: Cloth::new((1.0, 1.0), (9, 9)),
             timeline: Timeline::default(),
             keys,
             layers: vec![],
+            view: None,
         }
     }
 

@@ -49,7 +49,7 @@ mod tests {
 
     #[test]
     fn ratio_is_zero_at_pins_and_one_at_the_farthest_point() {
-        let cloth = Cloth { size: (2.0, 1.0), grid: (5, 3) };
+        let cloth = Cloth::new((2.0, 1.0), (5, 3));
         let ratio = pin_distance_ratio(&cloth, &[pin(0, 0), pin(4, 0)]);
         assert_eq!(ratio[0], 0.0);
         assert_eq!(ratio[4], 0.0);
@@ -63,7 +63,7 @@ mod tests {
     #[test]
     fn distance_is_measured_in_material_space() {
         // Non-square spacing: 0.5 m along u, 0.25 m along v.
-        let cloth = Cloth { size: (1.0, 0.5), grid: (3, 3) };
+        let cloth = Cloth::new((1.0, 0.5), (3, 3));
         let ratio = pin_distance_ratio(&cloth, &[pin(0, 0)]);
         let d_max = (1.0f64 + 0.25).sqrt();
         assert!((ratio[1] - (0.5 / d_max) as f32).abs() < 1e-7);
@@ -72,7 +72,7 @@ mod tests {
 
     #[test]
     fn fully_pinned_or_pinless_cloth_has_a_zero_field() {
-        let cloth = Cloth { size: (1.0, 1.0), grid: (2, 2) };
+        let cloth = Cloth::new((1.0, 1.0), (2, 2));
         assert_eq!(pin_distance_ratio(&cloth, &[pin(0, 0), pin(1, 0), pin(0, 1), pin(1, 1)]), vec![0.0; 4]);
         assert_eq!(pin_distance_ratio(&cloth, &[]), vec![0.0; 4]);
     }

@@ -7,6 +7,8 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
+use crate::scene::View;
+
 /// Pitch stays inside ±this many degrees: at ±90° the view's up vector would be undefined.
 pub const MAX_PITCH_DEG: f32 = 89.0;
 /// Dolly limits (metres): closer than this the near plane clips the target, farther the depth range degrades.
@@ -38,6 +40,30 @@ impl Default for OrbitCamera {
 }
 
 impl OrbitCamera {
+    /// The camera a scene saved; values are taken as validated (pitch within ±89°, distance > 0).
+    pub fn from_view(view: &View) -> OrbitCamera {
+        let (x, y, z) = view.target;
+        OrbitCamera {
+            target: Vec3::new(x as f32, y as f32, z as f32),
+            yaw_deg: view.yaw_deg as f32,
+            pitch_deg: (view.pitch_deg as f32).clamp(-MAX_PITCH_DEG, MAX_PITCH_DEG),
+            distance_m: (view.distance_m as f32).clamp(MIN_DISTANCE_M, MAX_DISTANCE_M),
+            fov_y_deg: view.fov_y_deg as f32,
+        }
+    }
+
+    /// The view to save in a scene so it reopens looking the same way.
+    pub fn to_view(&self) -> View {
+        let t = self.target.as_dvec3();
+        View {
+            target: (t.x, t.y, t.z),
+            yaw_deg: self.yaw_deg as f64,
+            pitch_deg: self.pitch_deg as f64,
+            distance_m: self.distance_m as f64,
+            fov_y_deg: self.fov_y_deg as f64,
+        }
+    }
+
     /// The default three-quarter view of a box, framed: from the front-right,
     /// a little above, or from the side when the box is much deeper than wide
     /// (a cloth that travels along z), so the long side runs across the picture.
@@ -186,6 +212,18 @@ pub fn bounds(points: &[Vec3]) -> Option<(Vec3, Vec3)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn views_round_trip() {
+        let camera = OrbitCamera {
+            target: Vec3::new(0.5, 1.25, -2.0),
+            yaw_deg: 200.0,
+            pitch_deg: -30.0,
+            distance_m: 7.5,
+            fov_y_deg: 50.0,
+        };
+        assert_eq!(OrbitCamera::from_view(&camera.to_view()), camera);
+    }
 
     #[test]
     fn the_target_projects_to_the_centre() {

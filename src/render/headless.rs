@@ -68,8 +68,9 @@ pub struct SceneRenderer {
 }
 
 impl SceneRenderer {
-    /// Builds every key's rest shape and frames the camera on all of them, so
-    /// the view holds still through the animation, with the ground under them.
+    /// Builds every key's rest shape and puts the ground under them. The
+    /// camera is the scene's saved view if it has one; otherwise it frames all
+    /// the keys, so the view holds still through the animation.
     /// When the cloth travels much farther than its own size (a flying carpet),
     /// a fixed view would show it tiny: the camera then keeps the framing of
     /// the largest single key and follows the cloth's centre, the ground grid
@@ -79,10 +80,14 @@ impl SceneRenderer {
         let (rest_min, rest_max) = scene_bounds(&mut evaluator, scene);
         let (min, max) = padded((rest_min, rest_max));
         let key_extent_m = largest_key_extent(&mut evaluator, scene);
-        let follow = (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m;
+        let follow = scene.view.is_none() && (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m;
         let aspect = size_px.0 as f32 / size_px.1.max(1) as f32;
-        let (camera, ground) = if follow {
-            let half = Vec3::splat(key_extent_m * 0.6);
+        let (camera, ground) = if let Some(view) = &scene.view {
+            let mut ground = Ground::under(min, max);
+            ground.height_m = Ground::under(rest_min, rest_max).height_m;
+            (OrbitCamera::from_view(view), ground)
+        } else if follow {
+            let half = Vec3::splat(key_extent_m * 0.5);
             let center = (min + max) * 0.5;
             let mut camera = OrbitCamera::framing(min, max, aspect);
             camera.frame_bounds(center - half, center + half, aspect);
@@ -95,7 +100,7 @@ impl SceneRenderer {
             (OrbitCamera::framing(min, max, aspect), ground)
         };
         let options = RenderOptions { wireframe: overlays.wireframe, ground: Some(ground), ..RenderOptions::default() }
-            .with_texture(crate::scene::ClothTexture::Plain);
+            .with_texture(scene.cloth.texture);
         let renderer = Renderer::new(&context.device, &context.queue);
         let target = OffscreenTarget::new(&context.device, size_px);
         let mesh = evaluator.evaluate(scene, frame_time_secs(&scene.timeline, scene.timeline.start as f64));

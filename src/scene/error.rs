@@ -174,6 +174,8 @@ fn user_name(type_name: &str) -> &str {
         "Ease" => "ease",
         "Layer" => "layer",
         "WaveAxis" => "wave axis",
+        "ClothTexture" => "cloth texture",
+        "View" => "view",
         other => other,
     }
 }
@@ -199,6 +201,8 @@ fn struct_from_fields(fields: &[&str]) -> Option<&'static str> {
         "Sway layer"
     } else if has("value") {
         "parameter key"
+    } else if has("yaw_deg") {
+        "view"
     } else {
         return None;
     })

@@ -121,7 +121,8 @@ impl Layout<'_, '_> {
 mod tests {
     use super::*;
     use crate::scene::{
-        Cloth, Ease, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Sway, Timeline, Wave, WaveAxis, parse,
+        Cloth, ClothTexture, Ease, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Sway, Timeline, View, Wave,
+        WaveAxis, parse,
     };
 
     const EVERY_EASE: [Ease; 9] = [
@@ -156,7 +157,7 @@ mod tests {
         Scene {
             version: 1,
             name: "Round \"trip\" (ü) // not a comment".into(),
-            cloth: Cloth { size: (2.0, 1.5), grid: (33, 25) },
+            cloth: Cloth { texture: ClothTexture::Carpet, ..Cloth::new((2.0, 1.5), (33, 25)) },
             timeline: Timeline { fps: 29.97, start: -10, end: 200 },
             keys: EVERY_EASE.iter().enumerate().map(|(i, &ease)| key(20 * i as i32, ease)).collect(),
             layers: vec![
@@ -196,6 +197,13 @@ mod tests {
                     falloff: 1.0.into(),
                 }),
             ],
+            view: Some(View {
+                target: (0.5, 1.2, -0.25),
+                yaw_deg: 30.0,
+                pitch_deg: -12.5,
+                distance_m: 4.0,
+                fov_y_deg: 40.0,
+            }),
         }
     }
 

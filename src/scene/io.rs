@@ -23,8 +23,9 @@ pub fn parse(text: &str, file_label: &str) -> Result<Scene, SceneError> {
     if tokenize(text).is_empty() {
         return Err(SceneError::invalid(file_label, None, format!("the file holds only comments: {SCENE_START}")));
     }
-    let scene: Scene =
-        ron::Options::default().from_str(text).map_err(|error| SceneError::from_ron(file_label, text, &error))?;
+    // `view: (…)` reads like `view: Some((…))`: an optional block is written the way it looks.
+    let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let scene: Scene = options.from_str(text).map_err(|error| SceneError::from_ron(file_label, text, &error))?;
     if let Err(issues) = scene.validate()
         && let Some(first) = issues.first()
     {

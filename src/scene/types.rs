@@ -24,6 +24,9 @@ pub struct Scene {
     pub keys: Vec<Key>,
     #[serde(default)]
     pub layers: Vec<Layer>,
+    /// Where the editor's camera looked when the scene was saved; absent, views frame the cloth.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub view: Option<View>,
 }
 
 impl Scene {
@@ -43,9 +46,17 @@ pub struct Cloth {
     pub size: (f64, f64),
     /// (cols, rows): number of grid points along u and v, each at least 2.
     pub grid: (u32, u32),
+    /// The picture on the cloth.
+    #[serde(default)]
+    pub texture: ClothTexture,
 }
 
 impl Cloth {
+    /// A plain cloth of `size` (width, height) metres on a `grid` of (cols, rows) points.
+    pub fn new(size: (f64, f64), grid: (u32, u32)) -> Cloth {
+        Cloth { size, grid, texture: ClothTexture::Plain }
+    }
+
     pub fn cols(&self) -> usize {
         self.grid.0 as usize
     }
@@ -69,6 +80,30 @@ impl Cloth {
     /// Material coordinates (u, v) in metres of grid point (i, j).
     pub fn material_uv(&self, i: usize, j: usize) -> (f64, f64) {
         (i as f64 * self.spacing_u_m(), j as f64 * self.spacing_v_m())
+    }
+}
+
+/// An orbit camera: it looks at `target` from `distance_m` away, turned
+/// `yaw_deg` about +Y (0° looks along −Z) and raised `pitch_deg` above the
+/// target's horizon.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct View {
+    /// The point the camera orbits (m).
+    pub target: (f64, f64, f64),
+    pub yaw_deg: f64,
+    /// −89 to 89.
+    pub pitch_deg: f64,
+    /// Greater than 0.
+    pub distance_m: f64,
+    /// Vertical field of view, 5 to 120.
+    #[serde(default = "View::default_fov_y_deg")]
+    pub fov_y_deg: f64,
+}
+
+impl View {
+    fn default_fov_y_deg() -> f64 {
+        35.0
     }
 }
 

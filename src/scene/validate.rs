@@ -9,7 +9,7 @@ use std::collections::HashSet;
 use std::fmt;
 
 use super::param::Param;
-use super::types::{Ease, FollowThrough, Key, Layer, Noise, Pin, Scene, Sway, Wave, WaveAxis};
+use super::types::{Ease, FollowThrough, Key, Layer, Noise, Pin, Scene, Sway, View, Wave, WaveAxis};
 
 /// The only scene file version this Drape reads.
 pub const SUPPORTED_VERSION: u32 = 1;
@@ -119,6 +119,33 @@ impl Checker {
         self.keys(scene);
         for (index, layer) in scene.layers.iter().enumerate() {
             self.layer(index, layer);
+        }
+        if let Some(view) = &scene.view {
+            self.view(view);
+        }
+    }
+
+    fn view(&mut self, view: &View) {
+        let (x, y, z) = view.target;
+        if ![x, y, z].iter().all(|c| c.is_finite() && c.abs() <= MAX_PIN_COORD_M) {
+            self.push(
+                "view.target",
+                format!("view target {} must be finite and within ±10 000 m", fmt_vec3(view.target)),
+            );
+        }
+        self.finite("view.yaw_deg", "view yaw", view.yaw_deg);
+        let ranges = [
+            ("view.pitch_deg", "view pitch", view.pitch_deg, -89.0, 89.0, "°"),
+            ("view.distance_m", "view distance", view.distance_m, 0.001, 10_000.0, " m"),
+            ("view.fov_y_deg", "view field of view", view.fov_y_deg, 5.0, 120.0, "°"),
+        ];
+        for (path, what, v, min, max, unit) in ranges {
+            if self.finite(path, what, v) && !(min..=max).contains(&v) {
+                self.push(
+                    path,
+                    format!("{what} {v}{unit} is out of range: it must be between {min}{unit} and {max}{unit}"),
+                );
+            }
         }
     }
 
@@ -493,7 +520,7 @@ mod tests {
         Scene {
             version: 1,
             name: "t".into(),
-            cloth: Cloth { size: (2.0, 1.5), grid: (33, 25) },
+            cloth: Cloth::new((2.0, 1.5), (33, 25)),
             timeline: Timeline::default(),
             keys: vec![Key {
                 frame: 0,
@@ -505,6 +532,7 @@ mod tests {
                 inbetween_relax: 0,
             }],
             layers: vec![],
+            view: None,
         }
     }
 
