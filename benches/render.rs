@@ -25,7 +25,12 @@ fn scene(n: u32) -> Scene {
         timeline: Timeline::default(),
         keys: vec![Key {
             frame: 0,
-            pins: vec![pin(0, 0, -0.8, -0.8), pin(last, 0, 0.8, -0.8), pin(0, last, -0.8, 0.8), pin(last, last, 0.8, 0.8)],
+            pins: vec![
+                pin(0, 0, -0.8, -0.8),
+                pin(last, 0, 0.8, -0.8),
+                pin(0, last, -0.8, 0.8),
+                pin(last, last, 0.8, 0.8),
+            ],
             elasticity: 1.1,
             stiffness: 0.2,
             relax: RelaxSettings::default(),

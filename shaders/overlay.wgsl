@@ -81,7 +81,8 @@ fn vs_marker(
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
     );
-    let clip = frame.clip_from_world * vec4<f32>(center, 1.0);
+    // Well in front of the surface the pin sits on, so its own cloth never cuts the dot.
+    let clip = frame.clip_from_world * vec4<f32>(pulled_towards_eye(center, 0.02), 1.0);
     var out: OverlayOut;
     out.color = fill;
     out.ring = ring;
@@ -97,12 +98,23 @@ fn vs_marker(
     return out;
 }
 
-@fragment
-fn fs_marker(in: OverlayOut) -> @location(0) vec4<f32> {
+fn marker_color(in: OverlayOut) -> vec4<f32> {
     let r = length(in.local_px);
     let coverage = clamp(in.radius_px + 0.5 - r, 0.0, 1.0);
     let ring_width_px = min(2.0, in.radius_px * 0.4);
     let in_ring = clamp(r - (in.radius_px - ring_width_px) + 0.5, 0.0, 1.0);
     let color = mix(in.color, in.ring, in_ring * in.ring.a);
     return vec4<f32>(color.rgb, color.a * coverage);
+}
+
+@fragment
+fn fs_marker(in: OverlayOut) -> @location(0) vec4<f32> {
+    return marker_color(in);
+}
+
+// Markers hidden behind the cloth: drawn faint, so a pin never vanishes but reads as behind.
+@fragment
+fn fs_marker_hidden(in: OverlayOut) -> @location(0) vec4<f32> {
+    let color = marker_color(in);
+    return vec4<f32>(color.rgb, color.a * 0.3);
 }

@@ -91,6 +91,9 @@ enum Command {
         /// Draw the key's catenary network, conflicting catenaries included.
         #[arg(long)]
         catenaries: bool,
+        /// Draw the key's triangulation of its pins on the cloth.
+        #[arg(long)]
+        triangulation: bool,
     },
 }
 
@@ -137,8 +140,8 @@ fn main() -> ExitCode {
             let request = ExportRequest { frame, frames, format, stage, layers: !no_layers };
             export(&scene, &output, request)
         }
-        Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries } => {
-            let overlays = SceneOverlays { wireframe, pins, catenaries };
+        Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries, triangulation } => {
+            let overlays = SceneOverlays { wireframe, pins, catenaries, triangulation };
             let request = render_command::RenderRequest { frame, frames, size_px: size, overlays };
             render_command::render(&scene, &output, request)
         }

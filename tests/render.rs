@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 use drape::animate::{Evaluator, frame_time_secs};
 use drape::export::write_png;
 use drape::mesh::Mesh;
-use drape::render::headless::{SceneOverlays, SceneRenderer, render_mesh};
+use drape::render::headless::{SceneOverlays, SceneRenderer, render_mesh, render_scene_frame};
 use drape::render::overlay::colors;
 use drape::render::pipelines::SHADER_SOURCES;
 use drape::render::{FrameInput, Ghost, GpuContext, OrbitCamera, Overlay, PinState, RenderOptions, RgbaImage};
@@ -167,9 +167,14 @@ fn every_scene_in_the_folder_has_golden_images() {
 
 #[test]
 fn overlays_match_their_golden_image() {
-    let overlays = SceneOverlays { wireframe: true, pins: true, catenaries: true };
+    let overlays = SceneOverlays { wireframe: true, pins: true, catenaries: true, triangulation: false };
     let image = render_scene("tent", &[0], overlays).remove(0);
     assert_matches_golden("tent_overlays_f0000", &image);
+    // The triangulation alone, through the one-call API on a scene frame.
+    let scene = scene::load(&scene_path("tent")).unwrap();
+    let overlays = SceneOverlays { triangulation: true, pins: true, ..SceneOverlays::default() };
+    let image = render_scene_frame(Some(&context()), &scene, 0.0, GOLDEN_SIZE, overlays).unwrap();
+    assert_matches_golden("tent_triangulation_f0000", &image);
 }
 
 fn carpet_mesh(frame: i32) -> (Mesh, scene::Scene) {

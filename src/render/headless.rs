@@ -49,6 +49,24 @@ pub struct SceneOverlays {
     pub pins: bool,
     /// The catenary network (with conflicts) of the key in effect.
     pub catenaries: bool,
+    /// The key's triangulation of its pins, drawn on the surface.
+    pub triangulation: bool,
+}
+
+/// One picture of `scene` at `frame`, framed as [`SceneRenderer::new`] does,
+/// on `context` or on a device of its own when none is given.
+pub fn render_scene_frame(
+    context: Option<&GpuContext>,
+    scene: &Scene,
+    frame: f64,
+    size_px: (u32, u32),
+    overlays: SceneOverlays,
+) -> Result<RgbaImage, RenderError> {
+    let context = match context {
+        Some(context) => context.clone(),
+        None => GpuContext::headless()?,
+    };
+    SceneRenderer::new(context, scene, size_px, overlays).render_frame(scene, frame)
 }
 
 /// Renders frames of one scene in turn, reusing the device, the renderer's
@@ -140,9 +158,14 @@ impl SceneRenderer {
         }
         let mut overlay = Overlay::default();
         let key = scene.key_in_effect(frame);
-        if self.overlays.catenaries {
+        if self.overlays.catenaries || self.overlays.triangulation {
             let shape = self.evaluator.key_shape(&scene.cloth, key);
-            overlay.add_catenary_network(&shape.rest.network);
+            if self.overlays.triangulation {
+                overlay.add_triangulation(&self.mesh, &shape.rest.network);
+            }
+            if self.overlays.catenaries {
+                overlay.add_catenary_network(&shape.rest.network);
+            }
         }
         if self.overlays.pins {
             let pins = key.pins.iter().map(|p| ((p.grid.0 as usize, p.grid.1 as usize), PinState::Normal));

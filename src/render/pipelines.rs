@@ -35,6 +35,8 @@ pub struct Pipelines {
     pub shadow: wgpu::RenderPipeline,
     pub segment: wgpu::RenderPipeline,
     pub marker: wgpu::RenderPipeline,
+    /// The same markers where the cloth hides them, faint.
+    pub marker_hidden: wgpu::RenderPipeline,
 }
 
 const POSITION: wgpu::VertexBufferLayout<'static> = wgpu::VertexBufferLayout {
@@ -70,7 +72,8 @@ pub(crate) const MARKER_INSTANCE: wgpu::VertexBufferLayout<'static> = wgpu::Vert
 enum Depth {
     Write,
     TestOnly,
-    Ignore,
+    /// Draws only where something nearer is already drawn.
+    Hidden,
 }
 
 struct PipelineSpec<'a> {
@@ -212,7 +215,18 @@ impl Pipelines {
             layout: &frame_only,
             topology: triangles,
             blend: alpha,
-            depth: Depth::Ignore,
+            depth: Depth::TestOnly,
+        });
+        let marker_hidden = build(PipelineSpec {
+            label: "overlay markers, hidden",
+            module: overlay_module,
+            vertex: "vs_marker",
+            fragment: "fs_marker_hidden",
+            buffers: &[Some(MARKER_INSTANCE)],
+            layout: &frame_only,
+            topology: triangles,
+            blend: alpha,
+            depth: Depth::Hidden,
         });
         let shadow = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("contact shadow"),
@@ -258,6 +272,7 @@ impl Pipelines {
             shadow,
             segment,
             marker,
+            marker_hidden,
         }
     }
 }
@@ -284,7 +299,7 @@ fn build_pipeline(device: &wgpu::Device, spec: PipelineSpec) -> wgpu::RenderPipe
     let depth_stencil = match spec.depth {
         Depth::Write => Some((true, wgpu::CompareFunction::Less)),
         Depth::TestOnly => Some((false, wgpu::CompareFunction::LessEqual)),
-        Depth::Ignore => Some((false, wgpu::CompareFunction::Always)),
+        Depth::Hidden => Some((false, wgpu::CompareFunction::Greater)),
     }
     .map(|(write, compare)| wgpu::DepthStencilState {
         format: DEPTH_FORMAT,

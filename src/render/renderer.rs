@@ -448,8 +448,10 @@ impl Renderer {
             pass.draw(0..6, 0..self.segment_count);
         }
         if self.marker_count > 0 {
-            pass.set_pipeline(&self.pipelines.marker);
             pass.set_vertex_buffer(0, self.markers.buffer.slice(..));
+            pass.set_pipeline(&self.pipelines.marker_hidden);
+            pass.draw(0..6, 0..self.marker_count);
+            pass.set_pipeline(&self.pipelines.marker);
             pass.draw(0..6, 0..self.marker_count);
         }
     }
