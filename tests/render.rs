@@ -206,7 +206,14 @@ fn textures_and_ghosts_match_their_golden_image() {
 
 #[test]
 fn a_pin_is_drawn_on_the_pixel_it_projects_to() {
-    let scene = scene::load(&scene_path("tent")).unwrap();
+    // Scenes whose pins are all in plain view from the default camera.
+    for name in ["curtain", "tablecloth", "magic_carpet"] {
+        assert_pins_project_onto_their_dots(name);
+    }
+}
+
+fn assert_pins_project_onto_their_dots(name: &str) {
+    let scene = scene::load(&scene_path(name)).unwrap();
     let mesh = Evaluator::new().evaluate(&scene, 0.0);
     let (lo, hi) = drape::render::camera::bounds(&mesh.positions).unwrap();
     let camera = OrbitCamera::framing(lo, hi, 4.0 / 3.0);
@@ -227,7 +234,8 @@ fn a_pin_is_drawn_on_the_pixel_it_projects_to() {
         for c in 0..3 {
             assert!(
                 (drawn[c] as i32 - expected[c]).abs() <= 2,
-                "pin {grid:?} at {world} projects to ({x}, {y}) where the picture has {drawn:?}, not the pin's {expected:?}"
+                "{name}: pin {grid:?} at {world} projects to ({x}, {y}) where the picture has {drawn:?}, \
+                 not the pin's {expected:?}"
             );
         }
     }
@@ -357,4 +365,28 @@ fn render_refuses_bad_requests_with_a_clear_message() {
         assert!(!run.status.success() && stderr.contains(message), "{args:?}: {stderr}");
     }
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing is written on a refused request");
+}
+
+#[test]
+fn a_pin_behind_the_cloth_shows_faintly() {
+    let scene = scene::load(&scene_path("tent")).unwrap();
+    let mesh = Evaluator::new().evaluate(&scene, 0.0);
+    let (lo, hi) = drape::render::camera::bounds(&mesh.positions).unwrap();
+    let camera = OrbitCamera::framing(lo, hi, 4.0 / 3.0);
+    let size = (400, 300);
+    let options = RenderOptions::default();
+    // Grid (0, 0) is the back-left corner, on the ground behind the tent from the default view.
+    let back = mesh.positions[0];
+    let pixel = camera.project(back, size).unwrap();
+    let (x, y) = (pixel.x as u32, pixel.y as u32);
+    let mut with_pin = Overlay::default();
+    with_pin.add_pins(&mesh, [((0, 0), PinState::Normal)]);
+    let picture = |overlay: &Overlay| {
+        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay };
+        render_mesh(Some(&context()), input, size).unwrap().pixel(x, y)
+    };
+    let (without, with) = (picture(&Overlay::default()), picture(&with_pin));
+    // Redder than the cloth alone, but far from the full red dot.
+    assert!(with[0] as i32 - with[1] as i32 > without[0] as i32 - without[1] as i32 + 20, "{without:?} → {with:?}");
+    assert!(with[1] > 100, "the hidden pin is drawn at full strength: {with:?}");
 }
