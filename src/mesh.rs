@@ -72,58 +72,125 @@ pub fn grid_uvs(cols: usize, rows: usize) -> Vec<Vec2> {
     uvs
 }
 
-/// Unit vertex normals of a `cols × rows` grid, written into `out`: each
-/// vertex sums the area vectors of the (up to four) grid quads around it —
-/// a quad's from its diagonals, (c − b) × (d − a), which equals the sum of its
-/// two triangles' for a flat quad — oriented as `∂p/∂v × ∂p/∂u`. A vertex whose
-/// quads are all degenerate (or not finite) gets +Y rather than NaN.
-pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
-    assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
-    out.clear();
-    if cols < 2 || rows < 2 {
-        out.resize(cols * rows, Vec3::Y);
-        return;
+/// Points of a grid with x, y and z in separate arrays (vertex order
+/// `j·cols + i`), so per-vertex loops are plain f32 arithmetic over slices
+/// that the compiler turns into SIMD. The animation works on this form and
+/// writes [`Mesh::positions`] once at the end.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointArrays {
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
+}
+
+impl PointArrays {
+    pub fn from_vec3s(points: &[Vec3]) -> PointArrays {
+        let mut split = PointArrays::default();
+        split.set_from_vec3s(points);
+        split
     }
-    // This runs on every frame, more than once when waves follow the normals,
-    // so it works on separate x, y, z arrays: the loops below are plain f32
-    // arithmetic over slices, which the compiler turns into SIMD. The sums run
-    // in a fixed order, so results do not depend on how they were vectorised.
-    // Only two grid rows are needed at a time, split into x, y, z; the buffers
-    // are small so nothing here grows with the grid (no fresh pages per frame).
-    let split_row = |j: usize, row: &mut [Vec<f32>; 3]| {
-        let points = &positions[j * cols..(j + 1) * cols];
-        for (axis, values) in row.iter_mut().enumerate() {
+
+    /// Replaces the points with `points`, reusing the buffers.
+    pub fn set_from_vec3s(&mut self, points: &[Vec3]) {
+        for (axis, values) in [&mut self.x, &mut self.y, &mut self.z].into_iter().enumerate() {
             values.clear();
             values.extend(points.iter().map(|p| p[axis]));
         }
-    };
-    let mut top_row = [Vec::with_capacity(cols), Vec::with_capacity(cols), Vec::with_capacity(cols)];
-    let mut bottom_row = [Vec::with_capacity(cols), Vec::with_capacity(cols), Vec::with_capacity(cols)];
-    split_row(0, &mut bottom_row);
-    // Area vectors of the quads above and below the current vertex row, with a
-    // zero quad padded on each side: vertex i touches padded quads i and i + 1.
+    }
+
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    pub fn get(&self, k: usize) -> Vec3 {
+        Vec3::new(self.x[k], self.y[k], self.z[k])
+    }
+
+    pub fn set(&mut self, k: usize, p: Vec3) {
+        (self.x[k], self.y[k], self.z[k]) = (p.x, p.y, p.z);
+    }
+}
+
+/// Unit vertex normals of a `cols × rows` grid, written into `out`; see
+/// [`for_each_normal_row`] for how they are computed.
+pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
+    assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
+    out.clear();
+    out.reserve(cols * rows);
+    let mut points = PointArrays::from_vec3s(positions);
+    for_each_normal_row(&mut points, cols, rows, |_, [nx, ny, nz], _| {
+        out.extend(nx.iter().zip(ny).zip(nz).map(|((&x, &y), &z)| Vec3::new(x, y, z)));
+    });
+}
+
+/// Unit vertex normals of a `cols × rows` grid, one row at a time: calls
+/// `row(j, normals, points)` for j = 0, 1, … with row j's normals and row j of
+/// `points` (each as x, y, z slices `cols` long). Every normal is computed
+/// from the points as they were on entry: row j is not read again after its
+/// call, so `row` may move its points (a wave displacing the mesh along the
+/// normals of its input) without a separate normal buffer.
+///
+/// Each vertex sums the area vectors of the (up to four) grid quads around
+/// it — a quad's from its diagonals, (c − b) × (d − a), which equals the sum of
+/// its two triangles' for a flat quad — oriented as `∂p/∂v × ∂p/∂u`. A vertex
+/// whose quads are all degenerate (or not finite) gets +Y rather than NaN, and
+/// so does every vertex of a grid with fewer than two columns or rows.
+///
+/// Panics if `points` does not hold `cols·rows` points.
+pub fn for_each_normal_row(
+    points: &mut PointArrays,
+    cols: usize,
+    rows: usize,
+    mut row: impl FnMut(usize, [&[f32]; 3], [&mut [f32]; 3]),
+) {
+    let n = cols * rows;
+    assert!(points.x.len() == n && points.y.len() == n && points.z.len() == n, "points must hold cols·rows points");
+    let row_range = |j: usize| j * cols..(j + 1) * cols;
+    if cols < 2 || rows < 2 {
+        let (zeros, ones) = (vec![0.0f32; cols], vec![1.0f32; cols]);
+        for j in 0..rows {
+            let r = row_range(j);
+            let [x, y, z] = [&mut points.x, &mut points.y, &mut points.z].map(|axis| &mut axis[r.clone()]);
+            row(j, [&zeros, &ones, &zeros], [x, y, z]);
+        }
+        return;
+    }
+    // Called several times per frame, so everything is x, y, z slices that
+    // vectorise. The sums run in a fixed order, so results do not depend on
+    // how they were vectorised. Area vectors of the quads above and below the
+    // current vertex row carry a zero quad on each side: vertex i touches
+    // padded quads i and i + 1.
     let mut above = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
     let mut below = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
     let mut sum = [vec![0.0f32; cols], vec![0.0; cols], vec![0.0; cols]];
-    out.reserve(cols * rows);
     for j in 0..rows {
         std::mem::swap(&mut above, &mut below);
         if j + 1 < rows {
-            std::mem::swap(&mut top_row, &mut bottom_row);
-            split_row(j + 1, &mut bottom_row);
-            quad_areas(&top_row, &bottom_row, &mut below);
+            let (top, bottom) = (row_range(j), row_range(j + 1));
+            let top = [&points.x[top.clone()], &points.y[top.clone()], &points.z[top]];
+            let bottom = [&points.x[bottom.clone()], &points.y[bottom.clone()], &points.z[bottom]];
+            quad_areas(top, bottom, &mut below);
         } else {
             below.iter_mut().for_each(|row| row.fill(0.0));
         }
         for axis in 0..3 {
-            let (up, down) = (&above[axis], &below[axis]);
+            // Quads left and right of each vertex, as slices of equal length
+            // so that the loop vectorises.
+            let (up_left, up_right) = (&above[axis][..cols], &above[axis][1..=cols]);
+            let (down_left, down_right) = (&below[axis][..cols], &below[axis][1..=cols]);
             for (i, total) in sum[axis].iter_mut().enumerate() {
-                *total = (up[i] + up[i + 1]) + (down[i] + down[i + 1]);
+                *total = (up_left[i] + up_right[i]) + (down_left[i] + down_right[i]);
             }
         }
         let [nx, ny, nz] = &mut sum;
         normalize_soa(nx, ny, nz);
-        out.extend(nx.iter().zip(ny.iter()).zip(nz.iter()).map(|((&x, &y), &z)| Vec3::new(x, y, z)));
+        let r = row_range(j);
+        let [x, y, z] = [&mut points.x, &mut points.y, &mut points.z].map(|axis| &mut axis[r.clone()]);
+        row(j, [nx, ny, nz], [x, y, z]);
     }
 }
 
@@ -161,13 +228,13 @@ fn normalize_soa(xs: &mut [f32], ys: &mut [f32], zs: &mut [f32]) {
 }
 
 /// Area vectors (c − b) × (d − a) of the quads between two grid rows given
-/// as x, y, z arrays (a, b the quad's top corners, c, d its bottom ones),
+/// as x, y, z slices (a, b the quad's top corners, c, d its bottom ones),
 /// written to `areas[axis][1..cols]`; entries 0 and `cols` stay zero.
-fn quad_areas(top: &[Vec<f32>; 3], bottom: &[Vec<f32>; 3], areas: &mut [Vec<f32>; 3]) {
+fn quad_areas(top: [&[f32]; 3], bottom: [&[f32]; 3], areas: &mut [Vec<f32>; 3]) {
     let n = top[0].len() - 1;
     // a, b, c, d of one coordinate of every quad, each n long, so the loop has
     // no bounds checks left to stop it vectorising.
-    let corners = |axis: usize| (&top[axis][..n], &top[axis][1..], &bottom[axis][..n], &bottom[axis][1..]);
+    let corners = |axis: usize| (&top[axis][..n], &top[axis][1..=n], &bottom[axis][..n], &bottom[axis][1..=n]);
     let ((ax, bx, cx, dx), (ay, by, cy, dy), (az, bz, cz, dz)) = (corners(0), corners(1), corners(2));
     let [out_x, out_y, out_z] = areas;
     let (out_x, out_y, out_z) = (&mut out_x[1..=n], &mut out_y[1..=n], &mut out_z[1..=n]);

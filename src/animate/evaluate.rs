@@ -4,6 +4,10 @@
 //! applies the layer stack in order. Nothing depends on an earlier frame, so
 //! the same t gives a bit-identical mesh however it was reached, and the cost
 //! does not grow with t.
+//!
+//! The layers work on the points as separate x, y, z arrays
+//! ([`PointArrays`]), which their loops vectorise; the mesh's positions and
+//! normals are written together in the last pass, the normals of the result.
 
 use std::sync::Arc;
 
@@ -11,10 +15,12 @@ use glam::Vec3;
 
 use super::blend::{blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache};
+use super::falloff::AttenuationField;
+use super::noise::FractalSampler;
 use super::track::sample;
 use super::wave::WaveTables;
 use super::{follow_through, gusts, sway, wave};
-use crate::mesh::{Mesh, grid_normals, grid_triangle_indices, grid_uvs};
+use crate::mesh::{Mesh, PointArrays, for_each_normal_row, grid_triangle_indices, grid_uvs};
 use crate::scene::{Cloth, Key, Layer, Scene, Timeline};
 
 /// What to include in an evaluation.
@@ -42,8 +48,10 @@ pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
 pub struct Evaluator {
     cache: RestShapeCache,
     ratio: Vec<f32>,
-    normals: Vec<Vec3>,
+    attenuation: AttenuationField,
+    points: PointArrays,
     wave_tables: WaveTables,
+    sampler: FractalSampler,
 }
 
 impl Evaluator {
@@ -89,19 +97,23 @@ impl Evaluator {
         }
         let t_secs = if t_secs.is_finite() { t_secs } else { f64::NEG_INFINITY };
         let frame = t_secs * scene.timeline.fps;
+        let points = &mut self.points;
         if scene.keys.is_empty() {
             // Only reachable with an unvalidated scene: lay the cloth out flat.
-            mesh.positions.clear();
-            mesh.positions.extend((0..rows).flat_map(|j| {
-                (0..cols).map(move |i| {
-                    let (u, v) = scene.cloth.material_uv(i, j);
-                    Vec3::new(u as f32, 0.0, v as f32)
+            let flat: Vec<Vec3> = (0..rows)
+                .flat_map(|j| {
+                    (0..cols).map(move |i| {
+                        let (u, v) = scene.cloth.material_uv(i, j);
+                        Vec3::new(u as f32, 0.0, v as f32)
+                    })
                 })
-            }));
+                .collect();
+            points.set_from_vec3s(&flat);
         } else {
             let shapes = self.cache.shapes(scene);
             let segment = segment_at(&scene.keys, frame);
-            blend_segment(&scene.keys, &shapes, segment, &mut mesh.positions, &mut self.ratio);
+            blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
+            self.attenuation.clear();
             if options.layers {
                 let spacing_m = (scene.cloth.spacing_u_m(), scene.cloth.spacing_v_m());
                 for layer in scene.layers.iter().filter(|l| l.enabled()) {
@@ -109,9 +121,9 @@ impl Evaluator {
                     if weight == 0.0 || !weight.is_finite() {
                         continue;
                     }
-                    let (ratio, positions) = (&self.ratio[..], &mut mesh.positions[..]);
+                    let (ratio, attenuation) = (&self.ratio[..], &mut self.attenuation);
                     match layer {
-                        Layer::Sway(s) => sway::apply(s, frame, t_secs, weight, ratio, positions),
+                        Layer::Sway(s) => sway::apply(s, frame, t_secs, weight, ratio, attenuation, points),
                         Layer::Wave(w) => wave::apply(
                             w,
                             frame,
@@ -120,11 +132,13 @@ impl Evaluator {
                             spacing_m,
                             (cols, rows),
                             ratio,
-                            positions,
+                            attenuation,
+                            points,
                             &mut self.wave_tables,
-                            &mut self.normals,
                         ),
-                        Layer::Noise(n) => gusts::apply(n, frame, t_secs, weight, ratio, positions),
+                        Layer::Noise(n) => {
+                            gusts::apply(n, frame, t_secs, weight, ratio, attenuation, points, &mut self.sampler)
+                        }
                         Layer::FollowThrough(f) => follow_through::apply(
                             f,
                             &scene.keys,
@@ -133,13 +147,23 @@ impl Evaluator {
                             frame,
                             weight,
                             ratio,
-                            positions,
+                            attenuation,
+                            points,
                         ),
                     }
                 }
             }
         }
-        grid_normals(&mesh.positions, cols, rows, &mut mesh.normals);
+        // The mesh's positions and normals, interleaved row by row.
+        let interleave = |out: &mut Vec<Vec3>, [x, y, z]: [&[f32]; 3]| {
+            out.extend(x.iter().zip(y).zip(z).map(|((&x, &y), &z)| Vec3::new(x, y, z)));
+        };
+        mesh.positions.clear();
+        mesh.normals.clear();
+        for_each_normal_row(points, cols, rows, |_, normals, [x, y, z]| {
+            interleave(&mut mesh.normals, normals);
+            interleave(&mut mesh.positions, [x, y, z]);
+        });
     }
 }
 

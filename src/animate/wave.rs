@@ -10,9 +10,9 @@
 
 use glam::Vec3;
 
-use super::falloff::attenuation;
+use super::falloff::AttenuationField;
 use super::track::sample;
-use crate::mesh::grid_normals;
+use crate::mesh::{PointArrays, for_each_normal_row};
 use crate::scene::{Wave, WaveAxis};
 
 /// Per-column and per-row sines and cosines of the wave's argument.
@@ -47,9 +47,9 @@ impl WaveTables {
     }
 }
 
-/// Adds the wave to the `cols × rows` grid `positions`, attenuated per vertex
-/// by `ratio` (d_cp/d_max). `normals` is scratch space for the input mesh's
-/// normals when the wave displaces along them.
+/// Adds the wave to the `cols × rows` grid `points`, attenuated per vertex
+/// by `ratio` (d_cp/d_max). Along the normals, each row is displaced as soon
+/// as its normals are known (they are all those of the input mesh).
 #[allow(clippy::too_many_arguments)]
 pub fn apply(
     wave: &Wave,
@@ -59,9 +59,9 @@ pub fn apply(
     spacing_m: (f64, f64),
     grid: (usize, usize),
     ratio: &[f32],
-    positions: &mut [Vec3],
+    attenuation: &mut AttenuationField,
+    points: &mut PointArrays,
     tables: &mut WaveTables,
-    normals: &mut Vec<Vec3>,
 ) {
     let (cols, rows) = grid;
     let amplitude = (weight * sample(&wave.magnitude, frame)) as f32;
@@ -70,24 +70,34 @@ pub fn apply(
         return;
     }
     tables.fill(wave, frame, t_secs, spacing_m, grid);
-    let fixed_axis = match wave.axis {
-        WaveAxis::Normal => {
-            grid_normals(positions, cols, rows, normals);
-            None
-        }
-        WaveAxis::Fixed((x, y, z)) => Some(Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero()),
-    };
-    for j in 0..rows {
+    let a = attenuation.of(ratio, falloff);
+    // One row: p += axis · (amplitude · sin(A + B) · a), with
+    // sin(A + B) = sin A cos B + cos A sin B.
+    let displace_row = |j: usize, [ax, ay, az]: [&[f32]; 3], [x, y, z]: [&mut [f32]; 3]| {
         let (row_sin, row_cos) = (tables.row_sin[j], tables.row_cos[j]);
+        let a = &a[j * cols..(j + 1) * cols];
+        let (column_sin, column_cos) = (&tables.column_sin[..cols], &tables.column_cos[..cols]);
+        let (ax, ay, az) = (&ax[..cols], &ay[..cols], &az[..cols]);
+        let (x, y, z) = (&mut x[..cols], &mut y[..cols], &mut z[..cols]);
         for i in 0..cols {
-            let k = j * cols + i;
-            // sin(A + B) = sin A cos B + cos A sin B.
-            let wave_sin = tables.column_sin[i] * row_cos + tables.column_cos[i] * row_sin;
-            let along = match fixed_axis {
-                Some(axis) => axis,
-                None => normals[k],
-            };
-            positions[k] += along * (amplitude * wave_sin * attenuation(ratio[k], falloff));
+            let wave_sin = column_sin[i] * row_cos + column_cos[i] * row_sin;
+            let s = amplitude * wave_sin * a[i];
+            x[i] += ax[i] * s;
+            y[i] += ay[i] * s;
+            z[i] += az[i] * s;
+        }
+    };
+    match wave.axis {
+        WaveAxis::Normal => for_each_normal_row(points, cols, rows, displace_row),
+        WaveAxis::Fixed((x, y, z)) => {
+            let axis = Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero();
+            let axis = [vec![axis.x; cols], vec![axis.y; cols], vec![axis.z; cols]];
+            let axis = [&axis[0][..], &axis[1][..], &axis[2][..]];
+            for j in 0..rows {
+                let r = j * cols..(j + 1) * cols;
+                let [x, y, z] = [&mut points.x, &mut points.y, &mut points.z].map(|values| &mut values[r.clone()]);
+                displace_row(j, axis, [x, y, z]);
+            }
         }
     }
 }
