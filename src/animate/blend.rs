@@ -47,6 +47,7 @@ pub fn segment_at(keys: &[Key], frame: f64) -> Segment {
 }
 
 /// The straight blend of two rest shapes' vertices: a + (b − a)·e, written into `out`.
+#[inline(always)]
 pub fn blend_positions(a: &PointArrays, b: &PointArrays, eased: f32, out: &mut PointArrays) {
     for ((a, b), out) in
         [(&a.x, &b.x), (&a.y, &b.y), (&a.z, &b.z)].into_iter().zip([&mut out.x, &mut out.y, &mut out.z])
@@ -58,6 +59,7 @@ pub fn blend_positions(a: &PointArrays, b: &PointArrays, eased: f32, out: &mut P
 
 /// The blended d_cp/d_max field, written into `out`; never below 0, so a
 /// point pinned in both keys stays at 0 even under overshooting curves.
+#[inline(always)]
 pub fn blend_ratio(a: &[f32], b: &[f32], eased: f32, out: &mut Vec<f32>) {
     out.clear();
     out.extend(a.iter().zip(b).map(|(&p, &q)| (p + (q - p) * eased).max(0.0)));
@@ -65,6 +67,7 @@ pub fn blend_ratio(a: &[f32], b: &[f32], eased: f32, out: &mut Vec<f32>) {
 
 /// The rest-shape blend at a segment: positions and d_cp/d_max field, with the
 /// from-key's `inbetween_relax` sweeps applied to in-betweens.
+#[inline(always)]
 pub fn blend_segment(
     keys: &[Key],
     shapes: &[std::sync::Arc<KeyShape>],

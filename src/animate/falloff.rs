@@ -57,6 +57,7 @@ impl AttenuationField {
 
     /// a = ratio^falloff for every entry of `ratio`, which must be the field
     /// passed since the last [`AttenuationField::clear`].
+    #[inline(always)]
     pub fn of(&mut self, ratio: &[f32], falloff: f32) -> &[f32] {
         if self.falloff_bits != Some(falloff.to_bits()) || self.values.len() != ratio.len() {
             self.values.clear();

@@ -30,6 +30,7 @@ fn blended_vertex(shapes: &[Arc<KeyShape>], segment: Segment, k: usize) -> Vec3 
 
 /// Adds the follow-through to `points`, attenuated per vertex by `ratio`.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn apply(
     follow: &FollowThrough,
     keys: &[Key],

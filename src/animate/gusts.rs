@@ -17,6 +17,7 @@ use crate::scene::Noise;
 /// sample the noise), attenuated per vertex by `ratio` (d_cp/d_max).
 /// `sampler` is scratch space; its state never changes the result.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn apply(
     noise: &Noise,
     frame: f64,

@@ -47,6 +47,11 @@ pub struct FractalSampler {
     /// per octave (octave-major); NaN marks an empty slot, as it equals nothing.
     keys: Vec<Vec3>,
     cells: Vec<CellValues>,
+    /// Per octave, the cell that all four lanes of the latest
+    /// [`FractalSampler::sample_lanes`] pass fell in: its corner in every
+    /// lane (NaN: none) and its index in `cells`. The next four vertices of
+    /// a row are nearly always in it too, and then need no slot lookup.
+    last_cell: [([Vec4; 3], usize); MAX_OCTAVES],
 }
 
 impl Default for FractalSampler {
@@ -148,6 +153,7 @@ impl FractalSampler {
             lane_limit: 0.0,
             keys: Vec::new(),
             cells: Vec::new(),
+            last_cell: [([Vec4::NAN; 3], 0); MAX_OCTAVES],
         };
         sampler.reset(octaves, seed, cell_offset);
         sampler
@@ -169,19 +175,21 @@ impl FractalSampler {
         self.octaves = octaves;
         self.keys.clear();
         self.keys.resize(octaves * CELL_SLOTS, Vec3::NAN);
+        self.last_cell = [([Vec4::NAN; 3], 0); MAX_OCTAVES];
         if self.cells.len() < octaves * CELL_SLOTS {
             self.cells.resize(octaves * CELL_SLOTS, CellValues::EMPTY);
         }
     }
 
-    /// The cell of `octave` whose floored corner is `floor`, from its slot or hashed anew.
+    /// The index in `cells` of the cell of `octave` whose floored corner is
+    /// `floor`, from its slot or hashed anew.
     #[inline(always)]
-    fn cell(&mut self, octave: usize, floor: Vec3) -> &CellValues {
+    fn cell_index(&mut self, octave: usize, floor: Vec3) -> usize {
         let index = octave * CELL_SLOTS + slot(floor);
         if self.keys[index] != floor {
             self.fill(index, octave, floor);
         }
-        &self.cells[index]
+        index
     }
 
     /// Kept out of line: it runs once per cell, and inlining it into the
@@ -192,6 +200,9 @@ impl FractalSampler {
         let cell = floor.as_ivec3().wrapping_add(self.offsets[octave]);
         self.cells[index] = CellValues::of(cell, octave_seed(self.seed, octave));
         self.keys[index] = floor;
+        if self.last_cell[octave].1 == index {
+            self.last_cell[octave].0 = [Vec4::NAN; 3];
+        }
     }
 
     /// The noise at one point.
@@ -205,7 +216,8 @@ impl FractalSampler {
         for octave in 0..self.octaves {
             let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
             let weight = self.weights[octave];
-            sum += self.cell(octave, floor).interpolate(fade3(local - floor)) * weight;
+            let index = self.cell_index(octave, floor);
+            sum += self.cells[index].interpolate(fade3(local - floor)) * weight;
             local *= 2.0;
         }
         sum
@@ -216,6 +228,7 @@ impl FractalSampler {
     /// point. Equal to four calls to [`FractalSampler::sample`]: lanes that
     /// fall in one cell are evaluated together, with every lane's arithmetic
     /// done as the one-point path does it.
+    #[inline(always)]
     pub fn sample_lanes(&mut self, x: Vec4, y: Vec4, z: Vec4) -> [Vec4; 4] {
         let largest = x.abs().max(y.abs()).max(z.abs());
         if !largest.cmplt(Vec4::splat(self.lane_limit)).all() {
@@ -231,35 +244,40 @@ impl FractalSampler {
             let (fx, fy, fz) = (floor4(x), floor4(y), floor4(z));
             let w = lane_weights(fade4(x - fx), fade4(y - fy), fade4(z - fz));
             let weight = self.weights[octave];
-            let floors = [fx.to_array(), fy.to_array(), fz.to_array()];
-            // Neighbouring vertices share a cell nearly always: one pass per
-            // distinct cell among the lanes, each adding to its own lanes.
-            let (mut lane, mut pending) = (0, 0b1111u32);
-            loop {
-                let floor = Vec3::new(floors[0][lane], floors[1][lane], floors[2][lane]);
-                let same =
-                    fx.cmpeq(Vec4::splat(floor.x)) & fy.cmpeq(Vec4::splat(floor.y)) & fz.cmpeq(Vec4::splat(floor.z));
-                let cell = self.cell(octave, floor);
-                let values = [
-                    cell.interpolate_lanes(0, &w),
-                    cell.interpolate_lanes(1, &w),
-                    cell.interpolate_lanes(2, &w),
-                    cell.interpolate_lanes(3, &w),
-                ];
-                if same.all() {
-                    for (total, value) in sum.iter_mut().zip(values) {
-                        *total += value * weight;
+            let (last_corner, last_index) = self.last_cell[octave];
+            let in_last = fx.cmpeq(last_corner[0]) & fy.cmpeq(last_corner[1]) & fz.cmpeq(last_corner[2]);
+            if in_last.all() {
+                let cell = &self.cells[last_index];
+                for (channel, total) in sum.iter_mut().enumerate() {
+                    *total += cell.interpolate_lanes(channel, &w) * weight;
+                }
+            } else {
+                // One pass per distinct cell among the lanes, each adding to its own lanes.
+                let floors = [fx.to_array(), fy.to_array(), fz.to_array()];
+                let (mut lane, mut pending) = (0, 0b1111u32);
+                loop {
+                    let floor = Vec3::new(floors[0][lane], floors[1][lane], floors[2][lane]);
+                    let corner = [Vec4::splat(floor.x), Vec4::splat(floor.y), Vec4::splat(floor.z)];
+                    let same = fx.cmpeq(corner[0]) & fy.cmpeq(corner[1]) & fz.cmpeq(corner[2]);
+                    let index = self.cell_index(octave, floor);
+                    let cell = &self.cells[index];
+                    if same.all() {
+                        for (channel, total) in sum.iter_mut().enumerate() {
+                            *total += cell.interpolate_lanes(channel, &w) * weight;
+                        }
+                        self.last_cell[octave] = (corner, index);
+                        break;
                     }
-                    break;
+                    for (channel, total) in sum.iter_mut().enumerate() {
+                        let value = cell.interpolate_lanes(channel, &w);
+                        *total = Vec4::select(same, *total + value * weight, *total);
+                    }
+                    pending &= !same.bitmask();
+                    if pending == 0 {
+                        break;
+                    }
+                    lane = pending.trailing_zeros() as usize & 3;
                 }
-                for (total, value) in sum.iter_mut().zip(values) {
-                    *total = Vec4::select(same, *total + value * weight, *total);
-                }
-                pending &= !same.bitmask();
-                if pending == 0 {
-                    break;
-                }
-                lane = pending.trailing_zeros() as usize & 3;
             }
             x *= 2.0;
             y *= 2.0;

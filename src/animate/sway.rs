@@ -23,6 +23,7 @@ pub fn displacement(sway: &Sway, frame: f64, t_secs: f64, weight: f64) -> DVec3 
 }
 
 /// Adds the sway to `points`, attenuated per vertex by `ratio` (d_cp/d_max).
+#[inline(always)]
 pub fn apply(
     sway: &Sway,
     frame: f64,

@@ -12,7 +12,7 @@ use glam::Vec3;
 
 use super::falloff::AttenuationField;
 use super::track::sample;
-use crate::mesh::{PointArrays, for_each_normal_row};
+use crate::mesh::{NormalRows, PointArrays};
 use crate::scene::{Wave, WaveAxis};
 
 /// Per-column and per-row sines and cosines of the wave's argument.
@@ -49,8 +49,10 @@ impl WaveTables {
 
 /// Adds the wave to the `cols × rows` grid `points`, attenuated per vertex
 /// by `ratio` (d_cp/d_max). Along the normals, each row is displaced as soon
-/// as its normals are known (they are all those of the input mesh).
+/// as its normals are known (they are all those of the input mesh);
+/// `tables` and `normal_rows` are scratch space.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn apply(
     wave: &Wave,
     frame: f64,
@@ -62,6 +64,7 @@ pub fn apply(
     attenuation: &mut AttenuationField,
     points: &mut PointArrays,
     tables: &mut WaveTables,
+    normal_rows: &mut NormalRows,
 ) {
     let (cols, rows) = grid;
     let amplitude = (weight * sample(&wave.magnitude, frame)) as f32;
@@ -71,33 +74,51 @@ pub fn apply(
     }
     tables.fill(wave, frame, t_secs, spacing_m, grid);
     let a = attenuation.of(ratio, falloff);
-    // One row: p += axis · (amplitude · sin(A + B) · a), with
-    // sin(A + B) = sin A cos B + cos A sin B.
-    let displace_row = |j: usize, [ax, ay, az]: [&[f32]; 3], [x, y, z]: [&mut [f32]; 3]| {
-        let (row_sin, row_cos) = (tables.row_sin[j], tables.row_cos[j]);
-        let a = &a[j * cols..(j + 1) * cols];
-        let (column_sin, column_cos) = (&tables.column_sin[..cols], &tables.column_cos[..cols]);
-        let (ax, ay, az) = (&ax[..cols], &ay[..cols], &az[..cols]);
-        let (x, y, z) = (&mut x[..cols], &mut y[..cols], &mut z[..cols]);
-        for i in 0..cols {
-            let wave_sin = column_sin[i] * row_cos + column_cos[i] * row_sin;
-            let s = amplitude * wave_sin * a[i];
-            x[i] += ax[i] * s;
-            y[i] += ay[i] * s;
-            z[i] += az[i] * s;
-        }
-    };
+    let a_row = |j: usize| &a[j * cols..(j + 1) * cols];
     match wave.axis {
-        WaveAxis::Normal => for_each_normal_row(points, cols, rows, displace_row),
+        WaveAxis::Normal => {
+            normal_rows.start(cols, rows);
+            while let Some((j, normals, [x, y, z])) = normal_rows.next_row(points) {
+                displace_row(tables, j, amplitude, a_row(j), normals, x, y, z);
+            }
+        }
         WaveAxis::Fixed((x, y, z)) => {
             let axis = Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero();
             let axis = [vec![axis.x; cols], vec![axis.y; cols], vec![axis.z; cols]];
-            let axis = [&axis[0][..], &axis[1][..], &axis[2][..]];
             for j in 0..rows {
                 let r = j * cols..(j + 1) * cols;
                 let [x, y, z] = [&mut points.x, &mut points.y, &mut points.z].map(|values| &mut values[r.clone()]);
-                displace_row(j, axis, [x, y, z]);
+                displace_row(tables, j, amplitude, a_row(j), [&axis[0], &axis[1], &axis[2]], x, y, z);
             }
         }
+    }
+}
+
+/// Row j of the wave: p += axis · (amplitude · sin(A + B) · a), with
+/// sin(A + B) = sin A cos B + cos A sin B. Each output is its own argument,
+/// so the loop needs no overlap checks to vectorise.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn displace_row(
+    tables: &WaveTables,
+    j: usize,
+    amplitude: f32,
+    a: &[f32],
+    [ax, ay, az]: [&[f32]; 3],
+    x: &mut [f32],
+    y: &mut [f32],
+    z: &mut [f32],
+) {
+    let cols = a.len();
+    let (row_sin, row_cos) = (tables.row_sin[j], tables.row_cos[j]);
+    let (column_sin, column_cos) = (&tables.column_sin[..cols], &tables.column_cos[..cols]);
+    let (ax, ay, az) = (&ax[..cols], &ay[..cols], &az[..cols]);
+    let (x, y, z) = (&mut x[..cols], &mut y[..cols], &mut z[..cols]);
+    for i in 0..cols {
+        let wave_sin = column_sin[i] * row_cos + column_cos[i] * row_sin;
+        let s = amplitude * wave_sin * a[i];
+        x[i] += ax[i] * s;
+        y[i] += ay[i] * s;
+        z[i] += az[i] * s;
     }
 }
