@@ -89,8 +89,8 @@ struct CellValues {
 impl CellValues {
     const EMPTY: CellValues = CellValues { coefficients: [Vec4::ZERO; 8], splatted: [[Vec4::ZERO; 8]; 4] };
 
-    /// The interpolant of the cell with lowest corner `cell`.
-    fn of(cell: IVec3, seed: u32) -> CellValues {
+    /// Makes this the interpolant of the cell with lowest corner `cell`.
+    fn set(&mut self, cell: IVec3, seed: u32) {
         // Corner index bit 0: +x, bit 1: +y, bit 2: +z.
         let v: [Vec4; 8] = std::array::from_fn(|index| {
             lattice_value(
@@ -100,7 +100,7 @@ impl CellValues {
                 seed,
             )
         });
-        let coefficients = [
+        self.coefficients = [
             v[0],
             v[1] - v[0],
             v[2] - v[0],
@@ -110,8 +110,9 @@ impl CellValues {
             v[5] - v[4] - v[1] + v[0],
             v[7] - v[6] - v[5] - v[3] + v[4] + v[2] + v[1] - v[0],
         ];
-        let splatted = std::array::from_fn(|channel| coefficients.map(|c| Vec4::splat(c[channel])));
-        CellValues { coefficients, splatted }
+        for (channel, splatted) in self.splatted.iter_mut().enumerate() {
+            *splatted = self.coefficients.map(|c| Vec4::splat(c[channel]));
+        }
     }
 
     /// The four channels at one point with fade weights w.
@@ -198,7 +199,7 @@ impl FractalSampler {
     #[inline(never)]
     fn fill(&mut self, index: usize, octave: usize, floor: Vec3) {
         let cell = floor.as_ivec3().wrapping_add(self.offsets[octave]);
-        self.cells[index] = CellValues::of(cell, octave_seed(self.seed, octave));
+        self.cells[index].set(cell, octave_seed(self.seed, octave));
         self.keys[index] = floor;
         if self.last_cell[octave].1 == index {
             self.last_cell[octave].0 = [Vec4::NAN; 3];
@@ -294,7 +295,9 @@ fn octave_seed(seed: u32, octave: usize) -> u32 {
 /// One octave: the four channels of the noise at lattice point `cell_offset` + `local`.
 pub fn value4(local: Vec3, cell_offset: IVec3, seed: u32) -> Vec4 {
     let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
-    CellValues::of(floor.as_ivec3().wrapping_add(cell_offset), seed).interpolate(fade3(local - floor))
+    let mut values = CellValues::EMPTY;
+    values.set(floor.as_ivec3().wrapping_add(cell_offset), seed);
+    values.interpolate(fade3(local - floor))
 }
 
 /// Adding and subtracting 1.5·2²³ rounds an f32 to the nearest integer when
