@@ -4,6 +4,10 @@
 //! is split into two triangles wound counter-clockwise around the normal
 //! `∂p/∂v × ∂p/∂u`, which for a curtain hanging in the XY plane (u along +X,
 //! v down) points towards +Z.
+//!
+//! The animation keeps points as [`PointArrays`] (x, y, z apart) and gets
+//! their normals a row at a time from [`NormalRows`]; [`grid_normals`] is the
+//! same computation for a plain list of positions.
 
 use glam::{DVec3, Vec2, Vec3};
 
@@ -75,7 +79,8 @@ pub fn grid_uvs(cols: usize, rows: usize) -> Vec<Vec2> {
 /// Points of a grid with x, y and z in separate arrays (vertex order
 /// `j·cols + i`), so per-vertex loops are plain f32 arithmetic over slices
 /// that the compiler turns into SIMD. The animation works on this form and
-/// writes [`Mesh::positions`] once at the end.
+/// writes [`Mesh::positions`] once at the end. The three arrays always hold
+/// the same number of points.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PointArrays {
     pub x: Vec<f32>,
