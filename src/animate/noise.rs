@@ -231,10 +231,12 @@ impl FractalSampler {
     /// done as the one-point path does it.
     #[inline(always)]
     pub fn sample_lanes(&mut self, x: Vec4, y: Vec4, z: Vec4) -> [Vec4; 4] {
-        let largest = x.abs().max(y.abs()).max(z.abs());
-        if !largest.cmplt(Vec4::splat(self.lane_limit)).all() {
-            // Far out or not finite (NaN fails the comparison): the one-point
-            // path handles every case.
+        // Each coordinate compared on its own: NaN fails the comparison
+        // (a lane-wise max would drop it and leave a lane in no cell).
+        let limit = Vec4::splat(self.lane_limit);
+        let inside = x.abs().cmplt(limit) & y.abs().cmplt(limit) & z.abs().cmplt(limit);
+        if !inside.all() {
+            // Far out or not finite: the one-point path handles every case.
             let points = [0, 1, 2, 3].map(|lane| self.sample(Vec3::new(x[lane], y[lane], z[lane])));
             let channels = Mat4::from_cols(points[0], points[1], points[2], points[3]).transpose();
             return [channels.x_axis, channels.y_axis, channels.z_axis, channels.w_axis];
@@ -473,10 +475,13 @@ mod tests {
         for (p, value) in same_cell.iter().zip(together) {
             assert_eq!(value, fractal4(*p, IVec3::ZERO, 2, 8));
         }
-        let with_nan = [near, Vec3::NAN, near, near];
-        let values = lanes_at(&mut fresh, with_nan);
-        assert_eq!(values[1], Vec4::ZERO);
-        assert_eq!(values[0], fractal4(near, IVec3::ZERO, 2, 8));
+        for bad in
+            [Vec3::NAN, Vec3::new(f32::NAN, 0.3, 0.4), Vec3::new(0.2, f32::NAN, 0.4), Vec3::new(0.2, 0.3, f32::NAN)]
+        {
+            let values = lanes_at(&mut fresh, [near, bad, near, near]);
+            assert_eq!(values[1], Vec4::ZERO, "{bad}");
+            assert_eq!(values[0], fractal4(near, IVec3::ZERO, 2, 8));
+        }
         let far = [near, Vec3::splat(3e6), near, Vec3::splat(-1e9)];
         for (p, value) in far.iter().zip(lanes_at(&mut fresh, far)) {
             assert_eq!(value, fractal4(*p, IVec3::ZERO, 2, 8), "{p}");
