@@ -2,6 +2,8 @@
 //! state them: a 128² and a 256² cloth with a sway, two waves and a noise
 //! layer, and frame 100 000 against frame 1 (the cost must not grow with t),
 //! also timed in alternation for a ratio the machine's drift cannot skew.
+//! On a CPU with AVX2 this times evaluate's AVX2 build of its per-vertex
+//! passes (bit-identical to the portable one, see `animate::evaluate`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::animate::{EvaluateOptions, Evaluator};

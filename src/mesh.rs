@@ -4,8 +4,12 @@
 //! is split into two triangles wound counter-clockwise around the normal
 //! `∂p/∂v × ∂p/∂u`, which for a curtain hanging in the XY plane (u along +X,
 //! v down) points towards +Z.
+//!
+//! The animation keeps points as [`PointArrays`] (x, y, z apart) and gets
+//! their normals a row at a time from [`NormalRows`]; [`grid_normals`] is the
+//! same computation for a plain list of positions.
 
-use glam::{DVec3, Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec2, Vec3};
 
 /// A grid cloth ready to draw or export.
 #[derive(Clone, Debug, PartialEq)]
@@ -72,102 +76,190 @@ pub fn grid_uvs(cols: usize, rows: usize) -> Vec<Vec2> {
     uvs
 }
 
-/// Unit vertex normals of a `cols × rows` grid, written into `out`: each
-/// vertex sums the area vectors of the (up to four) grid quads around it —
-/// a quad's from its diagonals, (c − b) × (d − a), which equals the sum of its
-/// two triangles' for a flat quad — oriented as `∂p/∂v × ∂p/∂u`. A vertex whose
-/// quads are all degenerate (or not finite) gets +Y rather than NaN.
-pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
-    assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
-    out.clear();
-    if cols < 2 || rows < 2 {
-        out.resize(cols * rows, Vec3::Y);
-        return;
+/// Points of a grid with x, y and z in separate arrays (vertex order
+/// `j·cols + i`), so per-vertex loops are plain f32 arithmetic over slices
+/// that the compiler turns into SIMD. The animation works on this form and
+/// writes [`Mesh::positions`] once at the end. The three arrays always hold
+/// the same number of points.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointArrays {
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
+}
+
+impl PointArrays {
+    pub fn from_vec3s(points: &[Vec3]) -> PointArrays {
+        let mut split = PointArrays::default();
+        split.set_from_vec3s(points);
+        split
     }
-    // This runs on every frame, more than once when waves follow the normals,
-    // so it works on separate x, y, z arrays: the loops below are plain f32
-    // arithmetic over slices, which the compiler turns into SIMD. The sums run
-    // in a fixed order, so results do not depend on how they were vectorised.
-    // Only two grid rows are needed at a time, split into x, y, z; the buffers
-    // are small so nothing here grows with the grid (no fresh pages per frame).
-    let split_row = |j: usize, row: &mut [Vec<f32>; 3]| {
-        let points = &positions[j * cols..(j + 1) * cols];
-        for (axis, values) in row.iter_mut().enumerate() {
+
+    /// Replaces the points with `points`, reusing the buffers.
+    pub fn set_from_vec3s(&mut self, points: &[Vec3]) {
+        for (axis, values) in [&mut self.x, &mut self.y, &mut self.z].into_iter().enumerate() {
             values.clear();
             values.extend(points.iter().map(|p| p[axis]));
         }
-    };
-    let mut top_row = [Vec::with_capacity(cols), Vec::with_capacity(cols), Vec::with_capacity(cols)];
-    let mut bottom_row = [Vec::with_capacity(cols), Vec::with_capacity(cols), Vec::with_capacity(cols)];
-    split_row(0, &mut bottom_row);
-    // Area vectors of the quads above and below the current vertex row, with a
-    // zero quad padded on each side: vertex i touches padded quads i and i + 1.
-    let mut above = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
-    let mut below = [vec![0.0f32; cols + 1], vec![0.0; cols + 1], vec![0.0; cols + 1]];
-    let mut sum = [vec![0.0f32; cols], vec![0.0; cols], vec![0.0; cols]];
-    out.reserve(cols * rows);
-    for j in 0..rows {
-        std::mem::swap(&mut above, &mut below);
-        if j + 1 < rows {
-            std::mem::swap(&mut top_row, &mut bottom_row);
-            split_row(j + 1, &mut bottom_row);
-            quad_areas(&top_row, &bottom_row, &mut below);
-        } else {
-            below.iter_mut().for_each(|row| row.fill(0.0));
-        }
-        for axis in 0..3 {
-            let (up, down) = (&above[axis], &below[axis]);
-            for (i, total) in sum[axis].iter_mut().enumerate() {
-                *total = (up[i] + up[i + 1]) + (down[i] + down[i + 1]);
-            }
-        }
-        let [nx, ny, nz] = &mut sum;
-        normalize_soa(nx, ny, nz);
-        out.extend(nx.iter().zip(ny.iter()).zip(nz.iter()).map(|((&x, &y), &z)| Vec3::new(x, y, z)));
+    }
+
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    pub fn get(&self, k: usize) -> Vec3 {
+        Vec3::new(self.x[k], self.y[k], self.z[k])
+    }
+
+    pub fn set(&mut self, k: usize, p: Vec3) {
+        (self.x[k], self.y[k], self.z[k]) = (p.x, p.y, p.z);
     }
 }
 
-/// Scales the vectors (xs[i], ys[i], zs[i]) to unit length, four per SIMD
-/// step; a zero, tiny or non-finite vector becomes +Y.
-fn normalize_soa(xs: &mut [f32], ys: &mut [f32], zs: &mut [f32]) {
-    let unit = |x: Vec4, y: Vec4, z: Vec4| {
-        let length2 = x * x + y * y + z * z;
-        let inverse = Vec4::ONE / length2.sqrt();
-        let infinity = Vec4::splat(f32::INFINITY);
-        let good = length2.cmpgt(Vec4::ZERO) & length2.cmplt(infinity) & inverse.cmplt(infinity);
-        (
-            Vec4::select(good, x * inverse, Vec4::ZERO),
-            Vec4::select(good, y * inverse, Vec4::ONE),
-            Vec4::select(good, z * inverse, Vec4::ZERO),
-        )
-    };
-    let n = xs.len();
-    let whole = n / 4 * 4;
-    for start in (0..whole).step_by(4) {
-        let range = start..start + 4;
-        let (x, y, z) = unit(
-            Vec4::from_slice(&xs[range.clone()]),
-            Vec4::from_slice(&ys[range.clone()]),
-            Vec4::from_slice(&zs[range.clone()]),
-        );
-        x.write_to_slice(&mut xs[range.clone()]);
-        y.write_to_slice(&mut ys[range.clone()]);
-        z.write_to_slice(&mut zs[range]);
+/// Unit vertex normals of a `cols × rows` grid, written into `out`; see
+/// [`NormalRows`] for how they are computed.
+pub fn grid_normals(positions: &[Vec3], cols: usize, rows: usize, out: &mut Vec<Vec3>) {
+    assert_eq!(positions.len(), cols * rows, "positions must hold cols·rows points");
+    out.clear();
+    out.reserve(cols * rows);
+    let mut points = PointArrays::from_vec3s(positions);
+    let mut walk = NormalRows::default();
+    walk.start(cols, rows);
+    while let Some((_, [nx, ny, nz], _)) = walk.next_row(&mut points) {
+        out.extend(nx.iter().zip(ny).zip(nz).map(|((&x, &y), &z)| Vec3::new(x, y, z)));
     }
-    for k in whole..n {
-        let (x, y, z) = unit(Vec4::splat(xs[k]), Vec4::splat(ys[k]), Vec4::splat(zs[k]));
-        (xs[k], ys[k], zs[k]) = (x.x, y.x, z.x);
+}
+
+/// Unit vertex normals of a grid, one row at a time: after
+/// [`NormalRows::start`], each [`NormalRows::next_row`] gives the next row's
+/// normals together with that row of the points (x, y, z slices `cols`
+/// long). Every normal is computed from the points as they were at the
+/// start: a row is not read again once it has been handed out, so the caller
+/// may move its points (a wave displacing the mesh along the normals of its
+/// input) without a separate normal buffer. The scratch rows are kept
+/// between walks.
+///
+/// Each vertex sums the area vectors of the (up to four) grid quads around
+/// it — a quad's from its diagonals, (c − b) × (d − a), which equals the sum of
+/// its two triangles' for a flat quad — oriented as `∂p/∂v × ∂p/∂u`. A vertex
+/// whose quads are all degenerate (or not finite) gets +Y rather than NaN, and
+/// so does every vertex of a grid with fewer than two columns or rows.
+#[derive(Clone, Debug, Default)]
+pub struct NormalRows {
+    cols: usize,
+    rows: usize,
+    /// The row the next call hands out.
+    next: usize,
+    /// Area vectors of the quads above and below the current vertex row,
+    /// with a zero quad on each side: vertex i touches padded quads i and i + 1.
+    above: [Vec<f32>; 3],
+    below: [Vec<f32>; 3],
+    normals: [Vec<f32>; 3],
+}
+
+impl NormalRows {
+    /// Starts a walk over a `cols × rows` grid from its first row.
+    pub fn start(&mut self, cols: usize, rows: usize) {
+        (self.cols, self.rows, self.next) = (cols, rows, 0);
+        for row in self.above.iter_mut().chain(&mut self.below) {
+            row.clear();
+            row.resize(cols + 1, 0.0);
+        }
+        for (axis, row) in self.normals.iter_mut().enumerate() {
+            row.clear();
+            // Degenerate grids keep these: +Y everywhere.
+            row.resize(cols, if axis == 1 { 1.0 } else { 0.0 });
+        }
+    }
+
+    /// The next row j: (j, its unit normals, its points), or None after the
+    /// last row. Panics if `points` does not hold `cols·rows` points; every
+    /// call of one walk must pass the same points.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)]
+    pub fn next_row<'a>(
+        &'a mut self,
+        points: &'a mut PointArrays,
+    ) -> Option<(usize, [&'a [f32]; 3], [&'a mut [f32]; 3])> {
+        let (cols, rows, j) = (self.cols, self.rows, self.next);
+        let n = cols * rows;
+        assert!(points.x.len() == n && points.y.len() == n && points.z.len() == n, "points must hold cols·rows points");
+        if j >= rows {
+            return None;
+        }
+        self.next += 1;
+        let row_range = |j: usize| j * cols..(j + 1) * cols;
+        if cols >= 2 && rows >= 2 {
+            // Plain f32 slices that vectorise; the sums run in a fixed order,
+            // so results do not depend on how they were vectorised.
+            std::mem::swap(&mut self.above, &mut self.below);
+            if j + 1 < rows {
+                let (top, bottom) = (row_range(j), row_range(j + 1));
+                let top = [&points.x[top.clone()], &points.y[top.clone()], &points.z[top]];
+                let bottom = [&points.x[bottom.clone()], &points.y[bottom.clone()], &points.z[bottom]];
+                quad_areas(top, bottom, &mut self.below);
+            } else {
+                self.below.iter_mut().for_each(|row| row.fill(0.0));
+            }
+            let [nx, ny, nz] = &mut self.normals;
+            sum_and_normalize(&self.above, &self.below, nx, ny, nz);
+        }
+        let [nx, ny, nz] = &self.normals;
+        let r = row_range(j);
+        let [x, y, z] = [&mut points.x, &mut points.y, &mut points.z].map(|axis| &mut axis[r.clone()]);
+        Some((j, [nx, ny, nz], [x, y, z]))
+    }
+}
+
+/// The unit normals of one vertex row from the area vectors of the padded
+/// quads above and below it (vertex i touches quads i and i + 1 of each): their
+/// sum, scaled to unit length; a zero, tiny or non-finite sum becomes +Y.
+#[inline(always)]
+fn sum_and_normalize(
+    above: &[Vec<f32>; 3],
+    below: &[Vec<f32>; 3],
+    out_x: &mut [f32],
+    out_y: &mut [f32],
+    out_z: &mut [f32],
+) {
+    let cols = out_x.len();
+    // Every operand a slice `cols` long and every output its own argument,
+    // so the loop has no bounds or overlap checks and vectorises (square root
+    // and division included, which are exact in any lane width).
+    fn quads(areas: &[Vec<f32>; 3], shift: usize, cols: usize) -> [&[f32]; 3] {
+        [0, 1, 2].map(|axis| &areas[axis][shift..shift + cols])
+    }
+    let ([ulx, uly, ulz], [urx, ury, urz]) = (quads(above, 0, cols), quads(above, 1, cols));
+    let ([dlx, dly, dlz], [drx, dry, drz]) = (quads(below, 0, cols), quads(below, 1, cols));
+    let (out_y, out_z) = (&mut out_y[..cols], &mut out_z[..cols]);
+    for i in 0..cols {
+        let x = (ulx[i] + urx[i]) + (dlx[i] + drx[i]);
+        let y = (uly[i] + ury[i]) + (dly[i] + dry[i]);
+        let z = (ulz[i] + urz[i]) + (dlz[i] + drz[i]);
+        let length2 = x * x + y * y + z * z;
+        let inverse = 1.0 / length2.sqrt();
+        // A positive length2 keeps the inverse finite (at most about 2.7e22
+        // for the smallest subnormal), so only length2 needs checking.
+        let good = (length2 > 0.0) & (length2 < f32::INFINITY);
+        out_x[i] = if good { x * inverse } else { 0.0 };
+        out_y[i] = if good { y * inverse } else { 1.0 };
+        out_z[i] = if good { z * inverse } else { 0.0 };
     }
 }
 
 /// Area vectors (c − b) × (d − a) of the quads between two grid rows given
-/// as x, y, z arrays (a, b the quad's top corners, c, d its bottom ones),
+/// as x, y, z slices (a, b the quad's top corners, c, d its bottom ones),
 /// written to `areas[axis][1..cols]`; entries 0 and `cols` stay zero.
-fn quad_areas(top: &[Vec<f32>; 3], bottom: &[Vec<f32>; 3], areas: &mut [Vec<f32>; 3]) {
+#[inline(always)]
+fn quad_areas(top: [&[f32]; 3], bottom: [&[f32]; 3], areas: &mut [Vec<f32>; 3]) {
     let n = top[0].len() - 1;
     // a, b, c, d of one coordinate of every quad, each n long, so the loop has
     // no bounds checks left to stop it vectorising.
-    let corners = |axis: usize| (&top[axis][..n], &top[axis][1..], &bottom[axis][..n], &bottom[axis][1..]);
+    let corners = |axis: usize| (&top[axis][..n], &top[axis][1..=n], &bottom[axis][..n], &bottom[axis][1..=n]);
     let ((ax, bx, cx, dx), (ay, by, cy, dy), (az, bz, cz, dz)) = (corners(0), corners(1), corners(2));
     let [out_x, out_y, out_z] = areas;
     let (out_x, out_y, out_z) = (&mut out_x[1..=n], &mut out_y[1..=n], &mut out_z[1..=n]);

@@ -12,6 +12,7 @@ use glam::{DVec3, Vec3};
 
 use super::cache::KeyShape;
 use super::ease;
+use crate::mesh::PointArrays;
 use crate::scene::Key;
 use crate::shape::{RelaxParams, refine};
 
@@ -46,13 +47,19 @@ pub fn segment_at(keys: &[Key], frame: f64) -> Segment {
 }
 
 /// The straight blend of two rest shapes' vertices: a + (b − a)·e, written into `out`.
-pub fn blend_positions(a: &[Vec3], b: &[Vec3], eased: f32, out: &mut Vec<Vec3>) {
-    out.clear();
-    out.extend(a.iter().zip(b).map(|(&p, &q)| p + (q - p) * eased));
+#[inline(always)]
+pub fn blend_positions(a: &PointArrays, b: &PointArrays, eased: f32, out: &mut PointArrays) {
+    for ((a, b), out) in
+        [(&a.x, &b.x), (&a.y, &b.y), (&a.z, &b.z)].into_iter().zip([&mut out.x, &mut out.y, &mut out.z])
+    {
+        out.clear();
+        out.extend(a.iter().zip(b).map(|(&p, &q)| p + (q - p) * eased));
+    }
 }
 
 /// The blended d_cp/d_max field, written into `out`; never below 0, so a
 /// point pinned in both keys stays at 0 even under overshooting curves.
+#[inline(always)]
 pub fn blend_ratio(a: &[f32], b: &[f32], eased: f32, out: &mut Vec<f32>) {
     out.clear();
     out.extend(a.iter().zip(b).map(|(&p, &q)| (p + (q - p) * eased).max(0.0)));
@@ -60,17 +67,20 @@ pub fn blend_ratio(a: &[f32], b: &[f32], eased: f32, out: &mut Vec<f32>) {
 
 /// The rest-shape blend at a segment: positions and d_cp/d_max field, with the
 /// from-key's `inbetween_relax` sweeps applied to in-betweens.
+#[inline(always)]
 pub fn blend_segment(
     keys: &[Key],
     shapes: &[std::sync::Arc<KeyShape>],
     segment: Segment,
-    positions: &mut Vec<Vec3>,
+    points: &mut PointArrays,
     ratio: &mut Vec<f32>,
 ) {
     match segment {
         Segment::Hold(index) => {
-            positions.clear();
-            positions.extend_from_slice(&shapes[index].positions);
+            let rest = &shapes[index].points;
+            points.x.clone_from(&rest.x);
+            points.y.clone_from(&rest.y);
+            points.z.clone_from(&rest.z);
             ratio.clear();
             ratio.extend_from_slice(&shapes[index].ratio);
         }
@@ -78,9 +88,11 @@ pub fn blend_segment(
             let (a, b) = (&shapes[from], &shapes[from + 1]);
             let sweeps = keys[from].inbetween_relax;
             if sweeps > 0 && eased != 1.0 {
-                relaxed_inbetween(&keys[from], &keys[from + 1], a, b, eased, sweeps, positions);
+                let mut relaxed = Vec::new();
+                relaxed_inbetween(&keys[from], &keys[from + 1], a, b, eased, sweeps, &mut relaxed);
+                points.set_from_vec3s(&relaxed);
             } else {
-                blend_positions(&a.positions, &b.positions, eased as f32, positions);
+                blend_positions(&a.points, &b.points, eased as f32, points);
             }
             blend_ratio(&a.ratio, &b.ratio, eased as f32, ratio);
         }
@@ -167,11 +179,12 @@ mod tests {
     fn blends_hit_both_ends_exactly() {
         let a = [Vec3::new(1.0, 2.0, 3.0), Vec3::new(-0.1, 0.7, 1e-3)];
         let b = [Vec3::new(4.0, -2.0, 0.5), Vec3::new(0.3, 0.3, -2.0)];
-        let mut out = Vec::new();
+        let (a, b) = (PointArrays::from_vec3s(&a), PointArrays::from_vec3s(&b));
+        let mut out = PointArrays::default();
         blend_positions(&a, &b, 0.0, &mut out);
         assert_eq!(out, a);
         blend_positions(&a, &b, 0.5, &mut out);
-        assert_eq!(out[0], Vec3::new(2.5, 0.0, 1.75));
+        assert_eq!(out.get(0), Vec3::new(2.5, 0.0, 1.75));
         let mut ratio = Vec::new();
         blend_ratio(&[0.0, 0.5], &[0.0, 1.0], 1.2, &mut ratio);
         assert_eq!(ratio[0], 0.0, "pinned in both keys stays pinned under overshoot");

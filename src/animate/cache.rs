@@ -7,6 +7,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::falloff::pin_distance_ratio;
+use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
 use crate::shape::{Placement, RestShape};
 
@@ -17,6 +18,8 @@ pub struct KeyShape {
     pub rest: RestShape,
     /// The relaxed surface as the mesh stores it, vertex order `j·cols + i`.
     pub positions: Vec<Vec3>,
+    /// `positions` split into x, y, z arrays, as the layers work on them.
+    pub points: PointArrays,
     /// d_cp/d_max per vertex for this key's pins (0 at the pins, 1 farthest).
     pub ratio: Vec<f32>,
     /// Which vertices this key pins.
@@ -27,10 +30,11 @@ impl KeyShape {
     /// Relaxes `key` on `cloth` (the scene must be valid) and derives the rest.
     pub fn build(cloth: &Cloth, key: &Key) -> KeyShape {
         let rest = RestShape::build(cloth, key);
-        let positions = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
+        let positions: Vec<Vec3> = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
+        let points = PointArrays::from_vec3s(&positions);
         let ratio = pin_distance_ratio(cloth, &key.pins);
         let pinned = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
-        KeyShape { rest, positions, ratio, pinned }
+        KeyShape { rest, positions, points, ratio, pinned }
     }
 }
 

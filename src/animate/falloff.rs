@@ -39,6 +39,40 @@ pub fn attenuation(ratio: f32, falloff: f32) -> f32 {
     if falloff == 1.0 { ratio } else { ratio.powf(falloff.max(0.0)) }
 }
 
+/// [`attenuation`] of every vertex for one falloff, kept while the falloff
+/// stays the same, so the layers of a frame that share a falloff (usually
+/// all of them) compute it once.
+#[derive(Clone, Debug, Default)]
+pub struct AttenuationField {
+    /// The falloff `values` hold, by its bits; None: nothing computed yet.
+    falloff_bits: Option<u32>,
+    values: Vec<f32>,
+}
+
+impl AttenuationField {
+    /// Forgets the values: call it whenever the ratio field changes.
+    pub fn clear(&mut self) {
+        self.falloff_bits = None;
+    }
+
+    /// a = ratio^falloff for every entry of `ratio`, which must be the field
+    /// passed since the last [`AttenuationField::clear`].
+    #[inline(always)]
+    pub fn of(&mut self, ratio: &[f32], falloff: f32) -> &[f32] {
+        if self.falloff_bits != Some(falloff.to_bits()) || self.values.len() != ratio.len() {
+            self.values.clear();
+            if falloff == 1.0 {
+                // The common case, as a select the compiler vectorises.
+                self.values.extend(ratio.iter().map(|&r| if r > 0.0 { r } else { 0.0 }));
+            } else {
+                self.values.extend(ratio.iter().map(|&r| attenuation(r, falloff)));
+            }
+            self.falloff_bits = Some(falloff.to_bits());
+        }
+        &self.values
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,5 +123,21 @@ mod tests {
         assert_eq!(attenuation(0.5, -1.0), 1.0, "negative exponents clamp to 0");
         assert_eq!(attenuation(1.0, f32::INFINITY), 1.0);
         assert_eq!(attenuation(0.5, f32::NAN), 1.0, "a NaN exponent counts as 0");
+    }
+
+    #[test]
+    fn the_field_equals_attenuation_and_follows_its_falloff() {
+        let ratio = [0.0, 0.25, 1.0, -0.5, f32::NAN, 0.5];
+        let mut field = AttenuationField::default();
+        for falloff in [1.0, 2.0, 1.0, 0.0, f32::NAN] {
+            let values = field.of(&ratio, falloff).to_vec();
+            let expected: Vec<f32> = ratio.iter().map(|&r| attenuation(r, falloff)).collect();
+            assert_eq!(
+                values.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                expected.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+            );
+        }
+        field.clear();
+        assert_eq!(field.of(&[0.5], 1.0), &[0.5]);
     }
 }

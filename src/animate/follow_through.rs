@@ -11,8 +11,9 @@ use glam::Vec3;
 
 use super::blend::{Segment, segment_at};
 use super::cache::KeyShape;
-use super::falloff::attenuation;
+use super::falloff::AttenuationField;
 use super::track::sample;
+use crate::mesh::PointArrays;
 use crate::scene::{FollowThrough, Key};
 
 /// The straight vertex blend of the rest shapes at vertex `k` in `segment`.
@@ -27,8 +28,9 @@ fn blended_vertex(shapes: &[Arc<KeyShape>], segment: Segment, k: usize) -> Vec3 
     }
 }
 
-/// Adds the follow-through to `positions`, attenuated per vertex by `ratio`.
+/// Adds the follow-through to `points`, attenuated per vertex by `ratio`.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn apply(
     follow: &FollowThrough,
     keys: &[Key],
@@ -37,7 +39,8 @@ pub fn apply(
     frame: f64,
     weight: f64,
     ratio: &[f32],
-    positions: &mut [Vec3],
+    attenuation: &mut AttenuationField,
+    points: &mut PointArrays,
 ) {
     let lag_secs = sample(&follow.lag, frame);
     let falloff = sample(&follow.falloff, frame) as f32;
@@ -46,8 +49,7 @@ pub fn apply(
     }
     let now = segment_at(keys, frame);
     let weight = weight as f32;
-    for (k, (p, &r)) in positions.iter_mut().zip(ratio).enumerate() {
-        let a = attenuation(r, falloff);
+    for (k, &a) in attenuation.of(ratio, falloff).iter().enumerate() {
         if a == 0.0 {
             continue;
         }
@@ -55,6 +57,7 @@ pub fn apply(
         if then == now {
             continue;
         }
-        *p += (blended_vertex(shapes, then, k) - blended_vertex(shapes, now, k)) * weight;
+        let moved = points.get(k) + (blended_vertex(shapes, then, k) - blended_vertex(shapes, now, k)) * weight;
+        points.set(k, moved);
     }
 }

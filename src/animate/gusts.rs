@@ -7,14 +7,27 @@
 
 use glam::{DVec3, IVec3, Vec3, Vec4};
 
-use super::falloff::attenuation;
+use super::falloff::AttenuationField;
 use super::noise::FractalSampler;
 use super::track::sample;
+use crate::mesh::PointArrays;
 use crate::scene::Noise;
 
-/// Adds the gusts to `positions` (the layer's input mesh, whose points also
+/// Adds the gusts to `points` (the layer's input mesh, whose points also
 /// sample the noise), attenuated per vertex by `ratio` (d_cp/d_max).
-pub fn apply(noise: &Noise, frame: f64, t_secs: f64, weight: f64, ratio: &[f32], positions: &mut [Vec3]) {
+/// `sampler` is scratch space; its state never changes the result.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn apply(
+    noise: &Noise,
+    frame: f64,
+    t_secs: f64,
+    weight: f64,
+    ratio: &[f32],
+    attenuation: &mut AttenuationField,
+    points: &mut PointArrays,
+    sampler: &mut FractalSampler,
+) {
     let amplitude = weight * sample(&noise.amplitude, frame);
     let scale_m = sample(&noise.scale, frame);
     let wind = DVec3::new(noise.direction.0, noise.direction.1, noise.direction.2).normalize_or_zero();
@@ -36,33 +49,46 @@ pub fn apply(noise: &Noise, frame: f64, t_secs: f64, weight: f64, ratio: &[f32],
     let inverse_scale = (1.0 / scale_m) as f32;
     let push = wind.as_vec3() * (1.0 - turbulence);
     let amplitude = amplitude as f32;
-    let mut sampler = FractalSampler::new(noise.octaves, noise.seed);
-    let blow = |p: &mut Vec3, a: f32, n: Vec4| {
-        let gust = 0.5 + 0.5 * n.x;
-        let swirl = Vec3::new(n.y, n.z, n.w);
-        *p += (push * gust + swirl * turbulence) * (amplitude * a);
-    };
-    // Four neighbouring vertices at a time: one SIMD lane each.
-    let mut chunks = positions.chunks_exact_mut(4).zip(ratio.chunks_exact(4));
-    for (p, r) in &mut chunks {
-        let a = [0, 1, 2, 3].map(|k| attenuation(r[k], falloff));
-        if a == [0.0; 4] {
+    sampler.reset(noise.octaves, noise.seed, cell_offset);
+    let a = attenuation.of(ratio, falloff);
+    // displacement = (push · gust + swirl · turbulence) · (amplitude · a),
+    // gust = ½ + ½·n₀, swirl = (n₁, n₂, n₃): per lane or per point alike.
+    let PointArrays { x, y, z } = points;
+    let n = a.len();
+    let whole = n / 4 * 4;
+    for start in (0..whole).step_by(4) {
+        let range = start..start + 4;
+        let a = Vec4::from_slice(&a[range.clone()]);
+        // Pins (a = 0) are left bit-for-bit alone.
+        let moving = a.cmpne(Vec4::ZERO);
+        if !moving.any() {
             continue;
         }
-        let n = sampler.sample4([0, 1, 2, 3].map(|k| p[k] * inverse_scale - rest), cell_offset);
-        for k in 0..4 {
-            // Pins (a = 0) are left bit-for-bit alone.
-            if a[k] != 0.0 {
-                blow(&mut p[k], a[k], n[k]);
-            }
+        let p = [&x[range.clone()], &y[range.clone()], &z[range.clone()]].map(Vec4::from_slice);
+        let [n0, n1, n2, n3] = sampler.sample_lanes(
+            p[0] * inverse_scale - rest.x,
+            p[1] * inverse_scale - rest.y,
+            p[2] * inverse_scale - rest.z,
+        );
+        let gust = 0.5 + 0.5 * n0;
+        let strength = amplitude * a;
+        let moved = [
+            p[0] + (push.x * gust + n1 * turbulence) * strength,
+            p[1] + (push.y * gust + n2 * turbulence) * strength,
+            p[2] + (push.z * gust + n3 * turbulence) * strength,
+        ];
+        for (values, (moved, p)) in [&mut *x, &mut *y, &mut *z].into_iter().zip(moved.into_iter().zip(p)) {
+            Vec4::select(moving, moved, p).write_to_slice(&mut values[range.clone()]);
         }
     }
-    let done = positions.len() / 4 * 4;
-    for (p, &r) in positions[done..].iter_mut().zip(&ratio[done..]) {
-        let a = attenuation(r, falloff);
-        if a != 0.0 {
-            let n = sampler.sample(*p * inverse_scale - rest, cell_offset);
-            blow(p, a, n);
+    for k in whole..n {
+        if a[k] != 0.0 {
+            let p = Vec3::new(x[k], y[k], z[k]);
+            let n = sampler.sample(p * inverse_scale - rest);
+            let gust = 0.5 + 0.5 * n.x;
+            let swirl = Vec3::new(n.y, n.z, n.w);
+            let moved = p + (push * gust + swirl * turbulence) * (amplitude * a[k]);
+            (x[k], y[k], z[k]) = (moved.x, moved.y, moved.z);
         }
     }
 }

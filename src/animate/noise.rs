@@ -7,9 +7,11 @@
 //!
 //! Speed matters (a gust layer runs on every vertex every frame), so a cell's
 //! trilinear interpolant is kept as polynomial coefficients while points stay
-//! inside it, and [`FractalSampler::sample4`] evaluates four points at once
-//! with one SIMD lane per point. Every path performs the same operations in
-//! the same order per value, so all give bit-identical results.
+//! inside it, and [`FractalSampler::sample_lanes`] evaluates four points at
+//! once with one SIMD lane per point, taking and returning them as
+//! per-coordinate and per-channel vectors (no transposes). Every path
+//! performs the same operations in the same order per value, so all give
+//! bit-identical results.
 //!
 //! Positions are split into a lattice offset (integers) and a small local
 //! part, so a field scrolled far away (t = 10 000 s of wind) keeps full f32
@@ -22,26 +24,46 @@ use glam::{IVec3, Mat4, Vec3, Vec4};
 /// normalised back to [−1, 1]. `octaves` is clamped to 1..=8. Non-finite
 /// input gives zeros rather than NaN.
 pub fn fractal4(local: Vec3, cell_offset: IVec3, octaves: u32, seed: u32) -> Vec4 {
-    FractalSampler::new(octaves, seed).sample(local, cell_offset)
+    FractalSampler::new(octaves, seed, cell_offset).sample(local)
 }
 
-/// [`fractal4`] for many nearby points: it remembers the interpolant of the
-/// last cell of each octave, so a run of points inside one cell (neighbouring
-/// vertices of a cloth, whose spacing is much smaller than a gust) hashes its
-/// corners once. The results equal [`fractal4`]'s bit for bit.
+/// [`fractal4`] for many nearby points around one lattice offset: it
+/// remembers the interpolants of recently used cells of each octave, so the
+/// points inside one cell (neighbouring vertices of a cloth, whose spacing is
+/// much smaller than a gust) hash its corners once. The results equal
+/// [`fractal4`]'s bit for bit, whatever the order of the points.
 #[derive(Clone, Debug)]
 pub struct FractalSampler {
     seed: u32,
     octaves: usize,
     /// Octave weights 1, ½, ¼, … normalised to sum to 1.
     weights: [f32; MAX_OCTAVES],
-    /// [`CELL_SLOTS`] recently used cells per octave, direct-mapped by their
-    /// corner, so the next row of a cloth finds the cells of the previous one.
+    /// The lattice offset of each octave (doubling, wrapping like the cells).
+    offsets: [IVec3; MAX_OCTAVES],
+    /// Coordinates below this stay below 2²² at the finest octave, where
+    /// [`floor4`] is exact.
+    lane_limit: f32,
+    /// The floored local corner of the cell in each of [`CELL_SLOTS`] slots
+    /// per octave (octave-major); NaN marks an empty slot, as it equals nothing.
+    keys: Vec<Vec3>,
     cells: Vec<CellValues>,
+    /// Per octave, the cell that all four lanes of the latest
+    /// [`FractalSampler::sample_lanes`] pass fell in: its corner in every
+    /// lane (NaN: none) and its index in `cells`. The next four vertices of
+    /// a row are nearly always in it too, and then need no slot lookup.
+    last_cell: [([Vec4; 3], usize); MAX_OCTAVES],
 }
 
-/// Cells remembered per octave (a power of two).
-const CELL_SLOTS: usize = 16;
+impl Default for FractalSampler {
+    fn default() -> Self {
+        FractalSampler::new(1, 0, IVec3::ZERO)
+    }
+}
+
+/// Cells remembered per octave (a power of two), direct-mapped by their
+/// corner: enough for the cells a few rows of a cloth cross, so the next row
+/// finds those of the previous one.
+const CELL_SLOTS: usize = 64;
 
 /// The slot of a cell among [`CELL_SLOTS`], from the bits of its floored
 /// coordinates (cheaper than converting them to integers).
@@ -49,7 +71,7 @@ const CELL_SLOTS: usize = 16;
 fn slot(floor: Vec3) -> usize {
     let h = floor.x.to_bits() ^ floor.y.to_bits().rotate_left(11) ^ floor.z.to_bits().rotate_left(22);
     let h = h.wrapping_mul(0x9e37_79b9);
-    (h >> 28) as usize & (CELL_SLOTS - 1)
+    (h >> 26) as usize & (CELL_SLOTS - 1)
 }
 
 const MAX_OCTAVES: usize = 8;
@@ -59,30 +81,16 @@ const MAX_OCTAVES: usize = 8;
 /// c6·wx·wz + c7·wx·wy·wz, summed in that order.
 #[derive(Clone, Copy, Debug)]
 struct CellValues {
-    /// The cell's corner as the floored local position and the lattice offset
-    /// it was sampled with (comparing floats avoids integer conversions per point).
-    floor_key: Vec3,
-    offset_key: IVec3,
     coefficients: [Vec4; 8],
     /// `coefficients[k][channel]` in every lane, for [`CellValues::interpolate_lanes`].
     splatted: [[Vec4; 8]; 4],
-    valid: bool,
 }
 
 impl CellValues {
-    const EMPTY: CellValues = CellValues {
-        floor_key: Vec3::ZERO,
-        offset_key: IVec3::ZERO,
-        coefficients: [Vec4::ZERO; 8],
-        splatted: [[Vec4::ZERO; 8]; 4],
-        valid: false,
-    };
+    const EMPTY: CellValues = CellValues { coefficients: [Vec4::ZERO; 8], splatted: [[Vec4::ZERO; 8]; 4] };
 
-    /// Kept out of line: it runs once per cell, and inlining it into the
-    /// per-point loops would crowd out their registers.
-    #[cold]
-    #[inline(never)]
-    fn fill(&mut self, cell: IVec3, seed: u32) {
+    /// Makes this the interpolant of the cell with lowest corner `cell`.
+    fn set(&mut self, cell: IVec3, seed: u32) {
         // Corner index bit 0: +x, bit 1: +y, bit 2: +z.
         let v: [Vec4; 8] = std::array::from_fn(|index| {
             lattice_value(
@@ -102,16 +110,8 @@ impl CellValues {
             v[5] - v[4] - v[1] + v[0],
             v[7] - v[6] - v[5] - v[3] + v[4] + v[2] + v[1] - v[0],
         ];
-        self.splatted = std::array::from_fn(|channel| self.coefficients.map(|c| Vec4::splat(c[channel])));
-        self.valid = true;
-    }
-
-    #[inline(always)]
-    fn ensure(&mut self, floor: Vec3, offset: IVec3, seed: u32, octave: usize) {
-        if !self.valid || self.floor_key != floor || self.offset_key != offset {
-            self.fill(floor.as_ivec3().wrapping_add(offset), octave_seed(seed, octave));
-            self.floor_key = floor;
-            self.offset_key = offset;
+        for (channel, splatted) in self.splatted.iter_mut().enumerate() {
+            *splatted = self.coefficients.map(|c| Vec4::splat(c[channel]));
         }
     }
 
@@ -124,93 +124,167 @@ impl CellValues {
         c[0] + c[1] * w.x + c[2] * w.y + c[3] * w.z + c[4] * wxy + c[5] * wyz + c[6] * wxz + c[7] * wxyz
     }
 
-    /// One channel at four points (one per lane) with fade weights (wx, wy, wz):
-    /// the same sums as [`CellValues::interpolate`], lane by lane.
+    /// One channel at four points (one per lane) with fade weights and their
+    /// products (see [`lane_weights`]): the same sums as
+    /// [`CellValues::interpolate`], lane by lane.
     #[inline(always)]
-    fn interpolate_lanes(&self, channel: usize, w: [Vec4; 7]) -> Vec4 {
+    fn interpolate_lanes(&self, channel: usize, w: &[Vec4; 7]) -> Vec4 {
         let c = &self.splatted[channel];
-        let [wx, wy, wz, wxy, wyz, wxz, wxyz] = w;
+        let [wx, wy, wz, wxy, wyz, wxz, wxyz] = *w;
         c[0] + c[1] * wx + c[2] * wy + c[3] * wz + c[4] * wxy + c[5] * wyz + c[6] * wxz + c[7] * wxyz
     }
 }
 
+/// Fade weights of four points and the products [`CellValues::interpolate_lanes`] uses.
+#[inline(always)]
+fn lane_weights(wx: Vec4, wy: Vec4, wz: Vec4) -> [Vec4; 7] {
+    let (wxy, wyz, wxz) = (wx * wy, wy * wz, wx * wz);
+    [wx, wy, wz, wxy, wyz, wxz, wxy * wz]
+}
+
 impl FractalSampler {
-    pub fn new(octaves: u32, seed: u32) -> FractalSampler {
+    /// A sampler of `octaves` octaves (clamped to 1..=8) of the noise seeded
+    /// `seed`, for points given relative to lattice point `cell_offset`.
+    pub fn new(octaves: u32, seed: u32, cell_offset: IVec3) -> FractalSampler {
+        let mut sampler = FractalSampler {
+            seed,
+            octaves: 1,
+            weights: [0.0; MAX_OCTAVES],
+            offsets: [IVec3::ZERO; MAX_OCTAVES],
+            lane_limit: 0.0,
+            keys: Vec::new(),
+            cells: Vec::new(),
+            last_cell: [([Vec4::NAN; 3], 0); MAX_OCTAVES],
+        };
+        sampler.reset(octaves, seed, cell_offset);
+        sampler
+    }
+
+    /// Makes this sampler equal to `FractalSampler::new(octaves, seed,
+    /// cell_offset)`, keeping its buffers.
+    pub fn reset(&mut self, octaves: u32, seed: u32, cell_offset: IVec3) {
         let octaves = octaves.clamp(1, MAX_OCTAVES as u32) as usize;
         let total: f32 = (0..octaves).map(|o| 0.5f32.powi(o as i32)).sum();
-        let weights = std::array::from_fn(|o| 0.5f32.powi(o as i32) / total);
-        FractalSampler { seed, octaves, weights, cells: vec![CellValues::EMPTY; octaves * CELL_SLOTS] }
+        self.weights = std::array::from_fn(|o| 0.5f32.powi(o as i32) / total);
+        let mut offset = cell_offset;
+        for slot in &mut self.offsets {
+            *slot = offset;
+            offset = offset.wrapping_mul(IVec3::splat(2));
+        }
+        self.lane_limit = MAGIC_FLOOR_RANGE / 2f32.powi(octaves as i32);
+        self.seed = seed;
+        self.octaves = octaves;
+        self.keys.clear();
+        self.keys.resize(octaves * CELL_SLOTS, Vec3::NAN);
+        self.last_cell = [([Vec4::NAN; 3], 0); MAX_OCTAVES];
+        if self.cells.len() < octaves * CELL_SLOTS {
+            self.cells.resize(octaves * CELL_SLOTS, CellValues::EMPTY);
+        }
+    }
+
+    /// The index in `cells` of the cell of `octave` whose floored corner is
+    /// `floor`, from its slot or hashed anew.
+    #[inline(always)]
+    fn cell_index(&mut self, octave: usize, floor: Vec3) -> usize {
+        let index = octave * CELL_SLOTS + slot(floor);
+        if self.keys[index] != floor {
+            self.fill(index, octave, floor);
+        }
+        index
+    }
+
+    /// Kept out of line: it runs once per cell, and inlining it into the
+    /// per-point loops would crowd out their registers.
+    #[cold]
+    #[inline(never)]
+    fn fill(&mut self, index: usize, octave: usize, floor: Vec3) {
+        let cell = floor.as_ivec3().wrapping_add(self.offsets[octave]);
+        self.cells[index].set(cell, octave_seed(self.seed, octave));
+        self.keys[index] = floor;
+        if self.last_cell[octave].1 == index {
+            self.last_cell[octave].0 = [Vec4::NAN; 3];
+        }
     }
 
     /// The noise at one point.
     #[inline]
-    pub fn sample(&mut self, local: Vec3, cell_offset: IVec3) -> Vec4 {
+    pub fn sample(&mut self, local: Vec3) -> Vec4 {
         if !local.is_finite() {
             return Vec4::ZERO;
         }
         let mut sum = Vec4::ZERO;
-        let (mut local, mut offset) = (local, cell_offset);
+        let mut local = local;
         for octave in 0..self.octaves {
             let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
-            let cache = &mut self.cells[octave * CELL_SLOTS + slot(floor)];
-            cache.ensure(floor, offset, self.seed, octave);
-            sum += cache.interpolate(fade3(local - floor)) * self.weights[octave];
+            let weight = self.weights[octave];
+            let index = self.cell_index(octave, floor);
+            sum += self.cells[index].interpolate(fade3(local - floor)) * weight;
             local *= 2.0;
-            offset = offset.wrapping_mul(IVec3::splat(2));
         }
         sum
     }
 
-    /// The noise at four points; equal to four calls to [`FractalSampler::sample`].
-    /// Lanes that all fall in one cell are evaluated together; the rest one by one.
-    pub fn sample4(&mut self, locals: [Vec3; 4], cell_offset: IVec3) -> [Vec4; 4] {
-        let largest = locals.iter().map(|p| p.abs().max_element()).fold(0.0, f32::max);
-        let finite = locals.iter().all(|p| p.is_finite());
-        if !finite || !(largest < MAGIC_FLOOR_RANGE / 2f32.powi(self.octaves as i32)) {
+    /// The noise at four points given as their x, y and z coordinates, one
+    /// lane per point; returns the four channels, each with one lane per
+    /// point. Equal to four calls to [`FractalSampler::sample`]: lanes that
+    /// fall in one cell are evaluated together, with every lane's arithmetic
+    /// done as the one-point path does it.
+    #[inline(always)]
+    pub fn sample_lanes(&mut self, x: Vec4, y: Vec4, z: Vec4) -> [Vec4; 4] {
+        // Each coordinate compared on its own: NaN fails the comparison
+        // (a lane-wise max would drop it and leave a lane in no cell).
+        let limit = Vec4::splat(self.lane_limit);
+        let inside = x.abs().cmplt(limit) & y.abs().cmplt(limit) & z.abs().cmplt(limit);
+        if !inside.all() {
             // Far out or not finite: the one-point path handles every case.
-            return locals.map(|p| self.sample(p, cell_offset));
+            let points = [0, 1, 2, 3].map(|lane| self.sample(Vec3::new(x[lane], y[lane], z[lane])));
+            let channels = Mat4::from_cols(points[0], points[1], points[2], points[3]).transpose();
+            return [channels.x_axis, channels.y_axis, channels.z_axis, channels.w_axis];
         }
-        let mut x = Vec4::new(locals[0].x, locals[1].x, locals[2].x, locals[3].x);
-        let mut y = Vec4::new(locals[0].y, locals[1].y, locals[2].y, locals[3].y);
-        let mut z = Vec4::new(locals[0].z, locals[1].z, locals[2].z, locals[3].z);
-        let mut offset = cell_offset;
+        let (mut x, mut y, mut z) = (x, y, z);
         let mut sum = [Vec4::ZERO; 4];
         for octave in 0..self.octaves {
             let (fx, fy, fz) = (floor4(x), floor4(y), floor4(z));
+            let w = lane_weights(fade4(x - fx), fade4(y - fy), fade4(z - fz));
             let weight = self.weights[octave];
-            let slots = &mut self.cells[octave * CELL_SLOTS..(octave + 1) * CELL_SLOTS];
-            if all_lanes_equal(fx) && all_lanes_equal(fy) && all_lanes_equal(fz) {
-                let floor = Vec3::new(fx.x, fy.x, fz.x);
-                let cache = &mut slots[slot(floor)];
-                cache.ensure(floor, offset, self.seed, octave);
-                let (wx, wy, wz) = (fade4(x - fx), fade4(y - fy), fade4(z - fz));
-                let (wxy, wyz, wxz) = (wx * wy, wy * wz, wx * wz);
-                let w = [wx, wy, wz, wxy, wyz, wxz, wxy * wz];
-                let channels = Mat4::from_cols(
-                    cache.interpolate_lanes(0, w),
-                    cache.interpolate_lanes(1, w),
-                    cache.interpolate_lanes(2, w),
-                    cache.interpolate_lanes(3, w),
-                );
-                // Rows are channels per point: transposing gives one column per point.
-                let points = channels.transpose();
-                sum[0] += points.x_axis * weight;
-                sum[1] += points.y_axis * weight;
-                sum[2] += points.z_axis * weight;
-                sum[3] += points.w_axis * weight;
+            let (last_corner, last_index) = self.last_cell[octave];
+            let in_last = fx.cmpeq(last_corner[0]) & fy.cmpeq(last_corner[1]) & fz.cmpeq(last_corner[2]);
+            if in_last.all() {
+                let cell = &self.cells[last_index];
+                for (channel, total) in sum.iter_mut().enumerate() {
+                    *total += cell.interpolate_lanes(channel, &w) * weight;
+                }
             } else {
-                for (lane, total) in sum.iter_mut().enumerate() {
-                    let local = Vec3::new(x[lane], y[lane], z[lane]);
-                    let floor = Vec3::new(fx[lane], fy[lane], fz[lane]);
-                    let cache = &mut slots[slot(floor)];
-                    cache.ensure(floor, offset, self.seed, octave);
-                    *total += cache.interpolate(fade3(local - floor)) * weight;
+                // One pass per distinct cell among the lanes, each adding to its own lanes.
+                let floors = [fx.to_array(), fy.to_array(), fz.to_array()];
+                let (mut lane, mut pending) = (0, 0b1111u32);
+                loop {
+                    let floor = Vec3::new(floors[0][lane], floors[1][lane], floors[2][lane]);
+                    let corner = [Vec4::splat(floor.x), Vec4::splat(floor.y), Vec4::splat(floor.z)];
+                    let same = fx.cmpeq(corner[0]) & fy.cmpeq(corner[1]) & fz.cmpeq(corner[2]);
+                    let index = self.cell_index(octave, floor);
+                    let cell = &self.cells[index];
+                    if same.all() {
+                        for (channel, total) in sum.iter_mut().enumerate() {
+                            *total += cell.interpolate_lanes(channel, &w) * weight;
+                        }
+                        self.last_cell[octave] = (corner, index);
+                        break;
+                    }
+                    for (channel, total) in sum.iter_mut().enumerate() {
+                        let value = cell.interpolate_lanes(channel, &w);
+                        *total = Vec4::select(same, *total + value * weight, *total);
+                    }
+                    pending &= !same.bitmask();
+                    if pending == 0 {
+                        break;
+                    }
+                    lane = pending.trailing_zeros() as usize & 3;
                 }
             }
             x *= 2.0;
             y *= 2.0;
             z *= 2.0;
-            offset = offset.wrapping_mul(IVec3::splat(2));
         }
         sum
     }
@@ -223,9 +297,9 @@ fn octave_seed(seed: u32, octave: usize) -> u32 {
 /// One octave: the four channels of the noise at lattice point `cell_offset` + `local`.
 pub fn value4(local: Vec3, cell_offset: IVec3, seed: u32) -> Vec4 {
     let floor = Vec3::new(floor_f32(local.x), floor_f32(local.y), floor_f32(local.z));
-    let mut cell = CellValues::EMPTY;
-    cell.ensure(floor, cell_offset, seed, 0);
-    cell.interpolate(fade3(local - floor))
+    let mut values = CellValues::EMPTY;
+    values.set(floor.as_ivec3().wrapping_add(cell_offset), seed);
+    values.interpolate(fade3(local - floor))
 }
 
 /// Adding and subtracting 1.5·2²³ rounds an f32 to the nearest integer when
@@ -247,11 +321,6 @@ fn floor_f32(x: f32) -> f32 {
 fn floor4(x: Vec4) -> Vec4 {
     let rounded = (x + Vec4::splat(MAGIC_ROUND)) - Vec4::splat(MAGIC_ROUND);
     Vec4::select(rounded.cmpgt(x), rounded - Vec4::ONE, rounded)
-}
-
-#[inline(always)]
-fn all_lanes_equal(v: Vec4) -> bool {
-    v.cmpeq(Vec4::splat(v.x)).all()
 }
 
 /// The quintic fade 6f⁵ − 15f⁴ + 10f³ of each coordinate.
@@ -353,10 +422,16 @@ mod tests {
 
     #[test]
     fn the_sampler_equals_the_direct_sum_in_any_order() {
-        let mut sampler = FractalSampler::new(3, 11);
+        let offset = IVec3::new(4, 0, -2);
+        let mut sampler = FractalSampler::new(3, 11, offset);
         let points: Vec<Vec3> = grid_samples().collect();
         for p in points.iter().chain(points.iter().rev()) {
-            assert_eq!(sampler.sample(*p, IVec3::new(4, 0, -2)), fractal4(*p, IVec3::new(4, 0, -2), 3, 11));
+            assert_eq!(sampler.sample(*p), fractal4(*p, offset, 3, 11));
+        }
+        // A reset sampler forgets the cells of its previous offset and seed.
+        sampler.reset(2, 12, IVec3::ZERO);
+        for p in &points {
+            assert_eq!(sampler.sample(*p), fractal4(*p, IVec3::ZERO, 2, 12));
         }
         for p in [-1.5f32, -1.0, -0.25, 0.0, 0.999_999_9, 2.0, -1e-30, 2_097_151.5, -4_194_303.5, 8_388_607.5] {
             assert_eq!(floor_f32(p), p.floor(), "{p}");
@@ -366,29 +441,51 @@ mod tests {
         }
     }
 
+    /// The four lanes of [`FractalSampler::sample_lanes`] as one value per point.
+    fn lanes_at(sampler: &mut FractalSampler, points: [Vec3; 4]) -> [Vec4; 4] {
+        let axis = |k: usize| Vec4::from_array(points.map(|p| p[k]));
+        let [c0, c1, c2, c3] = sampler.sample_lanes(axis(0), axis(1), axis(2));
+        let by_point = Mat4::from_cols(c0, c1, c2, c3).transpose();
+        [by_point.x_axis, by_point.y_axis, by_point.z_axis, by_point.w_axis]
+    }
+
     #[test]
     fn four_lanes_equal_four_single_samples() {
         let points: Vec<Vec3> = grid_samples().collect();
-        let mut lanes = FractalSampler::new(2, 8);
-        let mut single = FractalSampler::new(2, 8);
-        // Neighbouring points (mostly one cell per group) and scattered ones (mixed cells).
-        for group in
-            points.chunks_exact(4).chain(points.iter().step_by(97).copied().collect::<Vec<_>>().chunks_exact(4))
-        {
+        let offset = IVec3::new(-3, 7, 1);
+        let mut lanes = FractalSampler::new(2, 8, offset);
+        let mut single = FractalSampler::new(2, 8, offset);
+        // Neighbouring points (mostly one cell per group), scattered ones
+        // (mixed cells) and groups of two cells in every arrangement.
+        let scattered: Vec<Vec3> = points.iter().step_by(97).copied().collect();
+        let (p, q) = (Vec3::new(0.2, 0.3, 0.4), Vec3::new(1.7, 0.3, -0.6));
+        let pairs: Vec<Vec3> =
+            (0..16).flat_map(|bits| (0..4).map(move |k| if bits >> k & 1 == 1 { q } else { p })).collect();
+        for group in points.chunks_exact(4).chain(scattered.chunks_exact(4)).chain(pairs.chunks_exact(4)) {
             let group = [group[0], group[1], group[2], group[3]];
-            let together = lanes.sample4(group, IVec3::new(-3, 7, 1));
+            let together = lanes_at(&mut lanes, group);
             for (p, value) in group.iter().zip(together) {
-                assert_eq!(value, single.sample(*p, IVec3::new(-3, 7, 1)), "{p}");
+                assert_eq!(value, single.sample(*p), "{p}");
             }
         }
         let near = Vec3::new(0.2, 0.3, 0.4);
         let same_cell = [near, near + Vec3::splat(0.01), near + Vec3::splat(0.02), near + Vec3::splat(0.03)];
-        let together = lanes.sample4(same_cell, IVec3::ZERO);
+        let mut fresh = FractalSampler::new(2, 8, IVec3::ZERO);
+        let together = lanes_at(&mut fresh, same_cell);
         for (p, value) in same_cell.iter().zip(together) {
             assert_eq!(value, fractal4(*p, IVec3::ZERO, 2, 8));
         }
-        let with_nan = [near, Vec3::NAN, near, near];
-        assert_eq!(lanes.sample4(with_nan, IVec3::ZERO)[1], Vec4::ZERO);
+        for bad in
+            [Vec3::NAN, Vec3::new(f32::NAN, 0.3, 0.4), Vec3::new(0.2, f32::NAN, 0.4), Vec3::new(0.2, 0.3, f32::NAN)]
+        {
+            let values = lanes_at(&mut fresh, [near, bad, near, near]);
+            assert_eq!(values[1], Vec4::ZERO, "{bad}");
+            assert_eq!(values[0], fractal4(near, IVec3::ZERO, 2, 8));
+        }
+        let far = [near, Vec3::splat(3e6), near, Vec3::splat(-1e9)];
+        for (p, value) in far.iter().zip(lanes_at(&mut fresh, far)) {
+            assert_eq!(value, fractal4(*p, IVec3::ZERO, 2, 8), "{p}");
+        }
     }
 
     #[test]

@@ -4,8 +4,9 @@
 
 use glam::{DVec3, Vec3};
 
-use super::falloff::attenuation;
+use super::falloff::AttenuationField;
 use super::track::sample;
+use crate::mesh::PointArrays;
 use crate::scene::Sway;
 
 /// The whole-cloth displacement before attenuation (metres), weight included.
@@ -21,14 +22,26 @@ pub fn displacement(sway: &Sway, frame: f64, t_secs: f64, weight: f64) -> DVec3 
     direction * (weight * sample(&sway.magnitude, frame) * sample(&sway.speed, frame) * osc)
 }
 
-/// Adds the sway to `positions`, attenuated per vertex by `ratio` (d_cp/d_max).
-pub fn apply(sway: &Sway, frame: f64, t_secs: f64, weight: f64, ratio: &[f32], positions: &mut [Vec3]) {
+/// Adds the sway to `points`, attenuated per vertex by `ratio` (d_cp/d_max).
+#[inline(always)]
+pub fn apply(
+    sway: &Sway,
+    frame: f64,
+    t_secs: f64,
+    weight: f64,
+    ratio: &[f32],
+    attenuation: &mut AttenuationField,
+    points: &mut PointArrays,
+) {
     let d = displacement(sway, frame, t_secs, weight).as_vec3();
     let falloff = sample(&sway.falloff, frame) as f32;
     if d == Vec3::ZERO || !d.is_finite() {
         return;
     }
-    for (p, &r) in positions.iter_mut().zip(ratio) {
-        *p += d * attenuation(r, falloff);
+    let a = attenuation.of(ratio, falloff);
+    for (values, d) in [(&mut points.x, d.x), (&mut points.y, d.y), (&mut points.z, d.z)] {
+        for (p, &a) in values.iter_mut().zip(a) {
+            *p += d * a;
+        }
     }
 }

@@ -10,9 +10,9 @@
 
 use glam::Vec3;
 
-use super::falloff::attenuation;
+use super::falloff::AttenuationField;
 use super::track::sample;
-use crate::mesh::grid_normals;
+use crate::mesh::{NormalRows, PointArrays};
 use crate::scene::{Wave, WaveAxis};
 
 /// Per-column and per-row sines and cosines of the wave's argument.
@@ -47,10 +47,12 @@ impl WaveTables {
     }
 }
 
-/// Adds the wave to the `cols × rows` grid `positions`, attenuated per vertex
-/// by `ratio` (d_cp/d_max). `normals` is scratch space for the input mesh's
-/// normals when the wave displaces along them.
+/// Adds the wave to the `cols × rows` grid `points`, attenuated per vertex
+/// by `ratio` (d_cp/d_max). Along the normals, each row is displaced as soon
+/// as its normals are known (they are all those of the input mesh);
+/// `tables` and `normal_rows` are scratch space.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn apply(
     wave: &Wave,
     frame: f64,
@@ -59,9 +61,10 @@ pub fn apply(
     spacing_m: (f64, f64),
     grid: (usize, usize),
     ratio: &[f32],
-    positions: &mut [Vec3],
+    attenuation: &mut AttenuationField,
+    points: &mut PointArrays,
     tables: &mut WaveTables,
-    normals: &mut Vec<Vec3>,
+    normal_rows: &mut NormalRows,
 ) {
     let (cols, rows) = grid;
     let amplitude = (weight * sample(&wave.magnitude, frame)) as f32;
@@ -70,24 +73,52 @@ pub fn apply(
         return;
     }
     tables.fill(wave, frame, t_secs, spacing_m, grid);
-    let fixed_axis = match wave.axis {
+    let a = attenuation.of(ratio, falloff);
+    let a_row = |j: usize| &a[j * cols..(j + 1) * cols];
+    match wave.axis {
         WaveAxis::Normal => {
-            grid_normals(positions, cols, rows, normals);
-            None
+            normal_rows.start(cols, rows);
+            while let Some((j, normals, [x, y, z])) = normal_rows.next_row(points) {
+                displace_row(tables, j, amplitude, a_row(j), normals, x, y, z);
+            }
         }
-        WaveAxis::Fixed((x, y, z)) => Some(Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero()),
-    };
-    for j in 0..rows {
-        let (row_sin, row_cos) = (tables.row_sin[j], tables.row_cos[j]);
-        for i in 0..cols {
-            let k = j * cols + i;
-            // sin(A + B) = sin A cos B + cos A sin B.
-            let wave_sin = tables.column_sin[i] * row_cos + tables.column_cos[i] * row_sin;
-            let along = match fixed_axis {
-                Some(axis) => axis,
-                None => normals[k],
-            };
-            positions[k] += along * (amplitude * wave_sin * attenuation(ratio[k], falloff));
+        WaveAxis::Fixed((x, y, z)) => {
+            let axis = Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero();
+            let axis = [vec![axis.x; cols], vec![axis.y; cols], vec![axis.z; cols]];
+            for j in 0..rows {
+                let r = j * cols..(j + 1) * cols;
+                let [x, y, z] = [&mut points.x, &mut points.y, &mut points.z].map(|values| &mut values[r.clone()]);
+                displace_row(tables, j, amplitude, a_row(j), [&axis[0], &axis[1], &axis[2]], x, y, z);
+            }
         }
+    }
+}
+
+/// Row j of the wave: p += axis · (amplitude · sin(A + B) · a), with
+/// sin(A + B) = sin A cos B + cos A sin B. Each output is its own argument,
+/// so the loop needs no overlap checks to vectorise.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn displace_row(
+    tables: &WaveTables,
+    j: usize,
+    amplitude: f32,
+    a: &[f32],
+    [ax, ay, az]: [&[f32]; 3],
+    x: &mut [f32],
+    y: &mut [f32],
+    z: &mut [f32],
+) {
+    let cols = a.len();
+    let (row_sin, row_cos) = (tables.row_sin[j], tables.row_cos[j]);
+    let (column_sin, column_cos) = (&tables.column_sin[..cols], &tables.column_cos[..cols]);
+    let (ax, ay, az) = (&ax[..cols], &ay[..cols], &az[..cols]);
+    let (x, y, z) = (&mut x[..cols], &mut y[..cols], &mut z[..cols]);
+    for i in 0..cols {
+        let wave_sin = column_sin[i] * row_cos + column_cos[i] * row_sin;
+        let s = amplitude * wave_sin * a[i];
+        x[i] += ax[i] * s;
+        y[i] += ay[i] * s;
+        z[i] += az[i] * s;
     }
 }
