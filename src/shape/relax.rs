@@ -245,12 +245,14 @@ const STEPS: [(isize, isize); NEIGHBOURS] =
     [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1), (-2, 0), (2, 0), (0, -2), (0, 2)];
 
 /// One coordinate of every grid point, split by column parity: point (i, j)
-/// is `parts[i % 2][j·half + i / 2]`. Points of one colour along a row then
-/// sit next to each other, and so do each of their neighbours, so a sweep
-/// over them reads and writes whole vectors.
+/// is at `slot(i, j)` = `(i % 2)·len + j·half + i / 2`. Points of one colour
+/// along a row then sit next to each other, and so do each of their
+/// neighbours, so a sweep over them reads and writes whole vectors.
 struct Split {
     half: usize,
-    parts: [Vec<f64>; 2],
+    /// Length of one parity's part.
+    len: usize,
+    data: Vec<f64>,
 }
 
 impl Split {
@@ -258,33 +260,41 @@ impl Split {
         let half = cols.div_ceil(2);
         // Padding so that the last chunk of a run may read a few lanes past the grid.
         let len = half * rows + LANES;
-        Split { half, parts: [vec![0.0; len], vec![0.0; len]] }
+        Split { half, len, data: vec![0.0; 2 * len] }
     }
 
-    fn slot(&self, i: usize, j: usize) -> (usize, usize) {
-        (i % 2, j * self.half + i / 2)
+    fn slot(&self, i: usize, j: usize) -> usize {
+        (i % 2) * self.len + j * self.half + i / 2
     }
 
     fn get(&self, i: usize, j: usize) -> f64 {
-        let (part, at) = self.slot(i, j);
-        self.parts[part][at]
+        self.data[self.slot(i, j)]
     }
 
     fn get_mut(&mut self, i: usize, j: usize) -> &mut f64 {
-        let (part, at) = self.slot(i, j);
-        &mut self.parts[part][at]
+        let at = self.slot(i, j);
+        &mut self.data[at]
     }
 
     /// `len` consecutive same-parity points from (i, j) on.
     fn run(&self, i: usize, j: usize, len: usize) -> &[f64] {
-        let (part, at) = self.slot(i, j);
-        &self.parts[part][at..at + len]
+        let at = self.slot(i, j);
+        &self.data[at..at + len]
     }
 
     fn run_mut(&mut self, i: usize, j: usize, len: usize) -> &mut [f64] {
-        let (part, at) = self.slot(i, j);
-        &mut self.parts[part][at..at + len]
+        let at = self.slot(i, j);
+        &mut self.data[at..at + len]
     }
+}
+
+/// Where a point near an edge and its neighbours sit in a [`Split`], found
+/// once: an absent neighbour is the point itself, masked out by `present`.
+#[derive(Clone, Copy)]
+struct BorderSlots {
+    centre: u32,
+    around: [u32; NEIGHBOURS],
+    present: [bool; NEIGHBOURS],
 }
 
 /// `len` interior free points of one colour: (i, j), (i + 2, j), …
@@ -306,6 +316,7 @@ struct Sweeper {
     velocity: [Split; 3],
     runs: [Vec<Run>; 4],
     border: [Vec<(usize, usize)>; 4],
+    border_slots: [Vec<BorderSlots>; 4],
     steps: [Vec<f64>; 3],
 }
 
@@ -353,6 +364,25 @@ impl Sweeper {
         }
         let most = (0..4).map(|c| runs[c].iter().map(|r| r.len).sum::<usize>() + border[c].len()).max().unwrap_or(0);
         let split = || [Split::new(cols, rows), Split::new(cols, rows), Split::new(cols, rows)];
+        let layout = Split { half: cols.div_ceil(2), len: cols.div_ceil(2) * rows + LANES, data: Vec::new() };
+        let border_slots = border.each_ref().map(|points| {
+            let slots = points.iter().map(|&(i, j)| {
+                let mut slots = BorderSlots {
+                    centre: layout.slot(i, j) as u32,
+                    around: [0; NEIGHBOURS],
+                    present: [false; NEIGHBOURS],
+                };
+                for (n, &(di, dj)) in STEPS.iter().enumerate() {
+                    let (ni, nj) = (i.wrapping_add_signed(di), j.wrapping_add_signed(dj));
+                    let inside = ni < cols && nj < rows;
+                    let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
+                    slots.around[n] = layout.slot(qi, qj) as u32;
+                    slots.present[n] = inside;
+                }
+                slots
+            });
+            slots.collect::<Vec<_>>()
+        });
         Sweeper {
             cols,
             rows,
@@ -362,6 +392,7 @@ impl Sweeper {
             velocity: split(),
             runs,
             border,
+            border_slots,
             steps: [Vec::with_capacity(most), Vec::with_capacity(most), Vec::with_capacity(most)],
         }
     }
@@ -441,7 +472,7 @@ impl Sweeper {
                         interior_steps::<false>(&self.position, run, &self.bounds, gravity, &mut self.steps);
                     }
                 }
-                for chunk in self.border[colour].chunks(LANES) {
+                for chunk in self.border_slots[colour].chunks(LANES) {
                     let step = self.border_steps(chunk, gravity);
                     for (steps, lanes) in self.steps.iter_mut().zip(step) {
                         steps.extend_from_slice(&lanes[..chunk.len()]);
@@ -468,23 +499,20 @@ impl Sweeper {
     /// Steps of up to four points near an edge, side by side: absent neighbours
     /// are the point itself, masked out; spare lanes repeat the last point.
     #[inline(always)]
-    fn border_steps(&self, points: &[(usize, usize)], gravity: f64) -> [Lanes; 3] {
+    fn border_steps(&self, points: &[BorderSlots], gravity: f64) -> [Lanes; 3] {
         let mut p = [[0.0; LANES]; 3];
         let mut q = [[[0.0; LANES]; 3]; NEIGHBOURS];
         let mut present = [[0.0; LANES]; NEIGHBOURS];
         for lane in 0..LANES {
-            let (i, j) = points[lane.min(points.len() - 1)];
+            let slots = &points[lane.min(points.len() - 1)];
             for (p, axis) in p.iter_mut().zip(&self.position) {
-                p[lane] = axis.get(i, j);
+                p[lane] = axis.data[slots.centre as usize];
             }
             for n in 0..NEIGHBOURS {
-                let (ni, nj) = (i.wrapping_add_signed(STEPS[n].0), j.wrapping_add_signed(STEPS[n].1));
-                let inside = ni < self.cols && nj < self.rows;
-                let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
                 for (q, axis) in q[n].iter_mut().zip(&self.position) {
-                    q[lane] = axis.get(qi, qj);
+                    q[lane] = axis.data[slots.around[n] as usize];
                 }
-                present[n][lane] = if inside { 1.0 } else { 0.0 };
+                present[n][lane] = if slots.present[n] { 1.0 } else { 0.0 };
             }
         }
         if self.bends {
