@@ -541,24 +541,56 @@ fn apply(
 ) -> f64 {
     let len = run.len;
     let [sx, sy, sz] = steps.each_ref().map(|s| &s[first..first + len]);
-    let mut max_step2 = 0.0f64;
     let [px, py, pz] = position;
     let [vx, vy, vz] = velocity;
     let (px, py, pz) = (px.run_mut(run.i, run.j, len), py.run_mut(run.i, run.j, len), pz.run_mut(run.i, run.j, len));
     let (vx, vy, vz) = (vx.run_mut(run.i, run.j, len), vy.run_mut(run.i, run.j, len), vz.run_mut(run.i, run.j, len));
-    for t in 0..len {
-        let finite = sx[t].is_finite() && sy[t].is_finite() && sz[t].is_finite();
-        let (dx, dy, dz) = if finite { (sx[t], sy[t], sz[t]) } else { (0.0, 0.0, 0.0) };
-        px[t] += dx;
-        py[t] += dy;
-        pz[t] += dz;
-        let v = (vx[t] * MOMENTUM + dx, vy[t] * MOMENTUM + dy, vz[t] * MOMENTUM + dz);
-        let keep = v.0 * v.0 + v.1 * v.1 + v.2 * v.2 <= max_speed2;
-        (vx[t], vy[t], vz[t]) = if keep { v } else { (0.0, 0.0, 0.0) };
-        let step2 = dx * dx + dy * dy + dz * dz;
-        max_step2 = if step2 > max_step2 { step2 } else { max_step2 };
+    // Four points at a time, with a running maximum per lane, so that the loop
+    // vectorises; the steps are finite and non-negative, so the maximum does
+    // not depend on the order.
+    let mut lane_max = [0.0f64; LANES];
+    let mut t = 0;
+    while t + LANES <= len {
+        let d = |s: &[f64]| -> Lanes { *<&Lanes>::try_from(&s[t..t + LANES]).expect("four lanes") };
+        let (dx, dy, dz) = (d(sx), d(sy), d(sz));
+        for lane in 0..LANES {
+            let step2 = move_point(
+                [&mut px[t + lane], &mut py[t + lane], &mut pz[t + lane]],
+                [&mut vx[t + lane], &mut vy[t + lane], &mut vz[t + lane]],
+                [dx[lane], dy[lane], dz[lane]],
+                max_speed2,
+            );
+            lane_max[lane] = if step2 > lane_max[lane] { step2 } else { lane_max[lane] };
+        }
+        t += LANES;
     }
-    max_step2
+    while t < len {
+        let step2 = move_point(
+            [&mut px[t], &mut py[t], &mut pz[t]],
+            [&mut vx[t], &mut vy[t], &mut vz[t]],
+            [sx[t], sy[t], sz[t]],
+            max_speed2,
+        );
+        lane_max[0] = if step2 > lane_max[0] { step2 } else { lane_max[0] };
+        t += 1;
+    }
+    lane_max.into_iter().fold(0.0, f64::max)
+}
+
+/// [`apply`] for one point; returns its squared step (0 if not finite).
+#[inline(always)]
+fn move_point(p: [&mut f64; 3], v: [&mut f64; 3], step: [f64; 3], max_speed2: f64) -> f64 {
+    let finite = step[0].is_finite() && step[1].is_finite() && step[2].is_finite();
+    let [dx, dy, dz] = if finite { step } else { [0.0; 3] };
+    let [px, py, pz] = p;
+    *px += dx;
+    *py += dy;
+    *pz += dz;
+    let [vx, vy, vz] = v;
+    let w = (*vx * MOMENTUM + dx, *vy * MOMENTUM + dy, *vz * MOMENTUM + dz);
+    let keep = w.0 * w.0 + w.1 * w.1 + w.2 * w.2 <= max_speed2;
+    (*vx, *vy, *vz) = if keep { w } else { (0.0, 0.0, 0.0) };
+    dx * dx + dy * dy + dz * dz
 }
 
 /// Carries the points of `run` on by their momentum before a sweep.
