@@ -315,7 +315,6 @@ struct Sweeper {
     position: [Split; 3],
     velocity: [Split; 3],
     runs: [Vec<Run>; 4],
-    border: [Vec<(usize, usize)>; 4],
     border_slots: [Vec<BorderSlots>; 4],
     steps: [Vec<f64>; 3],
 }
@@ -391,7 +390,6 @@ impl Sweeper {
             position: split(),
             velocity: split(),
             runs,
-            border,
             border_slots,
             steps: [Vec::with_capacity(most), Vec::with_capacity(most), Vec::with_capacity(most)],
         }
@@ -453,9 +451,14 @@ impl Sweeper {
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
             for colour in 0..4 {
-                let singles = self.border[colour].iter().map(|&(i, j)| Run { i, j, len: 1 });
-                for run in self.runs[colour].iter().copied().chain(singles) {
-                    coast(&mut self.position, &self.velocity, &run);
+                for run in &self.runs[colour] {
+                    coast(&mut self.position, &self.velocity, run);
+                }
+                for slots in &self.border_slots[colour] {
+                    let at = slots.centre as usize;
+                    for (p, v) in self.position.iter_mut().zip(&self.velocity) {
+                        p.data[at] += v.data[at] * MOMENTUM;
+                    }
                 }
             }
             let mut max_step2 = 0.0f64;
@@ -478,12 +481,25 @@ impl Sweeper {
                         steps.extend_from_slice(&lanes[..chunk.len()]);
                     }
                 }
-                let singles = self.border[colour].iter().map(|&(i, j)| Run { i, j, len: 1 });
                 let mut done = 0;
-                for run in self.runs[colour].iter().copied().chain(singles) {
-                    let step2 = apply(&mut self.position, &mut self.velocity, &run, &self.steps, done, max_speed2);
+                for run in &self.runs[colour] {
+                    let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
                     max_step2 = max_step2.max(step2);
                     done += run.len;
+                }
+                // Points near an edge one by one, straight from their slots.
+                let [px, py, pz] = &mut self.position;
+                let [vx, vy, vz] = &mut self.velocity;
+                let [sx, sy, sz] = &self.steps;
+                for (k, slots) in self.border_slots[colour].iter().enumerate() {
+                    let (at, t) = (slots.centre as usize, done + k);
+                    let step2 = move_point(
+                        [&mut px.data[at], &mut py.data[at], &mut pz.data[at]],
+                        [&mut vx.data[at], &mut vy.data[at], &mut vz.data[at]],
+                        [sx[t], sy[t], sz[t]],
+                        max_speed2,
+                    );
+                    max_step2 = max_step2.max(step2);
                 }
             }
             report.iterations = iteration + 1;
