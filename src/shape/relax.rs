@@ -53,7 +53,11 @@ pub struct RelaxParams {
     pub stiffness: f64,
     /// Sweep cap per grid level.
     pub max_iterations: u32,
-    /// Relative to the smaller rest spacing.
+    /// Convergence threshold, relative to the smaller rest spacing of each
+    /// level: a level stops after the first sweep in which no point's
+    /// constraints asked it to move further than `tolerance` × that spacing
+    /// (momentum not counted). 0 never stops early; the coarsest level's
+    /// settling sweeps never stop early.
     pub tolerance: f64,
 }
 
