@@ -465,7 +465,8 @@ impl Sweeper {
                     }
                 }
             }
-            let mut max_step2 = 0.0f64;
+            // Largest squared step of an interior point and of a point near an edge.
+            let (mut max_step2, mut max_edge2) = (0.0f64, 0.0f64);
             for colour in 0..4 {
                 // Every point of a colour moves from the same positions: its neighbours
                 // are of other colours, or mirror images of each other.
@@ -503,17 +504,52 @@ impl Sweeper {
                         [sx[t], sy[t], sz[t]],
                         max_speed2,
                     );
-                    max_step2 = max_step2.max(step2);
+                    max_edge2 = max_edge2.max(step2);
                 }
             }
             report.iterations = iteration + 1;
-            report.last_move = max_step2.sqrt() / min_rest;
+            report.last_move = max_step2.max(max_edge2).sqrt() / min_rest;
             if !settling && report.last_move < params.tolerance {
                 report.converged = true;
                 break;
             }
+            // Only with an interior to compare against: on a grid that is all edge
+            // (a lone cell) the extra sweeps would just fight the momentum.
+            let has_interior = self.runs.iter().any(|runs| !runs.is_empty());
+            if !settling && has_interior && max_edge2 > max_step2 {
+                self.edge_sweep();
+            }
         }
         report
+    }
+
+    /// One extra sweep over the points near an edge, without momentum (their
+    /// velocity is left as it is). Where the largest move is at an edge, the
+    /// free edge settles more slowly than the interior (fewer neighbours pull
+    /// on it), and the whole grid would keep sweeping for it: on 256² the
+    /// finest level ran into its 200-sweep cap without this and now converges
+    /// in 86 sweeps. Its moves do not count towards convergence; the next full
+    /// sweep's do.
+    fn edge_sweep(&mut self) {
+        for colour in 0..4 {
+            for s in &mut self.steps {
+                s.clear();
+            }
+            for chunk in self.border_slots[colour].chunks(LANES) {
+                let step = self.border_steps(chunk, 0.0);
+                for (steps, lanes) in self.steps.iter_mut().zip(step) {
+                    steps.extend_from_slice(&lanes[..chunk.len()]);
+                }
+            }
+            for (k, slots) in self.border_slots[colour].iter().enumerate() {
+                let step = [self.steps[0][k], self.steps[1][k], self.steps[2][k]];
+                if step.iter().all(|d| d.is_finite()) {
+                    for (axis, d) in self.position.iter_mut().zip(step) {
+                        axis.data[slots.centre as usize] += d;
+                    }
+                }
+            }
+        }
     }
 
     /// Steps of up to four points near an edge, side by side: absent neighbours
