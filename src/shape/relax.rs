@@ -33,6 +33,10 @@
 //! starts from its interpolation; the coarsest level also settles the cloth
 //! under a fading downward pull so slack hangs.
 //!
+//! Free edges settle more slowly than the interior (fewer neighbours pull on
+//! them): after a sweep whose largest move was near an edge, one more sweep
+//! over just the points near the edges, without momentum, follows.
+//!
 //! Convergence: a level stops after `max_iterations` sweeps, or once no
 //! constraint asks any point to move by more than `tolerance` × the smaller
 //! rest spacing in a sweep. The carried momentum is not counted, so a slow
