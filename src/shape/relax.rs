@@ -33,6 +33,10 @@
 //! starts from its interpolation; the coarsest level also settles the cloth
 //! under a fading downward pull so slack hangs.
 //!
+//! Free edges settle more slowly than the interior (fewer neighbours pull on
+//! them): after a sweep whose largest move was near an edge, one more sweep
+//! over just the points near the edges, without momentum, follows.
+//!
 //! Convergence: a level stops after `max_iterations` sweeps, or once no
 //! constraint asks any point to move by more than `tolerance` × the smaller
 //! rest spacing in a sweep. The carried momentum is not counted, so a slow
@@ -53,7 +57,11 @@ pub struct RelaxParams {
     pub stiffness: f64,
     /// Sweep cap per grid level.
     pub max_iterations: u32,
-    /// Relative to the smaller rest spacing.
+    /// Convergence threshold, relative to the smaller rest spacing of each
+    /// level: a level stops after the first sweep in which no point's
+    /// constraints asked it to move further than `tolerance` × that spacing
+    /// (momentum not counted). 0 never stops early; the coarsest level's
+    /// settling sweeps never stop early.
     pub tolerance: f64,
 }
 
@@ -245,12 +253,14 @@ const STEPS: [(isize, isize); NEIGHBOURS] =
     [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, -1), (-1, 1), (1, 1), (-2, 0), (2, 0), (0, -2), (0, 2)];
 
 /// One coordinate of every grid point, split by column parity: point (i, j)
-/// is `parts[i % 2][j·half + i / 2]`. Points of one colour along a row then
-/// sit next to each other, and so do each of their neighbours, so a sweep
-/// over them reads and writes whole vectors.
+/// is at `slot(i, j)` = `(i % 2)·len + j·half + i / 2`. Points of one colour
+/// along a row then sit next to each other, and so do each of their
+/// neighbours, so a sweep over them reads and writes whole vectors.
 struct Split {
     half: usize,
-    parts: [Vec<f64>; 2],
+    /// Length of one parity's part.
+    len: usize,
+    data: Vec<f64>,
 }
 
 impl Split {
@@ -258,33 +268,41 @@ impl Split {
         let half = cols.div_ceil(2);
         // Padding so that the last chunk of a run may read a few lanes past the grid.
         let len = half * rows + LANES;
-        Split { half, parts: [vec![0.0; len], vec![0.0; len]] }
+        Split { half, len, data: vec![0.0; 2 * len] }
     }
 
-    fn slot(&self, i: usize, j: usize) -> (usize, usize) {
-        (i % 2, j * self.half + i / 2)
+    fn slot(&self, i: usize, j: usize) -> usize {
+        (i % 2) * self.len + j * self.half + i / 2
     }
 
     fn get(&self, i: usize, j: usize) -> f64 {
-        let (part, at) = self.slot(i, j);
-        self.parts[part][at]
+        self.data[self.slot(i, j)]
     }
 
     fn get_mut(&mut self, i: usize, j: usize) -> &mut f64 {
-        let (part, at) = self.slot(i, j);
-        &mut self.parts[part][at]
+        let at = self.slot(i, j);
+        &mut self.data[at]
     }
 
     /// `len` consecutive same-parity points from (i, j) on.
     fn run(&self, i: usize, j: usize, len: usize) -> &[f64] {
-        let (part, at) = self.slot(i, j);
-        &self.parts[part][at..at + len]
+        let at = self.slot(i, j);
+        &self.data[at..at + len]
     }
 
     fn run_mut(&mut self, i: usize, j: usize, len: usize) -> &mut [f64] {
-        let (part, at) = self.slot(i, j);
-        &mut self.parts[part][at..at + len]
+        let at = self.slot(i, j);
+        &mut self.data[at..at + len]
     }
+}
+
+/// Where a point near an edge and its neighbours sit in a [`Split`], found
+/// once: an absent neighbour is the point itself, masked out by `present`.
+#[derive(Clone, Copy)]
+struct BorderSlots {
+    centre: u32,
+    around: [u32; NEIGHBOURS],
+    present: [bool; NEIGHBOURS],
 }
 
 /// `len` interior free points of one colour: (i, j), (i + 2, j), …
@@ -305,7 +323,7 @@ struct Sweeper {
     position: [Split; 3],
     velocity: [Split; 3],
     runs: [Vec<Run>; 4],
-    border: [Vec<(usize, usize)>; 4],
+    border_slots: [Vec<BorderSlots>; 4],
     steps: [Vec<f64>; 3],
 }
 
@@ -353,6 +371,25 @@ impl Sweeper {
         }
         let most = (0..4).map(|c| runs[c].iter().map(|r| r.len).sum::<usize>() + border[c].len()).max().unwrap_or(0);
         let split = || [Split::new(cols, rows), Split::new(cols, rows), Split::new(cols, rows)];
+        let layout = Split { half: cols.div_ceil(2), len: cols.div_ceil(2) * rows + LANES, data: Vec::new() };
+        let border_slots = border.each_ref().map(|points| {
+            let slots = points.iter().map(|&(i, j)| {
+                let mut slots = BorderSlots {
+                    centre: layout.slot(i, j) as u32,
+                    around: [0; NEIGHBOURS],
+                    present: [false; NEIGHBOURS],
+                };
+                for (n, &(di, dj)) in STEPS.iter().enumerate() {
+                    let (ni, nj) = (i.wrapping_add_signed(di), j.wrapping_add_signed(dj));
+                    let inside = ni < cols && nj < rows;
+                    let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
+                    slots.around[n] = layout.slot(qi, qj) as u32;
+                    slots.present[n] = inside;
+                }
+                slots
+            });
+            slots.collect::<Vec<_>>()
+        });
         Sweeper {
             cols,
             rows,
@@ -361,7 +398,7 @@ impl Sweeper {
             position: split(),
             velocity: split(),
             runs,
-            border,
+            border_slots,
             steps: [Vec::with_capacity(most), Vec::with_capacity(most), Vec::with_capacity(most)],
         }
     }
@@ -422,12 +459,18 @@ impl Sweeper {
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
             for colour in 0..4 {
-                let singles = self.border[colour].iter().map(|&(i, j)| Run { i, j, len: 1 });
-                for run in self.runs[colour].iter().copied().chain(singles) {
-                    coast(&mut self.position, &self.velocity, &run);
+                for run in &self.runs[colour] {
+                    coast(&mut self.position, &self.velocity, run);
+                }
+                for slots in &self.border_slots[colour] {
+                    let at = slots.centre as usize;
+                    for (p, v) in self.position.iter_mut().zip(&self.velocity) {
+                        p.data[at] += v.data[at] * MOMENTUM;
+                    }
                 }
             }
-            let mut max_step2 = 0.0f64;
+            // Largest squared step of an interior point and of a point near an edge.
+            let (mut max_step2, mut max_edge2) = (0.0f64, 0.0f64);
             for colour in 0..4 {
                 // Every point of a colour moves from the same positions: its neighbours
                 // are of other colours, or mirror images of each other.
@@ -441,50 +484,95 @@ impl Sweeper {
                         interior_steps::<false>(&self.position, run, &self.bounds, gravity, &mut self.steps);
                     }
                 }
-                for chunk in self.border[colour].chunks(LANES) {
+                for chunk in self.border_slots[colour].chunks(LANES) {
                     let step = self.border_steps(chunk, gravity);
                     for (steps, lanes) in self.steps.iter_mut().zip(step) {
                         steps.extend_from_slice(&lanes[..chunk.len()]);
                     }
                 }
-                let singles = self.border[colour].iter().map(|&(i, j)| Run { i, j, len: 1 });
                 let mut done = 0;
-                for run in self.runs[colour].iter().copied().chain(singles) {
-                    let step2 = apply(&mut self.position, &mut self.velocity, &run, &self.steps, done, max_speed2);
+                for run in &self.runs[colour] {
+                    let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
                     max_step2 = max_step2.max(step2);
                     done += run.len;
                 }
+                // Points near an edge one by one, straight from their slots.
+                let [px, py, pz] = &mut self.position;
+                let [vx, vy, vz] = &mut self.velocity;
+                let [sx, sy, sz] = &self.steps;
+                for (k, slots) in self.border_slots[colour].iter().enumerate() {
+                    let (at, t) = (slots.centre as usize, done + k);
+                    let step2 = move_point(
+                        [&mut px.data[at], &mut py.data[at], &mut pz.data[at]],
+                        [&mut vx.data[at], &mut vy.data[at], &mut vz.data[at]],
+                        [sx[t], sy[t], sz[t]],
+                        max_speed2,
+                    );
+                    max_edge2 = max_edge2.max(step2);
+                }
             }
             report.iterations = iteration + 1;
-            report.last_move = max_step2.sqrt() / min_rest;
+            report.last_move = max_step2.max(max_edge2).sqrt() / min_rest;
             if !settling && report.last_move < params.tolerance {
                 report.converged = true;
                 break;
+            }
+            // Only with an interior to compare against: on a grid that is all edge
+            // (a lone cell) the extra sweeps would just fight the momentum.
+            let has_interior = self.runs.iter().any(|runs| !runs.is_empty());
+            if !settling && has_interior && max_edge2 > max_step2 {
+                self.edge_sweep();
             }
         }
         report
     }
 
+    /// One extra sweep over the points near an edge, without momentum (their
+    /// velocity is left as it is). Where the largest move is at an edge, the
+    /// free edge settles more slowly than the interior (fewer neighbours pull
+    /// on it), and the whole grid would keep sweeping for it: on 256² the
+    /// finest level ran into its 200-sweep cap without this and now converges
+    /// in 86 sweeps. Its moves do not count towards convergence; the next full
+    /// sweep's do.
+    fn edge_sweep(&mut self) {
+        for colour in 0..4 {
+            for s in &mut self.steps {
+                s.clear();
+            }
+            for chunk in self.border_slots[colour].chunks(LANES) {
+                let step = self.border_steps(chunk, 0.0);
+                for (steps, lanes) in self.steps.iter_mut().zip(step) {
+                    steps.extend_from_slice(&lanes[..chunk.len()]);
+                }
+            }
+            for (k, slots) in self.border_slots[colour].iter().enumerate() {
+                let step = [self.steps[0][k], self.steps[1][k], self.steps[2][k]];
+                if step.iter().all(|d| d.is_finite()) {
+                    for (axis, d) in self.position.iter_mut().zip(step) {
+                        axis.data[slots.centre as usize] += d;
+                    }
+                }
+            }
+        }
+    }
+
     /// Steps of up to four points near an edge, side by side: absent neighbours
     /// are the point itself, masked out; spare lanes repeat the last point.
     #[inline(always)]
-    fn border_steps(&self, points: &[(usize, usize)], gravity: f64) -> [Lanes; 3] {
+    fn border_steps(&self, points: &[BorderSlots], gravity: f64) -> [Lanes; 3] {
         let mut p = [[0.0; LANES]; 3];
         let mut q = [[[0.0; LANES]; 3]; NEIGHBOURS];
         let mut present = [[0.0; LANES]; NEIGHBOURS];
         for lane in 0..LANES {
-            let (i, j) = points[lane.min(points.len() - 1)];
+            let slots = &points[lane.min(points.len() - 1)];
             for (p, axis) in p.iter_mut().zip(&self.position) {
-                p[lane] = axis.get(i, j);
+                p[lane] = axis.data[slots.centre as usize];
             }
             for n in 0..NEIGHBOURS {
-                let (ni, nj) = (i.wrapping_add_signed(STEPS[n].0), j.wrapping_add_signed(STEPS[n].1));
-                let inside = ni < self.cols && nj < self.rows;
-                let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
                 for (q, axis) in q[n].iter_mut().zip(&self.position) {
-                    q[lane] = axis.get(qi, qj);
+                    q[lane] = axis.data[slots.around[n] as usize];
                 }
-                present[n][lane] = if inside { 1.0 } else { 0.0 };
+                present[n][lane] = if slots.present[n] { 1.0 } else { 0.0 };
             }
         }
         if self.bends {
@@ -513,24 +601,56 @@ fn apply(
 ) -> f64 {
     let len = run.len;
     let [sx, sy, sz] = steps.each_ref().map(|s| &s[first..first + len]);
-    let mut max_step2 = 0.0f64;
     let [px, py, pz] = position;
     let [vx, vy, vz] = velocity;
     let (px, py, pz) = (px.run_mut(run.i, run.j, len), py.run_mut(run.i, run.j, len), pz.run_mut(run.i, run.j, len));
     let (vx, vy, vz) = (vx.run_mut(run.i, run.j, len), vy.run_mut(run.i, run.j, len), vz.run_mut(run.i, run.j, len));
-    for t in 0..len {
-        let finite = sx[t].is_finite() && sy[t].is_finite() && sz[t].is_finite();
-        let (dx, dy, dz) = if finite { (sx[t], sy[t], sz[t]) } else { (0.0, 0.0, 0.0) };
-        px[t] += dx;
-        py[t] += dy;
-        pz[t] += dz;
-        let v = (vx[t] * MOMENTUM + dx, vy[t] * MOMENTUM + dy, vz[t] * MOMENTUM + dz);
-        let keep = v.0 * v.0 + v.1 * v.1 + v.2 * v.2 <= max_speed2;
-        (vx[t], vy[t], vz[t]) = if keep { v } else { (0.0, 0.0, 0.0) };
-        let step2 = dx * dx + dy * dy + dz * dz;
-        max_step2 = if step2 > max_step2 { step2 } else { max_step2 };
+    // Four points at a time, with a running maximum per lane, so that the loop
+    // vectorises; the steps are finite and non-negative, so the maximum does
+    // not depend on the order.
+    let mut lane_max = [0.0f64; LANES];
+    let mut t = 0;
+    while t + LANES <= len {
+        let d = |s: &[f64]| -> Lanes { *<&Lanes>::try_from(&s[t..t + LANES]).expect("four lanes") };
+        let (dx, dy, dz) = (d(sx), d(sy), d(sz));
+        for lane in 0..LANES {
+            let step2 = move_point(
+                [&mut px[t + lane], &mut py[t + lane], &mut pz[t + lane]],
+                [&mut vx[t + lane], &mut vy[t + lane], &mut vz[t + lane]],
+                [dx[lane], dy[lane], dz[lane]],
+                max_speed2,
+            );
+            lane_max[lane] = if step2 > lane_max[lane] { step2 } else { lane_max[lane] };
+        }
+        t += LANES;
     }
-    max_step2
+    while t < len {
+        let step2 = move_point(
+            [&mut px[t], &mut py[t], &mut pz[t]],
+            [&mut vx[t], &mut vy[t], &mut vz[t]],
+            [sx[t], sy[t], sz[t]],
+            max_speed2,
+        );
+        lane_max[0] = if step2 > lane_max[0] { step2 } else { lane_max[0] };
+        t += 1;
+    }
+    lane_max.into_iter().fold(0.0, f64::max)
+}
+
+/// [`apply`] for one point; returns its squared step (0 if not finite).
+#[inline(always)]
+fn move_point(p: [&mut f64; 3], v: [&mut f64; 3], step: [f64; 3], max_speed2: f64) -> f64 {
+    let finite = step[0].is_finite() && step[1].is_finite() && step[2].is_finite();
+    let [dx, dy, dz] = if finite { step } else { [0.0; 3] };
+    let [px, py, pz] = p;
+    *px += dx;
+    *py += dy;
+    *pz += dz;
+    let [vx, vy, vz] = v;
+    let w = (*vx * MOMENTUM + dx, *vy * MOMENTUM + dy, *vz * MOMENTUM + dz);
+    let keep = w.0 * w.0 + w.1 * w.1 + w.2 * w.2 <= max_speed2;
+    (*vx, *vy, *vz) = if keep { w } else { (0.0, 0.0, 0.0) };
+    dx * dx + dy * dy + dz * dz
 }
 
 /// Carries the points of `run` on by their momentum before a sweep.
