@@ -25,6 +25,7 @@
 
 pub mod animate;
 pub mod atomic_file;
+pub mod editor;
 pub mod export;
 pub mod mesh;
 pub mod render;

@@ -30,10 +30,12 @@ mod render_command;
 
 #[derive(Parser)]
 #[command(name = "drape", version, about = "Cloth animation with fake dynamics: pins, catenaries, relaxation.")]
-#[command(arg_required_else_help = true)]
+#[command(args_conflicts_with_subcommands = true)]
 struct Cli {
+    /// Open this scene in the editor (default: the built-in magic carpet).
+    scene: Option<PathBuf>,
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand)]
@@ -134,7 +136,16 @@ fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
 fn main() -> ExitCode {
     quiet_wayland_probe();
     let cli = Cli::parse();
-    let result = match cli.command {
+    let Some(command) = cli.command else {
+        return match open_editor(cli.scene) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(error) => {
+                eprintln!("error: {error}");
+                ExitCode::FAILURE
+            }
+        };
+    };
+    let result = match command {
         Command::Check { scene } => check(&scene),
         Command::Export { scene, output, frame, frames, format, stage, no_layers } => {
             let request = ExportRequest { frame, frames, format, stage, layers: !no_layers };
@@ -154,6 +165,14 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn open_editor(path: Option<PathBuf>) -> Result<()> {
+    let scene = match &path {
+        Some(path) => scene::load(path)?,
+        None => scene::parse(drape::editor::DEFAULT_SCENE, "magic_carpet.ron")?,
+    };
+    drape::editor::run(scene, path).map_err(|e| anyhow!("the editor window could not run: {e}"))
 }
 
 /// Mesa's Vulkan driver probes for a Wayland display when the device opens,

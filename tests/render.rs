@@ -252,7 +252,13 @@ fn every_shader_passes_naga_validation() {
             .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
         validated.push(name.to_string());
     }
-    // Every file in shaders/ is compiled (frame.wgsl as the prefix of all of them).
+    let compose = drape::render::compose::COMPOSE_SHADER;
+    let module = naga::front::wgsl::parse_str(compose).unwrap_or_else(|e| panic!("{}", e.emit_to_string(compose)));
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("compose.wgsl: {}", e.emit_to_string(compose)));
+    validated.push("compose.wgsl".to_string());
+    // Every file in shaders/ is compiled (frame.wgsl as the prefix of all the others).
     for entry in std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders")).unwrap() {
         let file = entry.unwrap().file_name().to_string_lossy().to_string();
         assert!(file == "frame.wgsl" || validated.contains(&file), "shaders/{file} is not in SHADER_SOURCES");

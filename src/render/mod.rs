@@ -6,9 +6,11 @@
 //! - [`renderer`]: pipelines and buffers; draws a mesh, ghosts and overlays into a target;
 //! - [`target`]: the 4× MSAA offscreen target with depth, resolved to sRGB;
 //! - [`overlay`]: pins, catenary network and triangulation as drawable items;
-//! - [`headless`]: one call from a mesh or a scene frame to an image.
+//! - [`headless`]: one call from a mesh or a scene frame to an image;
+//! - [`compose`]: copies a finished picture into another render pass (the editor's window).
 
 pub mod camera;
+pub mod compose;
 pub mod context;
 pub mod gpu_mesh;
 pub mod headless;

@@ -1,0 +1,7 @@
+//! The desktop editor (eframe: egui on winit with egui-wgpu). The only module
+//! that knows egui; it draws through [`crate::render`] like headless code does.
+
+pub mod app;
+pub mod viewport;
+
+pub use app::{DEFAULT_SCENE, DrapeApp, run};
