@@ -101,7 +101,8 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_entries(first_binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
+/// A filterable 2D texture at `first_binding` and its sampler at the next binding, for fragment shaders.
+pub(crate) fn texture_entries(first_binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
     [
         wgpu::BindGroupLayoutEntry {
             binding: first_binding,
