@@ -210,13 +210,9 @@ impl DrapeApp {
         ui.separator();
         ui.label(format!("Update {:.1} ms (CPU)", self.last_update_ms));
         let cloth = &self.scene.cloth;
-        ui.label(format!(
-            "{} × {} grid, {} keys, {} layers",
-            cloth.cols(),
-            cloth.rows(),
-            self.scene.keys.len(),
-            self.scene.layers.len()
-        ));
+        let plural = |n: usize, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
+        let (keys, layers) = (plural(self.scene.keys.len(), "key"), plural(self.scene.layers.len(), "layer"));
+        ui.label(format!("{} × {} grid, {keys}, {layers}", cloth.cols(), cloth.rows()));
     }
 
     fn timeline_panel(&mut self, ui: &mut egui::Ui) {
