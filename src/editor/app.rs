@@ -345,3 +345,34 @@ pub fn run(scene: Scene, path: Option<PathBuf>) -> eframe::Result {
         Box::new(move |cc| Ok(Box::new(DrapeApp::new(scene, path, cc.wgpu_render_state.as_ref())))),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::animate::evaluate;
+
+    fn app() -> DrapeApp {
+        let scene = crate::scene::parse(DEFAULT_SCENE, "magic_carpet.ron").unwrap();
+        DrapeApp::new(scene, None, None)
+    }
+
+    #[test]
+    fn the_mesh_at_the_playhead_is_evaluate_at_that_frame() {
+        let mut app = app();
+        for frame in [37.0, 5.0, 120.0, 37.0] {
+            app.set_frame(frame);
+            app.refresh_mesh();
+            let expected = evaluate(app.scene(), frame_time_secs(&app.scene().timeline, frame));
+            assert_eq!(*app.mesh(), expected, "frame {frame}");
+        }
+    }
+
+    #[test]
+    fn the_playhead_stays_on_the_timeline() {
+        let mut app = app();
+        app.set_frame(-50.0);
+        assert_eq!(app.frame(), 0.0);
+        app.set_frame(1e9);
+        assert_eq!(app.frame(), 120.0);
+    }
+}
