@@ -13,8 +13,8 @@ use super::viewport::{self, ViewportFrame};
 use crate::animate::{Evaluator, frame_time_secs};
 use crate::mesh::Mesh;
 use crate::render::camera::bounds;
-use crate::render::headless::scene_bounds;
-use crate::render::{Ground, OrbitCamera, Overlay, PinState, RenderOptions};
+use crate::render::headless::{SceneOverlays, key_overlay, scene_bounds};
+use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions};
 use crate::scene::{ClothTexture, Scene};
 
 /// The scene the editor opens with when none is given: the paper's magic carpet.
@@ -159,22 +159,13 @@ impl DrapeApp {
     }
 
     fn overlay(&mut self) -> Overlay {
-        let mut overlay = Overlay::default();
-        let key = self.scene.key_in_effect(self.frame).clone();
-        if self.toggles.catenaries || self.toggles.triangulation {
-            let shape = self.evaluator.key_shape(&self.scene.cloth, &key);
-            if self.toggles.triangulation {
-                overlay.add_triangulation(&self.mesh, &shape.rest.network);
-            }
-            if self.toggles.catenaries {
-                overlay.add_catenary_network(&shape.rest.network);
-            }
-        }
-        if self.toggles.pins {
-            let pins = key.pins.iter().map(|p| ((p.grid.0 as usize, p.grid.1 as usize), PinState::Normal));
-            overlay.add_pins(&self.mesh, pins);
-        }
-        overlay
+        let show = SceneOverlays {
+            wireframe: self.toggles.wireframe,
+            pins: self.toggles.pins,
+            catenaries: self.toggles.catenaries,
+            triangulation: self.toggles.triangulation,
+        };
+        key_overlay(&mut self.evaluator, &self.scene, self.frame, &self.mesh, show)
     }
 
     fn render_options(&self) -> RenderOptions {

@@ -156,21 +156,7 @@ impl SceneRenderer {
                 ground.center = glam::Vec2::new(center.x, center.z);
             }
         }
-        let mut overlay = Overlay::default();
-        let key = scene.key_in_effect(frame);
-        if self.overlays.catenaries || self.overlays.triangulation {
-            let shape = self.evaluator.key_shape(&scene.cloth, key);
-            if self.overlays.triangulation {
-                overlay.add_triangulation(&self.mesh, &shape.rest.network);
-            }
-            if self.overlays.catenaries {
-                overlay.add_catenary_network(&shape.rest.network);
-            }
-        }
-        if self.overlays.pins {
-            let pins = key.pins.iter().map(|p| ((p.grid.0 as usize, p.grid.1 as usize), PinState::Normal));
-            overlay.add_pins(&self.mesh, pins);
-        }
+        let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays);
         let input = FrameInput {
             mesh: &self.mesh,
             camera: &self.camera,
@@ -181,6 +167,27 @@ impl SceneRenderer {
         self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
         Ok(read_texture(&self.context.device, &self.context.queue, self.target.resolved())?)
     }
+}
+
+/// The overlays `show` asks for, for the key in effect at `frame`, drawn on `mesh`
+/// (the wireframe is a render option, not an overlay).
+pub fn key_overlay(evaluator: &mut Evaluator, scene: &Scene, frame: f64, mesh: &Mesh, show: SceneOverlays) -> Overlay {
+    let mut overlay = Overlay::default();
+    let key = scene.key_in_effect(frame);
+    if show.catenaries || show.triangulation {
+        let shape = evaluator.key_shape(&scene.cloth, key);
+        if show.triangulation {
+            overlay.add_triangulation(mesh, &shape.rest.network);
+        }
+        if show.catenaries {
+            overlay.add_catenary_network(&shape.rest.network);
+        }
+    }
+    if show.pins {
+        let pins = key.pins.iter().map(|p| ((p.grid.0 as usize, p.grid.1 as usize), PinState::Normal));
+        overlay.add_pins(mesh, pins);
+    }
+    overlay
 }
 
 /// The camera follows the cloth when its keys span more than this many times the largest key's own size.
