@@ -2,6 +2,7 @@
 //! evaluated, and editing one key rebuilds that key only.
 
 use std::collections::HashMap;
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 use glam::Vec3;
@@ -9,7 +10,7 @@ use glam::Vec3;
 use super::falloff::pin_distance_ratio;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
-use crate::shape::{Placement, RestShape};
+use crate::shape::{Cancelled, Placement, RelaxProgress, RestShape};
 
 /// What animation needs from one key, built once per distinct content.
 #[derive(Debug)]
@@ -29,7 +30,19 @@ pub struct KeyShape {
 impl KeyShape {
     /// Relaxes `key` on `cloth` (the scene must be valid) and derives the rest.
     pub fn build(cloth: &Cloth, key: &Key) -> KeyShape {
-        let rest = RestShape::build(cloth, key);
+        KeyShape::from_rest(cloth, key, RestShape::build(cloth, key))
+    }
+
+    /// [`KeyShape::build`] with relaxation progress and cancellation (see [`RestShape::build_with`]).
+    pub fn build_with(
+        cloth: &Cloth,
+        key: &Key,
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<KeyShape, Cancelled> {
+        Ok(KeyShape::from_rest(cloth, key, RestShape::build_with(cloth, key, control)?))
+    }
+
+    fn from_rest(cloth: &Cloth, key: &Key, rest: RestShape) -> KeyShape {
         let positions: Vec<Vec3> = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
         let points = PointArrays::from_vec3s(&positions);
         let ratio = pin_distance_ratio(cloth, &key.pins);
@@ -115,6 +128,18 @@ impl RestShapeCache {
         self.builds += 1;
         self.entries.insert(inputs, Entry { shape: shape.clone(), last_used: generation });
         shape
+    }
+
+    /// The cached shape of `key`, if there is one; never builds.
+    pub fn get(&self, cloth: &Cloth, key: &Key) -> Option<Arc<KeyShape>> {
+        self.entries.get(&ShapeInputs::of(cloth, key)).map(|entry| entry.shape.clone())
+    }
+
+    /// Stores a shape built elsewhere (the editor relaxes on a worker thread).
+    /// `shape` must be `KeyShape::build(cloth, key)`'s result for these inputs.
+    pub fn insert(&mut self, cloth: &Cloth, key: &Key, shape: Arc<KeyShape>) {
+        let entry = Entry { shape, last_used: self.generation };
+        self.entries.insert(ShapeInputs::of(cloth, key), entry);
     }
 
     /// How many shapes have been built (relaxations run) so far.

@@ -64,6 +64,11 @@ impl Evaluator {
         &self.cache
     }
 
+    /// The cache, to look up or store shapes built elsewhere (see [`RestShapeCache::insert`]).
+    pub fn cache_mut(&mut self) -> &mut RestShapeCache {
+        &mut self.cache
+    }
+
     /// The cached shape of one key (built if needed), for callers that show
     /// or export a single key's modelling stages.
     pub fn key_shape(&mut self, cloth: &Cloth, key: &Key) -> Arc<KeyShape> {

@@ -8,5 +8,5 @@ pub mod rest_shape;
 
 pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
 pub use catenary::Catenary;
-pub use relax::{RelaxParams, RelaxReport, refine, relax};
+pub use relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, relax, relax_with};
 pub use rest_shape::RestShape;

@@ -44,6 +44,8 @@
 //! keep a relaxed cloth sweeping until the cap. Pins never move. Output is
 //! bit-for-bit deterministic.
 
+use std::ops::ControlFlow;
+
 use glam::DVec3;
 
 /// What relaxation needs to know about the fabric.
@@ -64,6 +66,21 @@ pub struct RelaxParams {
     /// settling sweeps never stop early.
     pub tolerance: f64,
 }
+
+/// Where a running relaxation is, for a progress display.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelaxProgress {
+    /// The grid level being swept (coarse levels come first).
+    pub cols: usize,
+    pub rows: usize,
+    /// Sweeps done on this level so far.
+    pub iteration: u32,
+    pub max_iterations: u32,
+}
+
+/// A relaxation stopped from outside (a newer edit made it stale).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cancelled;
 
 /// How a relaxation ended (on the finest grid).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -109,13 +126,29 @@ const MIN_COARSENED_SIDE: usize = 9;
 /// input, which validation rejects); a zero-length edge asks for no move
 /// instead of producing a NaN.
 pub fn relax(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> RelaxReport {
+    relax_with(positions, cols, rows, pinned, params, &mut |_| ControlFlow::Continue(()))
+        .expect("a control that never breaks never cancels")
+}
+
+/// [`relax`] that calls `control` after every sweep of every level; when it
+/// breaks, relaxation stops at once and `positions` hold a partly relaxed
+/// shape (pins still exactly in place). The editor uses it to show progress
+/// and to drop a relaxation a newer edit has made stale.
+pub fn relax_with(
+    positions: &mut [DVec3],
+    cols: usize,
+    rows: usize,
+    pinned: &[bool],
+    params: &RelaxParams,
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<RelaxReport, Cancelled> {
     assert_eq!(positions.len(), cols * rows);
     assert_eq!(pinned.len(), cols * rows);
     if is_coarsened(cols, rows) {
-        solve_on_coarser_grid(positions, cols, rows, pinned, params);
-        Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::No)
+        solve_on_coarser_grid(positions, cols, rows, pinned, params, control)?;
+        Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::No, control)
     } else {
-        Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::Yes)
+        Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::Yes, control)
     }
 }
 
@@ -127,7 +160,9 @@ pub fn relax(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool],
 pub fn refine(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> RelaxReport {
     assert_eq!(positions.len(), cols * rows);
     assert_eq!(pinned.len(), cols * rows);
-    Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::No)
+    Sweeper::new(cols, rows, pinned, params)
+        .run(positions, params, Settle::No, &mut |_| ControlFlow::Continue(()))
+        .expect("a control that never breaks never cancels")
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -146,7 +181,14 @@ fn is_coarsened(cols: usize, rows: usize) -> bool {
 /// of fine sweeps cost a few cheap coarse ones; the fine sweeps only fix local
 /// detail. A coarse level that is not converged leaves more to the fine one,
 /// which costs four times as much per sweep.
-fn solve_on_coarser_grid(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) {
+fn solve_on_coarser_grid(
+    positions: &mut [DVec3],
+    cols: usize,
+    rows: usize,
+    pinned: &[bool],
+    params: &RelaxParams,
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<(), Cancelled> {
     let (coarse_cols, coarse_rows) = (cols.div_ceil(2), rows.div_ceil(2));
     let mut coarse = Vec::with_capacity(coarse_cols * coarse_rows);
     for l in 0..coarse_rows {
@@ -167,7 +209,7 @@ fn solve_on_coarser_grid(positions: &mut [DVec3], cols: usize, rows: usize, pinn
     let ratio_v = (rows - 1) as f64 / (coarse_rows - 1) as f64;
     let coarse_params =
         RelaxParams { rest_u_m: params.rest_u_m * ratio_u, rest_v_m: params.rest_v_m * ratio_v, ..*params };
-    relax(&mut coarse, coarse_cols, coarse_rows, &coarse_pinned, &coarse_params);
+    relax_with(&mut coarse, coarse_cols, coarse_rows, &coarse_pinned, &coarse_params, control)?;
     for j in 0..rows {
         for i in 0..cols {
             let f = j * cols + i;
@@ -179,6 +221,7 @@ fn solve_on_coarser_grid(positions: &mut [DVec3], cols: usize, rows: usize, pinn
             }
         }
     }
+    Ok(())
 }
 
 /// Index on a side of `to` points nearest to index `at` on a side of `from`
@@ -403,17 +446,23 @@ impl Sweeper {
         }
     }
 
-    fn run(&mut self, positions: &mut [DVec3], params: &RelaxParams, settle: Settle) -> RelaxReport {
+    fn run(
+        &mut self,
+        positions: &mut [DVec3],
+        params: &RelaxParams,
+        settle: Settle,
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RelaxReport, Cancelled> {
         self.load(positions);
         #[cfg(target_arch = "x86_64")]
         let report = if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            unsafe { self.sweeps_avx2(params, settle) }
+            unsafe { self.sweeps_avx2(params, settle, control) }
         } else {
-            self.sweeps(params, settle)
+            self.sweeps(params, settle, control)
         };
         #[cfg(not(target_arch = "x86_64"))]
-        let report = self.sweeps(params, settle);
+        let report = self.sweeps(params, settle, control);
         self.store(positions);
         report
     }
@@ -440,12 +489,22 @@ impl Sweeper {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn sweeps_avx2(&mut self, params: &RelaxParams, settle: Settle) -> RelaxReport {
-        self.sweeps(params, settle)
+    fn sweeps_avx2(
+        &mut self,
+        params: &RelaxParams,
+        settle: Settle,
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RelaxReport, Cancelled> {
+        self.sweeps(params, settle, control)
     }
 
     #[inline(always)]
-    fn sweeps(&mut self, params: &RelaxParams, settle: Settle) -> RelaxReport {
+    fn sweeps(
+        &mut self,
+        params: &RelaxParams,
+        settle: Settle,
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RelaxReport, Cancelled> {
         let min_rest = params.rest_u_m.min(params.rest_v_m);
         let max_speed2 = (MAX_SPEED * min_rest).powi(2);
         let mut report = RelaxReport::default();
@@ -513,6 +572,15 @@ impl Sweeper {
             }
             report.iterations = iteration + 1;
             report.last_move = max_step2.max(max_edge2).sqrt() / min_rest;
+            let progress = RelaxProgress {
+                cols: self.cols,
+                rows: self.rows,
+                iteration: report.iterations,
+                max_iterations: params.max_iterations,
+            };
+            if control(progress).is_break() {
+                return Err(Cancelled);
+            }
             if !settling && report.last_move < params.tolerance {
                 report.converged = true;
                 break;
@@ -524,7 +592,7 @@ impl Sweeper {
                 self.edge_sweep();
             }
         }
-        report
+        Ok(report)
     }
 
     /// One extra sweep over the points near an edge, without momentum (their
@@ -860,6 +928,42 @@ mod tests {
     }
 
     #[test]
+    fn progress_comes_coarse_level_first_and_does_not_change_the_result() {
+        let (start, pinned, params) = wavy_sheet(33, 21);
+        let mut plain = start.clone();
+        let plain_report = relax(&mut plain, 33, 21, &pinned, &params);
+        let mut watched = start.clone();
+        let mut levels = Vec::new();
+        let report = relax_with(&mut watched, 33, 21, &pinned, &params, &mut |p| {
+            assert!(p.iteration >= 1 && p.iteration <= p.max_iterations);
+            if levels.last() != Some(&(p.cols, p.rows)) {
+                levels.push((p.cols, p.rows));
+            }
+            ControlFlow::Continue(())
+        });
+        assert_eq!(report, Ok(plain_report));
+        assert_eq!(watched, plain);
+        assert_eq!(levels, [(17, 11), (33, 21)]);
+    }
+
+    #[test]
+    fn a_cancelled_relaxation_stops_at_once_and_keeps_the_pins() {
+        let (start, pinned, params) = wavy_sheet(33, 21);
+        let mut positions = start.clone();
+        let mut sweeps = 0;
+        let result = relax_with(&mut positions, 33, 21, &pinned, &params, &mut |_| {
+            sweeps += 1;
+            if sweeps == 3 { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        });
+        assert_eq!(result, Err(Cancelled));
+        assert_eq!(sweeps, 3, "no sweep after the break");
+        for (k, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
+            assert_eq!(positions[k], start[k]);
+        }
+        assert!(positions.iter().all(|p| p.is_finite()));
+    }
+
+    #[test]
     fn vectorised_and_portable_sweeps_agree_bit_for_bit() {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -868,12 +972,13 @@ mod tests {
                 let (mut portable, mut vectorised) = (start.clone(), start.clone());
                 let mut sweeper = Sweeper::new(cols, rows, &pinned, &params);
                 sweeper.load(&portable);
-                let a = sweeper.sweeps(&params, Settle::Yes);
+                let mut go_on = |_| ControlFlow::Continue(());
+                let a = sweeper.sweeps(&params, Settle::Yes, &mut go_on);
                 sweeper.store(&mut portable);
                 let mut sweeper = Sweeper::new(cols, rows, &pinned, &params);
                 sweeper.load(&vectorised);
                 // SAFETY: the CPU supports AVX2, checked above.
-                let b = unsafe { sweeper.sweeps_avx2(&params, Settle::Yes) };
+                let b = unsafe { sweeper.sweeps_avx2(&params, Settle::Yes, &mut go_on) };
                 sweeper.store(&mut vectorised);
                 assert_eq!(a, b);
                 assert_eq!(portable, vectorised, "{cols} × {rows}");

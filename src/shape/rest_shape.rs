@@ -1,9 +1,11 @@
 //! A key's rest shape: every stage of the modelling phase, kept for display and tests.
 
+use std::ops::ControlFlow;
+
 use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
-use super::relax::{RelaxParams, RelaxReport, relax};
+use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, relax_with};
 use crate::scene::{Cloth, Key};
 
 /// The modelling result of one key: catenary network (with conflicts), the
@@ -24,6 +26,17 @@ impl RestShape {
     /// (at least one pin, inside the grid, no duplicates); the output is then
     /// finite and has every pin exactly at its position.
     pub fn build(cloth: &Cloth, key: &Key) -> RestShape {
+        RestShape::build_with(cloth, key, &mut |_| ControlFlow::Continue(()))
+            .expect("a control that never breaks never cancels")
+    }
+
+    /// [`RestShape::build`] reporting relaxation progress to `control` after
+    /// every sweep; stops with [`Cancelled`] as soon as `control` breaks.
+    pub fn build_with(
+        cloth: &Cloth,
+        key: &Key,
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RestShape, Cancelled> {
         let grid = grid_spec(cloth);
         let pins = pin_points(key);
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
@@ -36,8 +49,8 @@ impl RestShape {
             max_iterations: key.relax.iterations,
             tolerance: key.relax.tolerance,
         };
-        let relax_report = relax(&mut relaxed, grid.cols, grid.rows, &pinned, &params);
-        RestShape {
+        let relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
+        Ok(RestShape {
             grid,
             elasticity: key.elasticity,
             network,
@@ -45,7 +58,7 @@ impl RestShape {
             placement,
             relaxed,
             relax_report,
-        }
+        })
     }
 
     pub fn rest_u_m(&self) -> f64 {
