@@ -5,3 +5,7 @@ pub mod app;
 pub mod viewport;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};
+pub mod document;
+pub mod edits;
+pub mod picking;
+pub mod shaper;

@@ -1,0 +1,125 @@
+//! Edits the editor makes to a scene, as plain functions on the document's
+//! types: pinning, unpinning, moving pins, changing the grid. The document
+//! validates the result; these only keep the scene's own invariants (no grid
+//! point pinned twice, pins following the cloth when its grid changes).
+
+use crate::scene::{Key, Pin, Scene};
+
+/// Pins grid point `grid` of `key` at `pos` (metres); an existing pin there moves instead.
+pub fn pin_point(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
+    match key.pins.iter_mut().find(|p| p.grid == grid) {
+        Some(pin) => pin.pos = pos,
+        None => key.pins.push(Pin { grid, pos }),
+    }
+}
+
+/// Removes the pins at these grid points (others stay in order).
+pub fn unpin(key: &mut Key, grids: &[(u32, u32)]) {
+    key.pins.retain(|p| !grids.contains(&p.grid));
+}
+
+/// Whether `key` pins grid point `grid`.
+pub fn is_pinned(key: &Key, grid: (u32, u32)) -> bool {
+    key.pins.iter().any(|p| p.grid == grid)
+}
+
+/// Moves the pin at `grid` to `pos`; nothing happens when that point is not pinned.
+pub fn move_pin(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
+    if let Some(pin) = key.pins.iter_mut().find(|p| p.grid == grid) {
+        pin.pos = pos;
+    }
+}
+
+/// Index on a side of `to` points at the same material position as index
+/// `at` on a side of `from` points (both at least 2), rounded to nearest.
+pub fn remap_index(at: u32, from: u32, to: u32) -> u32 {
+    let (from, to) = (from.max(2), to.max(2));
+    let scaled = (at.min(from - 1) as u64 * (to - 1) as u64 * 2 + (from - 1) as u64) / (2 * (from - 1) as u64);
+    scaled as u32
+}
+
+/// Changes the cloth's grid to `grid` (cols, rows), moving every key's pins to
+/// the grid points at the same place on the material. Pins that land on the
+/// same point merge (the first one is kept), so a coarser grid never holds a
+/// point twice.
+pub fn set_grid(scene: &mut Scene, grid: (u32, u32)) {
+    let old = scene.cloth.grid;
+    scene.cloth.grid = grid;
+    for key in &mut scene.keys {
+        let mut remapped: Vec<Pin> = Vec::with_capacity(key.pins.len());
+        for pin in &key.pins {
+            let at = (remap_index(pin.grid.0, old.0, grid.0), remap_index(pin.grid.1, old.1, grid.1));
+            if !remapped.iter().any(|p| p.grid == at) {
+                remapped.push(Pin { grid: at, pos: pin.pos });
+            }
+        }
+        key.pins = remapped;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Cloth;
+
+    fn scene() -> Scene {
+        crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap()
+    }
+
+    #[test]
+    fn corners_and_middles_map_to_corners_and_middles() {
+        assert_eq!(remap_index(0, 33, 9), 0);
+        assert_eq!(remap_index(32, 33, 9), 8);
+        assert_eq!(remap_index(16, 33, 9), 4);
+        assert_eq!(remap_index(4, 9, 33), 16);
+        assert_eq!(remap_index(8, 9, 65), 64);
+        // Out-of-range input clamps to the last point instead of overflowing.
+        assert_eq!(remap_index(u32::MAX, 9, 5), 4);
+    }
+
+    #[test]
+    fn changing_the_grid_keeps_pins_at_their_place_on_the_material() {
+        let mut s = scene();
+        let old = s.cloth.grid;
+        let corners: Vec<_> = s.keys[0].pins.iter().map(|p| (p.grid, p.pos)).collect();
+        set_grid(&mut s, (17, 9));
+        for ((grid, pos), pin) in corners.iter().zip(&s.keys[0].pins) {
+            assert_eq!(pin.pos, *pos);
+            assert_eq!(pin.grid.0, remap_index(grid.0, old.0, 17));
+            assert_eq!(pin.grid.1, remap_index(grid.1, old.1, 9));
+        }
+        assert!(s.validate().is_ok());
+    }
+
+    #[test]
+    fn pins_that_meet_on_a_coarse_grid_merge() {
+        let mut s = scene();
+        s.cloth = Cloth::new((1.0, 1.0), (9, 9));
+        s.keys.truncate(1);
+        s.keys[0].pins = vec![
+            Pin { grid: (0, 0), pos: (0.0, 1.0, 0.0) },
+            Pin { grid: (1, 0), pos: (0.1, 1.0, 0.0) },
+            Pin { grid: (8, 0), pos: (1.0, 1.0, 0.0) },
+        ];
+        set_grid(&mut s, (2, 2));
+        let grids: Vec<_> = s.keys[0].pins.iter().map(|p| p.grid).collect();
+        assert_eq!(grids, [(0, 0), (1, 0)]);
+        assert_eq!(s.keys[0].pins[0].pos, (0.0, 1.0, 0.0), "the first pin wins");
+    }
+
+    #[test]
+    fn pinning_twice_moves_and_unpinning_removes() {
+        let mut key = scene().keys[0].clone();
+        let count = key.pins.len();
+        pin_point(&mut key, (3, 3), (0.0, 2.0, 0.0));
+        assert!(is_pinned(&key, (3, 3)));
+        pin_point(&mut key, (3, 3), (0.0, 2.5, 0.0));
+        assert_eq!(key.pins.len(), count + 1);
+        assert_eq!(key.pins.last().unwrap().pos, (0.0, 2.5, 0.0));
+        move_pin(&mut key, (3, 3), (1.0, 1.0, 1.0));
+        assert_eq!(key.pins.last().unwrap().pos, (1.0, 1.0, 1.0));
+        unpin(&mut key, &[(3, 3)]);
+        assert_eq!(key.pins.len(), count);
+        assert!(!is_pinned(&key, (3, 3)));
+    }
+}

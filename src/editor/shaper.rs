@@ -1,0 +1,246 @@
+//! Relaxation off the UI thread: the editor asks for the rest shapes its
+//! scene lacks, keeps drawing the last scene whose shapes it has, and takes
+//! the new shapes when they arrive.
+//!
+//! One worker thread, one pending job (the newest request replaces an older
+//! pending one). A request may supersede the running job, which then stops
+//! at its next sweep: edits that each stand on their own (a typed value, an
+//! undo, the end of a drag) do, so a stale relaxation of a large grid never
+//! delays the shape the user asked for. The moves of a drag in progress do
+//! not, so a drag shows each finished shape while it goes on instead of
+//! cancelling every relaxation before it can finish.
+
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use crate::animate::KeyShape;
+use crate::scene::{Cloth, Key};
+
+/// One relaxed key, ready for the evaluator's cache.
+pub struct Built {
+    pub cloth: Cloth,
+    pub key: Key,
+    pub shape: Arc<KeyShape>,
+}
+
+/// What the worker is doing, for the progress display.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShaperStatus {
+    /// Keys of the running job finished so far, and in all.
+    pub keys_done: usize,
+    pub keys_total: usize,
+    /// The grid level being relaxed and its sweep.
+    pub level: (usize, usize),
+    pub iteration: u32,
+    pub max_iterations: u32,
+    pub started: Instant,
+}
+
+struct Job {
+    generation: u64,
+    cloth: Cloth,
+    keys: Vec<Key>,
+}
+
+struct Shared {
+    pending: Mutex<Option<Job>>,
+    wake: Condvar,
+    /// Jobs older than this generation stop at their next sweep.
+    cancel_below: AtomicU64,
+    status: Mutex<Option<ShaperStatus>>,
+    quit: AtomicBool,
+    /// Wakes the UI when a shape is ready.
+    repaint: Box<dyn Fn() + Send + Sync>,
+}
+
+pub struct Shaper {
+    shared: Arc<Shared>,
+    results: Receiver<Built>,
+    worker: Option<JoinHandle<()>>,
+    next_generation: u64,
+}
+
+impl Shaper {
+    /// Starts the worker; `repaint` is called from it whenever a shape is ready.
+    pub fn new(repaint: impl Fn() + Send + Sync + 'static) -> Shaper {
+        let shared = Arc::new(Shared {
+            pending: Mutex::new(None),
+            wake: Condvar::new(),
+            cancel_below: AtomicU64::new(0),
+            status: Mutex::new(None),
+            quit: AtomicBool::new(false),
+            repaint: Box::new(repaint),
+        });
+        let (sender, results) = mpsc::channel();
+        let worker_shared = shared.clone();
+        let worker = std::thread::Builder::new()
+            .name("drape-relax".to_owned())
+            .spawn(move || work(&worker_shared, &sender))
+            .expect("the relaxation thread starts");
+        Shaper { shared, results, worker: Some(worker), next_generation: 1 }
+    }
+
+    /// Asks for the shapes of `keys` on `cloth`, replacing any pending request.
+    /// With `supersede`, a running relaxation stops too.
+    pub fn request(&mut self, cloth: &Cloth, keys: Vec<Key>, supersede: bool) {
+        let generation = self.next_generation;
+        self.next_generation += 1;
+        if supersede {
+            self.shared.cancel_below.store(generation, Ordering::Relaxed);
+        }
+        let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
+        *pending = Some(Job { generation, cloth: cloth.clone(), keys });
+        self.shared.wake.notify_one();
+    }
+
+    /// The shapes finished since the last call.
+    pub fn take_built(&self) -> Vec<Built> {
+        self.results.try_iter().collect()
+    }
+
+    /// The running relaxation, if any.
+    pub fn status(&self) -> Option<ShaperStatus> {
+        *self.shared.status.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Whether a request is pending or running.
+    pub fn is_busy(&self) -> bool {
+        self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner).is_some() || self.status().is_some()
+    }
+
+    /// Blocks until the worker is idle or `timeout` passes (tests and scripted runs).
+    pub fn wait_idle(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        while self.is_busy() {
+            if Instant::now() > deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        true
+    }
+}
+
+impl Drop for Shaper {
+    fn drop(&mut self) {
+        self.shared.quit.store(true, Ordering::Relaxed);
+        self.shared.cancel_below.store(u64::MAX, Ordering::Relaxed);
+        self.shared.wake.notify_one();
+        if let Some(worker) = self.worker.take() {
+            let _ = worker.join();
+        }
+    }
+}
+
+fn work(shared: &Shared, results: &Sender<Built>) {
+    loop {
+        let job = {
+            let mut pending = shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
+            loop {
+                if shared.quit.load(Ordering::Relaxed) {
+                    return;
+                }
+                if let Some(job) = pending.take() {
+                    // Marked running before the lock is released, so `is_busy` never sees a gap.
+                    let status = ShaperStatus {
+                        keys_done: 0,
+                        keys_total: job.keys.len(),
+                        level: (job.cloth.cols(), job.cloth.rows()),
+                        iteration: 0,
+                        max_iterations: 0,
+                        started: Instant::now(),
+                    };
+                    *shared.status.lock().unwrap_or_else(PoisonError::into_inner) = Some(status);
+                    break job;
+                }
+                pending = shared.wake.wait(pending).unwrap_or_else(PoisonError::into_inner);
+            }
+        };
+        run(shared, results, job);
+        *shared.status.lock().unwrap_or_else(PoisonError::into_inner) = None;
+        (shared.repaint)();
+    }
+}
+
+fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
+    let total = job.keys.len();
+    for (done, key) in job.keys.into_iter().enumerate() {
+        let mut control = |progress: crate::shape::RelaxProgress| {
+            if job.generation < shared.cancel_below.load(Ordering::Relaxed) {
+                return ControlFlow::Break(());
+            }
+            if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+                status.keys_done = done;
+                status.keys_total = total;
+                status.level = (progress.cols, progress.rows);
+                status.iteration = progress.iteration;
+                status.max_iterations = progress.max_iterations;
+            }
+            ControlFlow::Continue(())
+        };
+        let Ok(shape) = KeyShape::build_with(&job.cloth, &key, &mut control) else {
+            return;
+        };
+        let built = Built { cloth: job.cloth.clone(), key, shape: Arc::new(shape) };
+        if results.send(built).is_err() {
+            return;
+        }
+        (shared.repaint)();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    fn scene() -> Scene {
+        crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap()
+    }
+
+    #[test]
+    fn shapes_built_on_the_worker_equal_shapes_built_here() {
+        let s = scene();
+        let mut shaper = Shaper::new(|| {});
+        shaper.request(&s.cloth, s.keys.clone(), true);
+        assert!(shaper.wait_idle(Duration::from_secs(60)));
+        let built = shaper.take_built();
+        assert_eq!(built.len(), s.keys.len());
+        for (b, key) in built.iter().zip(&s.keys) {
+            assert_eq!(b.key, *key);
+            assert_eq!(b.shape.positions, KeyShape::build(&s.cloth, key).positions);
+        }
+        assert!(shaper.status().is_none());
+    }
+
+    #[test]
+    fn a_superseding_request_drops_the_stale_one() {
+        let mut s = scene();
+        s.cloth.grid = (129, 129);
+        s.keys[0].relax.iterations = 100_000;
+        s.keys[0].relax.tolerance = 0.0;
+        s.keys.truncate(1);
+        let mut shaper = Shaper::new(|| {});
+        shaper.request(&s.cloth, s.keys.clone(), true);
+        // Wait until it is running, then ask for something small instead.
+        while shaper.status().is_none_or(|status| status.iteration == 0) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let mut small = scene();
+        small.cloth.grid = (9, 9);
+        small.keys.truncate(1);
+        for pin in &mut small.keys[0].pins {
+            pin.grid = (pin.grid.0.min(8), pin.grid.1.min(8));
+        }
+        small.keys[0].pins.dedup_by_key(|p| p.grid);
+        shaper.request(&small.cloth, small.keys.clone(), true);
+        assert!(shaper.wait_idle(Duration::from_secs(60)), "the huge relaxation was cancelled");
+        let built = shaper.take_built();
+        assert_eq!(built.len(), 1);
+        assert_eq!(built[0].cloth.grid, (9, 9));
+    }
+}
