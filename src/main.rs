@@ -34,6 +34,9 @@ mod render_command;
 struct Cli {
     /// Open this scene in the editor (default: the built-in magic carpet).
     scene: Option<PathBuf>,
+    /// Close the editor by itself after drawing N frames (smoke tests, scripted runs).
+    #[arg(long, value_name = "N")]
+    quit_after_frames: Option<u64>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -137,7 +140,7 @@ fn main() -> ExitCode {
     quiet_wayland_probe();
     let cli = Cli::parse();
     let Some(command) = cli.command else {
-        return match open_editor(cli.scene) {
+        return match open_editor(cli.scene, cli.quit_after_frames) {
             Ok(()) => ExitCode::SUCCESS,
             Err(error) => {
                 eprintln!("error: {error}");
@@ -167,12 +170,12 @@ fn main() -> ExitCode {
     }
 }
 
-fn open_editor(path: Option<PathBuf>) -> Result<()> {
+fn open_editor(path: Option<PathBuf>, quit_after_frames: Option<u64>) -> Result<()> {
     let scene = match &path {
         Some(path) => scene::load(path)?,
         None => scene::parse(drape::editor::DEFAULT_SCENE, "magic_carpet.ron")?,
     };
-    drape::editor::run(scene, path).map_err(|e| anyhow!("the editor window could not run: {e}"))
+    drape::editor::run(scene, path, quit_after_frames).map_err(|e| anyhow!("the editor window could not run: {e}"))
 }
 
 /// Mesa's Vulkan driver probes for a Wayland display when the device opens,

@@ -26,8 +26,9 @@ pub struct EditRejected(pub String);
 pub struct Document {
     scene: Scene,
     path: Option<PathBuf>,
-    /// The scene as last loaded or saved: the document is dirty when it differs.
-    saved: Scene,
+    /// The scene as last loaded or saved: the document is dirty when it differs
+    /// (`None`: nothing on disk holds this work).
+    saved: Option<Scene>,
     undo: Vec<Step>,
     redo: Vec<Step>,
     /// An open gesture: its label and the scene before it began.
@@ -38,7 +39,7 @@ impl Document {
     /// A document showing `scene`, clean, with no history. `path` is where it
     /// was loaded from (`None` for a new, untitled scene).
     pub fn new(scene: Scene, path: Option<PathBuf>) -> Document {
-        Document { saved: scene.clone(), scene, path, undo: Vec::new(), redo: Vec::new(), gesture: None }
+        Document { saved: Some(scene.clone()), scene, path, undo: Vec::new(), redo: Vec::new(), gesture: None }
     }
 
     pub fn scene(&self) -> &Scene {
@@ -51,7 +52,7 @@ impl Document {
 
     /// Whether the scene differs from the file (an undo back to the saved state is clean again).
     pub fn is_dirty(&self) -> bool {
-        self.scene != self.saved
+        self.saved.as_ref() != Some(&self.scene)
     }
 
     /// The file name for titles and prompts: `tent.ron`, or `untitled`.
@@ -140,15 +141,23 @@ impl Document {
 
     /// Records that the scene is now on disk at `path` (Save / Save As).
     pub fn mark_saved(&mut self, path: PathBuf) {
-        self.saved = self.scene.clone();
+        self.saved = Some(self.scene.clone());
         self.path = Some(path);
+    }
+
+    /// Marks the scene as differing from its file although it may not (work
+    /// restored from a recovery file has to be saved to be kept).
+    pub fn mark_unsaved(&mut self) {
+        self.saved = None;
     }
 
     /// Updates the scene's saved camera without an undo step or making the
     /// document dirty by itself (the view is not part of the work).
     pub fn set_view_quietly(&mut self, view: Option<crate::scene::View>) {
         self.scene.view = view.clone();
-        self.saved.view = view;
+        if let Some(saved) = &mut self.saved {
+            saved.view = view;
+        }
     }
 }
 
@@ -201,6 +210,15 @@ mod tests {
         assert!(error.0.contains("elasticity"), "{error}");
         assert_eq!(*d.scene(), original);
         assert!(d.undo_label().is_none());
+    }
+
+    #[test]
+    fn restored_work_is_unsaved_until_saved() {
+        let mut d = doc();
+        d.mark_unsaved();
+        assert!(d.is_dirty());
+        d.mark_saved(PathBuf::from("/tmp/restored.ron"));
+        assert!(!d.is_dirty());
     }
 
     #[test]

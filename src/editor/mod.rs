@@ -2,10 +2,20 @@
 //! that knows egui; it draws through [`crate::render`] like headless code does.
 
 pub mod app;
-pub mod viewport;
-
-pub use app::{DEFAULT_SCENE, DrapeApp, run};
+mod cloth_panel;
 pub mod document;
 pub mod edits;
+pub mod file_dialog;
+pub mod files;
+pub mod grid_editor;
 pub mod picking;
+pub mod prompt;
+pub mod recent;
+pub mod recovery;
 pub mod shaper;
+#[cfg(test)]
+mod ui_driver;
+pub mod viewport;
+mod viewport_input;
+
+pub use app::{DEFAULT_SCENE, DrapeApp, run};

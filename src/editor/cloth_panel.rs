@@ -1,0 +1,187 @@
+//! The Cloth panel: the cloth's size, grid and texture, the fabric of the key
+//! being edited, its pins in the 2D grid editor, and exact pin positions.
+//! Every change goes through the document, so it is undoable and validated.
+
+use eframe::egui::{self, DragValue, Response, Slider};
+
+use super::app::DrapeApp;
+use super::edits;
+use super::grid_editor::GridAction;
+use crate::scene::{
+    ClothTexture, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MIN_ELASTICITY,
+    MIN_GRID_SIDE, Scene,
+};
+
+impl DrapeApp {
+    /// Applies `change` when `response` changed the value; a drag on the widget is one undo step.
+    fn field(&mut self, response: &Response, label: &str, change: impl FnOnce(&mut Scene)) {
+        if response.drag_started() {
+            self.doc.begin_gesture(label);
+        }
+        if response.changed() {
+            self.apply(label, change);
+        }
+    }
+
+    pub(super) fn cloth_panel(&mut self, ui: &mut egui::Ui) {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.heading("Cloth");
+            self.cloth_section(ui);
+            ui.separator();
+            self.fabric_section(ui);
+            ui.separator();
+            self.pins_section(ui);
+        });
+    }
+
+    fn cloth_section(&mut self, ui: &mut egui::Ui) {
+        let cloth = self.doc.scene().cloth.clone();
+        egui::Grid::new("cloth").num_columns(2).show(ui, |ui| {
+            let (mut width, mut height) = cloth.size;
+            ui.label("Width");
+            let r = ui.add(DragValue::new(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m"));
+            self.field(&r, "Cloth size", |s| s.cloth.size.0 = width);
+            ui.end_row();
+            ui.label("Height");
+            let r = ui.add(DragValue::new(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m"));
+            self.field(&r, "Cloth size", |s| s.cloth.size.1 = height);
+            ui.end_row();
+
+            let (mut cols, mut rows) = cloth.grid;
+            ui.label("Grid");
+            ui.horizontal(|ui| {
+                let range = MIN_GRID_SIDE..=MAX_GRID_SIDE;
+                let r = ui.add(DragValue::new(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
+                self.field(&r, "Grid", |s| edits::set_grid(s, (cols, s.cloth.grid.1)));
+                ui.label("×");
+                let r = ui.add(DragValue::new(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
+                self.field(&r, "Grid", |s| edits::set_grid(s, (s.cloth.grid.0, rows)));
+            });
+            ui.end_row();
+
+            ui.label("Texture");
+            let mut texture = cloth.texture;
+            egui::ComboBox::from_id_salt("texture").selected_text(format!("{texture:?}")).show_ui(ui, |ui| {
+                for option in [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker] {
+                    ui.selectable_value(&mut texture, option, format!("{option:?}"));
+                }
+            });
+            if texture != cloth.texture {
+                self.apply("Texture", |s| s.cloth.texture = texture);
+            }
+            ui.end_row();
+        });
+    }
+
+    fn fabric_section(&mut self, ui: &mut egui::Ui) {
+        let index = self.edit_key_index();
+        let key = self.doc.scene().keys[index].clone();
+        ui.strong(format!("Fabric — key at frame {}", key.frame))
+            .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
+        egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
+            let mut elasticity = key.elasticity;
+            ui.label("Elasticity").on_hover_text("How much longer the fabric is than its grid: 1 is taut, more sags.");
+            let r = ui.add(Slider::new(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3));
+            self.field(&r, "Elasticity", |s| s.keys[index].elasticity = elasticity);
+            ui.end_row();
+
+            let mut stiffness = key.stiffness;
+            ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.");
+            let r = ui.add(Slider::new(&mut stiffness, 0.0..=1.0).max_decimals(3));
+            self.field(&r, "Stiffness", |s| s.keys[index].stiffness = stiffness);
+            ui.end_row();
+
+            let mut iterations = key.relax.iterations;
+            ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.");
+            let r = ui.add(DragValue::new(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0));
+            self.field(&r, "Relaxation iterations", |s| s.keys[index].relax.iterations = iterations);
+            ui.end_row();
+
+            let mut tolerance = key.relax.tolerance;
+            ui.label("Tolerance").on_hover_text("Relaxation stops once no point moves more than this × the spacing.");
+            let slider = Slider::new(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
+            let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}")));
+            self.field(&r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
+            ui.end_row();
+        });
+        if let Some(report) = self.shown_relax_report() {
+            let verdict = if report.converged { "converged" } else { "stopped at the cap" };
+            ui.weak(format!("Relaxed: {} sweeps, {verdict}", report.iterations));
+        }
+    }
+
+    fn pins_section(&mut self, ui: &mut egui::Ui) {
+        let index = self.edit_key_index();
+        let scene = self.doc.scene().clone();
+        let key = &scene.keys[index];
+        ui.strong(format!("Pins ({})", key.pins.len()));
+        ui.weak("Click: pin / unpin · Shift+click: select · Drag: box-select");
+        let (actions, hovered) =
+            self.grid_editor.show(ui, &scene.cloth, key, &self.selection, self.hovered.or(self.grid_hovered));
+        self.grid_hovered = hovered;
+        for action in actions {
+            match action {
+                GridAction::TogglePin(point) => self.toggle_pin(point),
+                GridAction::ToggleSelected(point) => {
+                    if let Some(at) = self.selection.iter().position(|p| *p == point) {
+                        self.selection.remove(at);
+                    } else {
+                        self.selection.push(point);
+                    }
+                }
+                GridAction::SelectBox { pins, add } => {
+                    if !add {
+                        self.selection.clear();
+                    }
+                    for pin in pins {
+                        if !self.selection.contains(&pin) {
+                            self.selection.push(pin);
+                        }
+                    }
+                }
+            }
+        }
+        self.selected_pin_fields(ui);
+    }
+
+    /// Exact values for the selected pins: one pin's position, or several pins' shared offset.
+    fn selected_pin_fields(&mut self, ui: &mut egui::Ui) {
+        let index = self.edit_key_index();
+        let key = self.doc.scene().keys[index].clone();
+        let selected: Vec<_> = key.pins.iter().filter(|p| self.selection.contains(&p.grid)).cloned().collect();
+        match selected.as_slice() {
+            [] => {
+                ui.weak("No pin selected.");
+            }
+            [pin] => {
+                ui.label(format!("Pin ({}, {})", pin.grid.0, pin.grid.1));
+                let grid = pin.grid;
+                egui::Grid::new("pin position").num_columns(2).show(ui, |ui| {
+                    let mut pos = pin.pos;
+                    for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
+                        ui.label(axis);
+                        let r = ui.add(DragValue::new(value).speed(0.005).max_decimals(4).suffix(" m"));
+                        let new = pos_after(pin.pos, axis, *value);
+                        self.field(&r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
+                        ui.end_row();
+                    }
+                });
+            }
+            many => {
+                ui.label(format!("{} pins selected", many.len()));
+            }
+        }
+        if !selected.is_empty() && ui.button("Unpin selected").on_hover_text("Delete").clicked() {
+            self.delete_selected_pins();
+        }
+    }
+}
+
+/// `pos` with one axis (`"X"`, `"Y"` or `"Z"`) set to `value`.
+fn pos_after(pos: (f64, f64, f64), axis: &str, value: f64) -> (f64, f64, f64) {
+    match axis {
+        "X" => (value, pos.1, pos.2),
+        "Y" => (pos.0, value, pos.2),
+        _ => (pos.0, pos.1, value),
+    }
+}

@@ -1,0 +1,386 @@
+//! File ▸ New / Open / Open Recent / Save / Save As, the question before
+//! unsaved work is thrown away (also when the window closes), load errors,
+//! autosave to the recovery file and the offer to restore it.
+
+use std::path::{Path, PathBuf};
+use std::time::{Instant, SystemTime};
+
+use eframe::egui;
+
+use super::app::{DrapeApp, SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
+use super::document::Document;
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::prompt::{DiscardChoice, discard_prompt};
+use super::recent::RecentFiles;
+use super::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, Recovery};
+use crate::render::OrbitCamera;
+use crate::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline};
+
+/// What waits for the answer to "save changes?".
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum Pending {
+    New,
+    Open,
+    OpenPath(PathBuf),
+    Quit,
+}
+
+/// What a file dialog was opened for.
+#[derive(Clone, Debug, PartialEq)]
+enum Purpose {
+    Open,
+    /// Save As, then carry on with the pending action (if the save came from the prompt).
+    SaveAs(Option<Pending>),
+}
+
+/// The editor's file state.
+pub(super) struct Files {
+    dialog: Option<(FileDialog, Purpose)>,
+    /// An action waiting on the save-changes prompt.
+    prompt: Option<Pending>,
+    recent: RecentFiles,
+    recovery: Option<Recovery>,
+    autosave: AutosaveClock,
+    /// A scene that failed to load or save: the message, shown until dismissed.
+    error: Option<String>,
+    /// Unsaved work from a session that did not end cleanly, offered at start.
+    recovered: Option<RecoveredScene>,
+    /// The user chose to close: the next close request goes through.
+    closing: bool,
+}
+
+impl Files {
+    /// Recent files live in `config_dir`, the recovery file in `state_dir`; `None` keeps them off.
+    pub(super) fn new(config_dir: Option<PathBuf>, state_dir: Option<PathBuf>) -> Files {
+        let recent_file = config_dir.map(|dir| dir.join("recent.txt"));
+        Files {
+            dialog: None,
+            prompt: None,
+            recent: recent_file.map(|f| RecentFiles::load(&f)).unwrap_or_else(|| RecentFiles::load(Path::new(""))),
+            recovery: state_dir.map(Recovery::new),
+            autosave: AutosaveClock::new(DEFAULT_AUTOSAVE_INTERVAL, Instant::now()),
+            error: None,
+            recovered: None,
+            closing: false,
+        }
+    }
+}
+
+/// File ▸ New: a 1 m square cloth on a 33 × 33 grid hanging from its two top corners.
+pub fn new_scene() -> Scene {
+    let pin = |grid, x| Pin { grid, pos: (x, 1.5, 0.0) };
+    Scene {
+        version: 1,
+        name: String::new(),
+        cloth: Cloth::new((1.0, 1.0), (33, 33)),
+        timeline: Timeline::default(),
+        keys: vec![Key {
+            frame: 0,
+            pins: vec![pin((0, 0), -0.5), pin((32, 0), 0.5)],
+            elasticity: 1.05,
+            stiffness: 0.2,
+            relax: RelaxSettings::default(),
+            ease: Ease::EaseInOut,
+            inbetween_relax: 0,
+        }],
+        layers: Vec::new(),
+        view: None,
+    }
+}
+
+impl DrapeApp {
+    pub(super) fn file_menu(&mut self, ui: &mut egui::Ui) {
+        let ctx = ui.ctx().clone();
+        let item = |label: &str, shortcut| egui::Button::new(label).shortcut_text(ctx.format_shortcut(shortcut));
+        if ui.add(item("New", &SHORTCUT_NEW)).clicked() {
+            self.file_new();
+        }
+        if ui.add(item("Open…", &SHORTCUT_OPEN)).clicked() {
+            self.file_open();
+        }
+        let recent: Vec<PathBuf> = self.files.recent.paths().to_vec();
+        ui.add_enabled_ui(!recent.is_empty(), |ui| {
+            ui.menu_button("Open Recent", |ui| {
+                for path in recent {
+                    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                    if ui.button(name).on_hover_text(path.display().to_string()).clicked() {
+                        self.ask_then(Pending::OpenPath(path));
+                    }
+                }
+            });
+        });
+        ui.separator();
+        if ui.add(item("Save", &SHORTCUT_SAVE)).clicked() {
+            self.file_save();
+        }
+        if ui.add(item("Save As…", &SHORTCUT_SAVE_AS)).clicked() {
+            self.file_save_as();
+        }
+        ui.separator();
+        if ui.button("Quit").clicked() {
+            self.ask_then(Pending::Quit);
+        }
+    }
+
+    pub(super) fn file_new(&mut self) {
+        self.ask_then(Pending::New);
+    }
+
+    pub(super) fn file_open(&mut self) {
+        self.ask_then(Pending::Open);
+    }
+
+    pub(super) fn file_save(&mut self) {
+        self.save_then(None);
+    }
+
+    pub(super) fn file_save_as(&mut self) {
+        self.open_save_dialog(None);
+    }
+
+    /// Runs `action` now, or after the save-changes question when there is unsaved work.
+    fn ask_then(&mut self, action: Pending) {
+        if self.doc.is_dirty() {
+            self.files.prompt = Some(action);
+        } else {
+            self.proceed(action);
+        }
+    }
+
+    fn proceed(&mut self, action: Pending) {
+        match action {
+            Pending::New => self.replace_document(new_scene(), None),
+            Pending::Open => {
+                let dialog = FileDialog::new(FileDialogMode::Open, "Open scene", &self.start_dir(), "", "ron");
+                self.files.dialog = Some((dialog, Purpose::Open));
+            }
+            Pending::OpenPath(path) => self.open_path(&path),
+            Pending::Quit => {
+                self.files.closing = true;
+                if let Some(ctx) = self.context() {
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+            }
+        }
+    }
+
+    /// The folder a file dialog starts in: the scene's, else the working directory.
+    fn start_dir(&self) -> PathBuf {
+        self.doc
+            .path()
+            .and_then(Path::parent)
+            .filter(|dir| dir.is_dir())
+            .map(Path::to_path_buf)
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_else(|| PathBuf::from("."))
+    }
+
+    /// Loads `path`; on failure the error is shown and the current work stays as it is.
+    pub fn open_path(&mut self, path: &Path) {
+        match scene::load(path) {
+            Ok(scene) => {
+                self.files.recent.push(path);
+                self.save_recent();
+                self.replace_document(scene, Some(path.to_path_buf()));
+                self.report(format!("Opened {}", path.display()), false);
+            }
+            Err(error) => {
+                if !path.exists() {
+                    self.files.recent.remove(path);
+                    self.save_recent();
+                }
+                self.files.error = Some(format!("Could not open the scene:\n{error}"));
+            }
+        }
+    }
+
+    /// Shows `scene` as a fresh document: no history, nothing selected, the camera on its view.
+    fn replace_document(&mut self, scene: Scene, path: Option<PathBuf>) {
+        if let Some(view) = &scene.view {
+            self.camera = OrbitCamera::from_view(view);
+        } else {
+            self.frame_when_shown = true;
+        }
+        self.doc = Document::new(scene, path);
+        self.after_document_change();
+    }
+
+    /// Saves to the document's file (asking for one if it has none), then carries on with `then`.
+    fn save_then(&mut self, then: Option<Pending>) {
+        match self.doc.path().map(Path::to_path_buf) {
+            Some(path) => {
+                if self.save_to(&path)
+                    && let Some(action) = then
+                {
+                    self.proceed(action);
+                }
+            }
+            None => self.open_save_dialog(then),
+        }
+    }
+
+    fn open_save_dialog(&mut self, then: Option<Pending>) {
+        let name = match self.doc.path() {
+            Some(_) => self.doc.display_name(),
+            None => "untitled.ron".to_owned(),
+        };
+        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &self.start_dir(), &name, "ron");
+        self.files.dialog = Some((dialog, Purpose::SaveAs(then)));
+    }
+
+    /// Writes the scene (with the current camera) to `path` atomically; false and an error shown on failure.
+    pub fn save_to(&mut self, path: &Path) -> bool {
+        self.doc.set_view_quietly(Some(self.camera.to_view()));
+        match scene::save(self.doc.scene(), path) {
+            Ok(()) => {
+                self.doc.mark_saved(path.to_path_buf());
+                self.files.recent.push(path);
+                self.save_recent();
+                if let Some(recovery) = &self.files.recovery {
+                    let _ = recovery.clear();
+                }
+                self.report(format!("Saved {}", path.display()), false);
+                true
+            }
+            Err(error) => {
+                self.files.error = Some(format!("Could not save the scene; the file on disk is unchanged:\n{error}"));
+                false
+            }
+        }
+    }
+
+    fn save_recent(&mut self) {
+        if let Err(error) = self.files.recent.save()
+            && !self.files.recent.config_file().as_os_str().is_empty()
+        {
+            self.report(format!("Could not remember recent files: {error}"), true);
+        }
+    }
+
+    /// Dialogs, the save-changes prompt, load errors and the recovery offer, drawn every frame.
+    pub(super) fn file_dialogs(&mut self, ctx: &egui::Context) {
+        if let Some((dialog, purpose)) = &mut self.files.dialog
+            && let Some(outcome) = dialog.show(ctx)
+        {
+            let purpose = purpose.clone();
+            self.files.dialog = None;
+            if let FileDialogOutcome::Picked(path) = outcome {
+                match purpose {
+                    Purpose::Open => self.open_path(&path),
+                    Purpose::SaveAs(then) => {
+                        if self.save_to(&path)
+                            && let Some(action) = then
+                        {
+                            self.proceed(action);
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(action) = self.files.prompt.clone() {
+            let question = match action {
+                Pending::Quit => "before closing",
+                _ => "before continuing",
+            };
+            let message =
+                format!("Save changes to {} {question}? Unsaved changes are lost otherwise.", self.doc.display_name());
+            if let Some(choice) = discard_prompt(ctx, "Unsaved changes", &message) {
+                self.files.prompt = None;
+                match choice {
+                    DiscardChoice::Save => self.save_then(Some(action)),
+                    DiscardChoice::Discard => self.proceed(action),
+                    DiscardChoice::Cancel => {}
+                }
+            }
+        }
+        self.error_window(ctx);
+        self.recovery_window(ctx);
+    }
+
+    fn error_window(&mut self, ctx: &egui::Context) {
+        let Some(error) = self.files.error.clone() else { return };
+        let modal = egui::Modal::new(egui::Id::unique("file-error")).show(ctx, |ui| {
+            ui.set_max_width(560.0);
+            ui.heading("Problem with the file");
+            ui.add_space(6.0);
+            ui.label(egui::RichText::new(error).monospace());
+            ui.add_space(8.0);
+            ui.weak("Your current work is untouched.");
+            ui.button("OK").clicked()
+        });
+        if modal.inner || modal.should_close() {
+            self.files.error = None;
+        }
+    }
+
+    /// Looks for unsaved work a crashed session left; call once at start.
+    pub fn offer_recovery(&mut self) {
+        let Some(recovery) = &self.files.recovery else { return };
+        match recovery.read() {
+            Some(Ok(recovered)) => self.files.recovered = Some(recovered),
+            Some(Err(error)) => {
+                self.report(format!("A recovery file was found but cannot be read ({error}); it was kept."), true)
+            }
+            None => {}
+        }
+    }
+
+    fn recovery_window(&mut self, ctx: &egui::Context) {
+        let Some(recovered) = &self.files.recovered else { return };
+        let text = recovered.describe(SystemTime::now());
+        let modal = egui::Modal::new(egui::Id::unique("recovery")).show(ctx, |ui| {
+            ui.set_max_width(460.0);
+            ui.heading("Restore unsaved work?");
+            ui.add_space(6.0);
+            ui.label(format!("Drape did not close cleanly last time. {text}"));
+            ui.add_space(10.0);
+            ui.horizontal(|ui| {
+                if ui.button("Restore").clicked() {
+                    Some(true)
+                } else if ui.button("Discard").clicked() {
+                    Some(false)
+                } else {
+                    None
+                }
+            })
+            .inner
+        });
+        let Some(restore) = modal.inner else { return };
+        let recovered = self.files.recovered.take().expect("shown above");
+        if restore {
+            self.replace_document(recovered.scene.clone(), recovered.original.clone());
+            self.doc.mark_unsaved();
+            self.report("Restored the unsaved work; save it to keep it.".to_owned(), false);
+        } else if let Some(recovery) = &self.files.recovery {
+            let _ = recovery.clear();
+        }
+    }
+
+    /// Writes the recovery file when the scene has unsaved changes and the clock says so.
+    pub(super) fn autosave(&mut self) {
+        let dirty = self.doc.is_dirty();
+        if !self.files.autosave.due(Instant::now(), dirty) {
+            return;
+        }
+        if let Some(recovery) = &self.files.recovery
+            && let Err(error) = recovery.write(self.doc.scene(), self.doc.path())
+        {
+            self.report(format!("Autosave failed: {error}"), true);
+        }
+    }
+
+    /// A close request with unsaved work is held back until the user answers.
+    pub(super) fn handle_close_request(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested()) && self.doc.is_dirty() && !self.files.closing {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.files.prompt = Some(Pending::Quit);
+        }
+    }
+
+    /// The window is closing after the user's choice: no recovery is needed.
+    pub(super) fn clean_exit(&mut self) {
+        if let Some(recovery) = &self.files.recovery {
+            let _ = recovery.clear();
+        }
+    }
+}

@@ -1,0 +1,180 @@
+//! The 2D grid editor (the paper's Fig. 3a): the cloth's grid seen flat, its
+//! pins as red dots. Click a point to pin or unpin it; Shift+click selects a
+//! pin without changing it; drag a box to select the pins inside it.
+//!
+//! The widget only reports what the user did; the app turns that into edits.
+
+use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2};
+
+use crate::scene::{Cloth, Key};
+
+/// What the user did in the grid editor this frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum GridAction {
+    /// Pin this point (where the cloth is now) or unpin it.
+    TogglePin((u32, u32)),
+    /// Add this pin to the selection, or take it out (Shift+click).
+    ToggleSelected((u32, u32)),
+    /// A box was dragged round these pins; `add` keeps the earlier selection (Shift).
+    SelectBox { pins: Vec<(u32, u32)>, add: bool },
+}
+
+/// Drawing sizes in points.
+const MAX_SIDE: f32 = 260.0;
+const PIN_RADIUS: f32 = 4.5;
+/// Grid lines closer than this are thinned out, so a 256² grid stays readable.
+const MIN_LINE_GAP: f32 = 6.0;
+
+/// The editor's state between frames: where a box drag started.
+#[derive(Default)]
+pub struct GridEditor {
+    box_start: Option<Pos2>,
+}
+
+/// Where grid point `(i, j)` is drawn in `rect` (j = 0 on the top edge).
+fn point_pos(rect: Rect, grid: (u32, u32), (i, j): (u32, u32)) -> Pos2 {
+    let fx = i as f32 / (grid.0.max(2) - 1) as f32;
+    let fy = j as f32 / (grid.1.max(2) - 1) as f32;
+    Pos2::new(rect.left() + fx * rect.width(), rect.top() + fy * rect.height())
+}
+
+/// The grid point nearest to `pos`, if `pos` is on the grid (within half a cell or a few points).
+fn nearest_point(rect: Rect, grid: (u32, u32), pos: Pos2) -> Option<(u32, u32)> {
+    let (cols, rows) = (grid.0.max(2), grid.1.max(2));
+    let fx = (pos.x - rect.left()) / rect.width() * (cols - 1) as f32;
+    let fy = (pos.y - rect.top()) / rect.height() * (rows - 1) as f32;
+    if !(fx.is_finite() && fy.is_finite()) {
+        return None;
+    }
+    let i = fx.round().clamp(0.0, (cols - 1) as f32) as u32;
+    let j = fy.round().clamp(0.0, (rows - 1) as f32) as u32;
+    let reach = (rect.width() / (cols - 1) as f32).max(rect.height() / (rows - 1) as f32).max(2.0 * PIN_RADIUS);
+    (point_pos(rect, grid, (i, j)).distance(pos) <= reach).then_some((i, j))
+}
+
+impl GridEditor {
+    /// Draws the grid of `cloth` with the pins of `key`; `selected` pins are
+    /// ringed, `highlight` (a point hovered here or in the viewport) is marked.
+    /// Returns the user's actions and the point under the pointer.
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        cloth: &Cloth,
+        key: &Key,
+        selected: &[(u32, u32)],
+        highlight: Option<(u32, u32)>,
+    ) -> (Vec<GridAction>, Option<(u32, u32)>) {
+        let grid = cloth.grid;
+        let aspect = (cloth.width_m() / cloth.height_m()) as f32;
+        let side = ui.available_width().clamp(80.0, MAX_SIDE);
+        let size = if aspect >= 1.0 { Vec2::new(side, side / aspect) } else { Vec2::new(side * aspect, side) };
+        let size = size.max(Vec2::splat(24.0));
+        let (outer, response) =
+            ui.allocate_exact_size(size + Vec2::splat(2.0 * PIN_RADIUS + 2.0), Sense::click_and_drag());
+        let rect = outer.shrink(PIN_RADIUS + 1.0);
+        let painter = ui.painter_at(outer);
+        let visuals = ui.visuals();
+        painter.rect_filled(outer, 2.0, visuals.extreme_bg_color);
+
+        let line = Stroke::new(1.0, visuals.weak_text_color().gamma_multiply(0.5));
+        let step = |count: u32, length: f32| {
+            let gap = length / (count.max(2) - 1) as f32;
+            ((MIN_LINE_GAP / gap).ceil() as u32).max(1)
+        };
+        let (step_i, step_j) = (step(grid.0, rect.width()), step(grid.1, rect.height()));
+        for i in (0..grid.0).step_by(step_i as usize).chain([grid.0 - 1]) {
+            painter.line_segment([point_pos(rect, grid, (i, 0)), point_pos(rect, grid, (i, grid.1 - 1))], line);
+        }
+        for j in (0..grid.1).step_by(step_j as usize).chain([grid.1 - 1]) {
+            painter.line_segment([point_pos(rect, grid, (0, j)), point_pos(rect, grid, (grid.0 - 1, j))], line);
+        }
+        painter.rect_stroke(rect, 0.0, Stroke::new(1.0, visuals.text_color()), StrokeKind::Middle);
+
+        let pin_color = Color32::from_rgb(220, 30, 20);
+        let selected_color = Color32::from_rgb(255, 200, 20);
+        for pin in &key.pins {
+            let at = point_pos(rect, grid, pin.grid);
+            painter.circle_filled(at, PIN_RADIUS, pin_color);
+            if selected.contains(&pin.grid) {
+                painter.circle_stroke(at, PIN_RADIUS + 1.5, Stroke::new(2.0, selected_color));
+            }
+        }
+
+        let pointer = response.hover_pos();
+        let hovered = pointer.and_then(|p| nearest_point(rect, grid, p));
+        if let Some(point) = hovered.or(highlight) {
+            let at = point_pos(rect, grid, point);
+            painter.circle_stroke(at, PIN_RADIUS + 2.5, Stroke::new(1.5, visuals.strong_text_color()));
+        }
+        if let Some((i, j)) = hovered {
+            let pinned = key.pins.iter().any(|p| p.grid == (i, j));
+            let text = format!("({i}, {j}){}", if pinned { " pinned" } else { "" });
+            response.clone().on_hover_text_at_pointer(text);
+        }
+
+        let mut actions = Vec::new();
+        let shift = ui.input(|i| i.modifiers.shift);
+        if response.drag_started() {
+            self.box_start = response.interact_pointer_pos();
+        }
+        if let (Some(start), Some(now)) = (self.box_start, response.interact_pointer_pos()) {
+            let selection = Rect::from_two_pos(start, now);
+            painter.rect(
+                selection,
+                0.0,
+                selected_color.gamma_multiply(0.15),
+                Stroke::new(1.0, selected_color),
+                StrokeKind::Middle,
+            );
+            if response.drag_stopped() {
+                let pins = key
+                    .pins
+                    .iter()
+                    .filter(|p| selection.expand(PIN_RADIUS).contains(point_pos(rect, grid, p.grid)))
+                    .map(|p| p.grid)
+                    .collect();
+                actions.push(GridAction::SelectBox { pins, add: shift });
+                self.box_start = None;
+            }
+        }
+        if !response.dragged() && !response.drag_stopped() {
+            self.box_start = None;
+        }
+        if response.clicked()
+            && let Some(point) = response.interact_pointer_pos().and_then(|p| nearest_point(rect, grid, p))
+        {
+            let pinned = key.pins.iter().any(|p| p.grid == point);
+            actions.push(if shift && pinned {
+                GridAction::ToggleSelected(point)
+            } else {
+                GridAction::TogglePin(point)
+            });
+        }
+        (actions, hovered)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const RECT: Rect = Rect { min: Pos2::new(10.0, 20.0), max: Pos2::new(210.0, 120.0) };
+
+    #[test]
+    fn corners_are_drawn_at_the_rect_corners_and_found_again() {
+        let grid = (33, 17);
+        assert_eq!(point_pos(RECT, grid, (0, 0)), RECT.min);
+        assert_eq!(point_pos(RECT, grid, (32, 16)), RECT.max);
+        for point in [(0, 0), (32, 16), (16, 8), (5, 11)] {
+            assert_eq!(nearest_point(RECT, grid, point_pos(RECT, grid, point)), Some(point));
+        }
+    }
+
+    #[test]
+    fn far_off_the_grid_is_no_point() {
+        assert_eq!(nearest_point(RECT, (9, 9), Pos2::new(400.0, 400.0)), None);
+        assert_eq!(nearest_point(RECT, (9, 9), Pos2::new(f32::NAN, 30.0)), None);
+        // Just outside a corner still finds the corner.
+        assert_eq!(nearest_point(RECT, (9, 9), Pos2::new(8.0, 18.0)), Some((0, 0)));
+    }
+}
