@@ -2,6 +2,7 @@
 //! that knows egui; it draws through [`crate::render`] like headless code does.
 
 pub mod app;
+pub mod recent;
 pub mod viewport;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};
