@@ -3,6 +3,7 @@
 
 pub mod app;
 pub mod recent;
+pub mod recovery;
 pub mod viewport;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};
