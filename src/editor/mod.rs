@@ -2,6 +2,7 @@
 //! that knows egui; it draws through [`crate::render`] like headless code does.
 
 pub mod app;
+pub mod file_dialog;
 pub mod recent;
 pub mod recovery;
 pub mod viewport;
