@@ -22,6 +22,7 @@ use eframe::egui::{
     text_edit::TextEditState, text_selection::CCursorRange,
 };
 
+use super::prompt::{ModalKeys, is_top_modal, take_modal_keys};
 use crate::atomic_file::io_reason;
 
 /// What the dialog is for.
@@ -227,6 +228,11 @@ pub struct FileDialog {
     /// List every file, not only those with the extension.
     all_files: bool,
     selected: Option<usize>,
+    /// The selection was the last thing the user chose (a click or an arrow
+    /// key, not typing a name): Enter then opens a selected folder.
+    selection_active: bool,
+    /// Scroll the listing to the selection on the next frame (arrow keys).
+    scroll_to_selected: bool,
     file_name: String,
     /// Why the typed name cannot be opened or saved, shown under it.
     name_error: Option<String>,
@@ -242,6 +248,8 @@ enum Action {
     Up,
     Refresh,
     Select(usize),
+    /// Arrow keys: move the selection by this many rows.
+    MoveSelection(isize),
     Activate(usize),
     Confirm,
     Replace,
@@ -250,7 +258,10 @@ enum Action {
 }
 
 const DIALOG_WIDTH: f32 = 560.0;
+const MIN_DIALOG_WIDTH: f32 = 320.0;
 const LISTING_HEIGHT: f32 = 280.0;
+/// The dialog's height besides the listing, for fitting it in small windows.
+const DIALOG_HEIGHT_WITHOUT_LISTING: f32 = 200.0;
 
 impl FileDialog {
     /// A dialog listing `start_dir` (made absolute; a folder that cannot be
@@ -272,6 +283,8 @@ impl FileDialog {
             list_error: None,
             all_files: false,
             selected: None,
+            selection_active: false,
+            scroll_to_selected: false,
             file_name: file_name.to_owned(),
             name_error: None,
             confirm_replace: None,
@@ -303,7 +316,7 @@ impl FileDialog {
     /// (or opens the folder typed in the path bar), Escape cancels, or backs
     /// out of a "Replace?" question.
     pub fn show(&mut self, ctx: &egui::Context) -> Option<FileDialogOutcome> {
-        let (enter, escape) = self.take_keys(ctx);
+        let ModalKeys { enter, escape } = take_modal_keys(ctx, self.id);
         let path_bar_focused = ctx.memory(|m| m.has_focus(self.path_bar_id()));
         let mut action = match (enter, escape, self.confirm_replace.is_some()) {
             (_, true, true) => Some(Action::KeepExisting),
@@ -311,10 +324,11 @@ impl FileDialog {
             (true, _, true) => Some(Action::Replace),
             (true, _, false) if path_bar_focused => Some(Action::NavigateTyped),
             (true, _, false) => Some(Action::Confirm),
-            _ => None,
+            _ => self.take_list_keys(ctx),
         };
         Modal::new(self.id).show(ctx, |ui| {
-            ui.set_width(DIALOG_WIDTH);
+            // Narrower in a small window, so the buttons stay on screen.
+            ui.set_width(DIALOG_WIDTH.min(ctx.content_rect().width() - 40.0).max(MIN_DIALOG_WIDTH));
             ui.heading(&self.title);
             ui.add_space(4.0);
             self.path_bar(ui, &mut action);
@@ -338,15 +352,24 @@ impl FileDialog {
         self.id.with("file name")
     }
 
-    /// Takes Enter and Escape before any widget sees them, so a focused text
-    /// field or button does not act on them as well; only when this is the
-    /// top modal, so a prompt shown over the dialog keeps its keys.
-    fn take_keys(&self, ctx: &egui::Context) -> (bool, bool) {
-        let layer = egui::LayerId::new(egui::Order::Foreground, self.id);
-        if !ctx.memory(|m| m.top_modal_layer().is_none_or(|top| top == layer)) {
-            return (false, false);
+    /// Up/Down move through the listing and Alt+Up goes to the enclosing
+    /// folder, while no text field is being typed in (there they move the cursor).
+    fn take_list_keys(&self, ctx: &egui::Context) -> Option<Action> {
+        if self.confirm_replace.is_some() || ctx.egui_wants_keyboard_input() || !is_top_modal(ctx, self.id) {
+            return None;
         }
-        ctx.input_mut(|i| (i.consume_key(Modifiers::NONE, Key::Enter), i.consume_key(Modifiers::NONE, Key::Escape)))
+        ctx.input_mut(|i| {
+            // Alt+Up first: a plain Up would also match it.
+            if i.consume_key(Modifiers::ALT, Key::ArrowUp) {
+                Some(Action::Up)
+            } else if i.consume_key(Modifiers::NONE, Key::ArrowUp) {
+                Some(Action::MoveSelection(-1))
+            } else if i.consume_key(Modifiers::NONE, Key::ArrowDown) {
+                Some(Action::MoveSelection(1))
+            } else {
+                None
+            }
+        })
     }
 
     fn path_bar(&mut self, ui: &mut egui::Ui, action: &mut Option<Action>) {
@@ -377,9 +400,12 @@ impl FileDialog {
         let frame = egui::Frame::group(ui.style()).inner_margin(4.0);
         frame.show(ui, |ui| {
             ScrollArea::vertical()
-                .id_salt(self.id.with("listing"))
+                // One scroll position per folder: a new folder starts at the top.
+                .id_salt(self.id.with("listing").with(&self.dir))
                 .auto_shrink([false, false])
-                .max_height(LISTING_HEIGHT)
+                .max_height(
+                    LISTING_HEIGHT.min(ui.ctx().content_rect().height() - DIALOG_HEIGHT_WITHOUT_LISTING).max(80.0),
+                )
                 .show(ui, |ui| {
                     ui.with_layout(Layout::top_down_justified(Align::LEFT), |ui| {
                         if let Some(error) = &self.list_error {
@@ -397,7 +423,11 @@ impl FileDialog {
                         for (index, entry) in self.entries.iter().enumerate() {
                             // A trailing slash marks folders in any font.
                             let text = if entry.is_dir { format!("{}/", entry.name) } else { entry.name.clone() };
-                            let response = ui.add(Button::selectable(self.selected == Some(index), text));
+                            let selected = self.selected == Some(index);
+                            let response = ui.add(Button::selectable(selected, text));
+                            if selected && std::mem::take(&mut self.scroll_to_selected) {
+                                response.scroll_to_me(None);
+                            }
                             if response.double_clicked() {
                                 *action = Some(Action::Activate(index));
                             } else if response.clicked() {
@@ -419,6 +449,7 @@ impl FileDialog {
             if response.changed() {
                 self.name_error = None;
                 self.confirm_replace = None;
+                self.selection_active = false;
             }
             if self.first_frame {
                 response.request_focus();
@@ -490,13 +521,16 @@ impl FileDialog {
                 }
             }
             Action::Refresh => self.relist(),
-            Action::Select(index) => {
-                self.selected = Some(index);
-                let entry = &self.entries[index];
-                if !entry.is_dir {
-                    self.file_name = entry.name.clone();
-                    self.name_error = None;
-                }
+            Action::Select(index) => self.select(index),
+            Action::MoveSelection(step) => {
+                let last = self.entries.len().checked_sub(1)?;
+                let index = match self.selected {
+                    Some(current) => current.saturating_add_signed(step).min(last),
+                    None if step < 0 => last,
+                    None => 0,
+                };
+                self.select(index);
+                self.scroll_to_selected = true;
             }
             Action::Activate(index) => {
                 let entry = self.entries[index].clone();
@@ -514,12 +548,24 @@ impl FileDialog {
         None
     }
 
+    /// Selects a listed entry; a file's name goes into the name field.
+    fn select(&mut self, index: usize) {
+        self.selected = Some(index);
+        self.selection_active = true;
+        let entry = &self.entries[index];
+        if !entry.is_dir {
+            self.file_name = entry.name.clone();
+            self.name_error = None;
+        }
+    }
+
     /// The Open/Save button, Enter, or a double click on a file.
     fn confirm(&mut self) -> Option<FileDialogOutcome> {
-        // With no name typed, Enter on a selected folder opens it.
-        if self.file_name.trim().is_empty()
-            && let Some(entry) = self.selected.map(|i| &self.entries[i])
+        // A folder just selected in the listing, or selected with no name
+        // typed, is opened, as in desktop file choosers.
+        if let Some(entry) = self.selected.map(|i| &self.entries[i])
             && entry.is_dir
+            && (self.selection_active || self.file_name.trim().is_empty())
         {
             self.navigate(entry.path.clone());
             return None;
@@ -551,6 +597,7 @@ impl FileDialog {
 
     fn relist(&mut self) {
         self.selected = None;
+        self.selection_active = false;
         let filter = (!self.all_files && !self.extension.is_empty()).then_some(self.extension.as_str());
         match list_dir(&self.dir, filter) {
             Ok(entries) => {
@@ -568,8 +615,7 @@ impl FileDialog {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use egui::accesskit::{self, NodeId, Role};
-    use egui::{Event, Pos2, RawInput, Rect, vec2};
+    use crate::editor::ui_driver::UiDriver;
 
     /// A folder with a few scenes, other files, a hidden file and sub-folders.
     fn sample_dir() -> tempfile::TempDir {
@@ -674,138 +720,14 @@ mod tests {
         assert_eq!(open(""), Err("Choose a file to open".to_owned()));
     }
 
-    /// Drives a dialog through egui frames the way a user would, finding
-    /// widgets by their accessible labels like egui_kittest does.
-    struct Driver {
-        ctx: egui::Context,
-        dialog: FileDialog,
-        outcome: Option<FileDialogOutcome>,
-        nodes: Vec<(NodeId, accesskit::Node)>,
-        time: f64,
-    }
-
-    impl Driver {
-        fn new(dialog: FileDialog) -> Driver {
-            let ctx = egui::Context::default();
-            ctx.enable_accesskit();
-            let mut driver = Driver { ctx, dialog, outcome: None, nodes: Vec::new(), time: 0.0 };
-            // A modal's first frame only measures it: nothing is shown yet.
-            driver.frame(Vec::new());
-            driver
-        }
-
-        /// Runs a frame with `events`, then one without so the screen shows
-        /// what they changed (the dialog acts after drawing, as egui apps
-        /// do); returns the outcome so far.
-        fn frame(&mut self, events: Vec<Event>) -> Option<FileDialogOutcome> {
-            self.run(events);
-            self.run(Vec::new())
-        }
-
-        fn run(&mut self, events: Vec<Event>) -> Option<FileDialogOutcome> {
-            self.time += 0.05;
-            let input = RawInput {
-                screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(1024.0, 768.0))),
-                time: Some(self.time),
-                events,
-                ..RawInput::default()
-            };
-            let (dialog, outcome) = (&mut self.dialog, &mut self.outcome);
-            let output = self.ctx.run_pass(input, |ctx| {
-                if outcome.is_none() {
-                    *outcome = dialog.show(ctx);
-                }
-            });
-            self.nodes = output.platform_output.accesskit_update.map(|u| u.nodes).unwrap_or_default();
-            self.outcome.clone()
-        }
-
-        /// The node named `label`: its own label, or a visible label it is `labelled_by`.
-        fn find(&self, label: &str) -> Option<(NodeId, &accesskit::Node)> {
-            let text_of = |node: &accesskit::Node| {
-                if node.role() == Role::Label {
-                    node.value().map(str::to_owned)
-                } else {
-                    node.label().map(str::to_owned)
-                }
-            };
-            let labels: Vec<NodeId> =
-                self.nodes.iter().filter(|(_, n)| text_of(n).as_deref() == Some(label)).map(|(id, _)| *id).collect();
-            let labelled = self.nodes.iter().find(|(_, n)| n.labelled_by().iter().any(|l| labels.contains(l)));
-            labelled
-                .or_else(|| self.nodes.iter().find(|(id, n)| labels.contains(id) && n.role() != Role::Label))
-                .map(|(id, n)| (*id, n))
-        }
-
-        fn exists(&self, label: &str) -> bool {
-            self.find(label).is_some()
-        }
-
-        fn click(&mut self, label: &str) -> Option<FileDialogOutcome> {
-            self.act(label, accesskit::Action::Click)
-        }
-
-        fn focus(&mut self, label: &str) -> Option<FileDialogOutcome> {
-            self.act(label, accesskit::Action::Focus)
-        }
-
-        fn act(&mut self, label: &str, action: accesskit::Action) -> Option<FileDialogOutcome> {
-            let (target, _) = self.find(label).unwrap_or_else(|| panic!("no widget labelled {label:?}"));
-            let request = accesskit::ActionRequest {
-                action,
-                target_tree: accesskit::TreeId::ROOT,
-                target_node: target,
-                data: None,
-            };
-            self.frame(vec![Event::AccessKitActionRequest(request)])
-        }
-
-        /// Two presses and releases at the widget's centre, as a mouse would.
-        fn double_click(&mut self, label: &str) -> Option<FileDialogOutcome> {
-            let (_, node) = self.find(label).unwrap_or_else(|| panic!("no widget labelled {label:?}"));
-            let bounds = node.bounds().expect("widget bounds");
-            let pos = Pos2::new(((bounds.x0 + bounds.x1) / 2.0) as f32, ((bounds.y0 + bounds.y1) / 2.0) as f32);
-            let button = |pressed| Event::PointerButton {
-                pos,
-                button: egui::PointerButton::Primary,
-                pressed,
-                modifiers: Modifiers::NONE,
-            };
-            // A pause first, so an earlier click does not pair with these.
-            self.time += 1.0;
-            self.frame(vec![Event::PointerMoved(pos)]);
-            self.frame(vec![button(true), button(false)]);
-            self.frame(vec![button(true), button(false)])
-        }
-
-        fn type_text(&mut self, text: &str) -> Option<FileDialogOutcome> {
-            self.frame(vec![Event::Text(text.to_owned())])
-        }
-
-        fn press(&mut self, key: Key) -> Option<FileDialogOutcome> {
-            let event =
-                |pressed| Event::Key { key, physical_key: None, pressed, repeat: false, modifiers: Modifiers::NONE };
-            self.frame(vec![event(true), event(false)])
-        }
-
-        fn value_of(&self, label: &str) -> Option<String> {
-            self.find(label).and_then(|(_, node)| node.value().map(str::to_owned))
-        }
-
-        /// Whether some text on screen contains `fragment`.
-        fn shows(&self, fragment: &str) -> bool {
-            self.nodes.iter().any(|(_, n)| {
-                n.value().is_some_and(|v| v.contains(fragment)) || n.label().is_some_and(|l| l.contains(fragment))
-            })
-        }
-    }
+    type Driver = UiDriver<FileDialog, FileDialogOutcome>;
 
     fn save_dialog(dir: &Path, name: &str) -> Driver {
-        Driver::new(FileDialog::new(FileDialogMode::Save, "Save Scene As", dir, name, "ron"))
+        UiDriver::new(FileDialog::new(FileDialogMode::Save, "Save Scene As", dir, name, "ron"), FileDialog::show)
     }
 
     fn open_dialog(dir: &Path) -> Driver {
-        Driver::new(FileDialog::new(FileDialogMode::Open, "Open Scene", dir, "", "ron"))
+        UiDriver::new(FileDialog::new(FileDialogMode::Open, "Open Scene", dir, "", "ron"), FileDialog::show)
     }
 
     #[test]
@@ -885,7 +807,7 @@ mod tests {
         assert_eq!(driver.value_of("File name").as_deref(), Some("b.ron"));
         fs::write(dir.path().join("Alpha/inner.ron"), "").unwrap();
         assert_eq!(driver.double_click("Alpha/"), None);
-        assert_eq!(driver.dialog.dir(), canonical(&dir).join("Alpha"));
+        assert_eq!(driver.state.dir(), canonical(&dir).join("Alpha"));
         assert!(driver.exists("inner.ron"));
         assert_eq!(
             driver.double_click("inner.ron"),
@@ -894,26 +816,57 @@ mod tests {
     }
 
     #[test]
+    fn enter_opens_a_folder_selected_in_the_listing() {
+        let dir = sample_dir();
+        let mut driver = save_dialog(dir.path(), "scene.ron");
+        driver.click("zeta/");
+        assert_eq!(driver.value_of("File name").as_deref(), Some("scene.ron"), "a folder leaves the name alone");
+        assert_eq!(driver.press(Key::Enter), None);
+        assert_eq!(driver.state.dir(), canonical(&dir).join("zeta"));
+        assert_eq!(driver.press(Key::Enter), Some(FileDialogOutcome::Picked(canonical(&dir).join("zeta/scene.ron"))));
+    }
+
+    #[test]
+    fn arrow_keys_move_through_the_listing_and_alt_up_goes_up() {
+        let dir = sample_dir();
+        let mut driver = open_dialog(dir.path());
+        driver.click("Alpha/");
+        // The name field no longer has focus: arrows move the selection.
+        driver.press(Key::ArrowDown);
+        driver.press(Key::ArrowDown);
+        assert_eq!(driver.value_of("File name").as_deref(), Some("A.ron"));
+        for _ in 0..10 {
+            driver.press(Key::ArrowDown);
+        }
+        assert_eq!(driver.value_of("File name").as_deref(), Some("c.RON"), "stops at the last entry");
+        driver.press(Key::ArrowUp);
+        assert_eq!(driver.value_of("File name").as_deref(), Some("b.ron"));
+        driver.click("zeta/");
+        driver.press(Key::Enter);
+        assert_eq!(driver.state.dir(), canonical(&dir).join("zeta"));
+        driver.press_with(Modifiers::ALT, Key::ArrowUp);
+        assert_eq!(driver.state.dir(), canonical(&dir));
+    }
+
+    #[test]
     fn the_path_bar_navigates_on_enter_and_reports_bad_folders() {
         let dir = sample_dir();
         let mut driver = open_dialog(dir.path());
         driver.focus("Folder");
         // Select everything in the path bar and type over it.
-        let select_all =
-            Event::Key { key: Key::A, physical_key: None, pressed: true, repeat: false, modifiers: Modifiers::COMMAND };
-        driver.frame(vec![select_all.clone()]);
+        driver.press_with(Modifiers::COMMAND, Key::A);
         driver.type_text("/no/such/folder");
         assert_eq!(driver.press(Key::Enter), None);
         assert!(driver.shows("No such folder: /no/such/folder"));
-        assert_eq!(driver.dialog.dir(), canonical(&dir), "still listing the old folder");
+        assert_eq!(driver.state.dir(), canonical(&dir), "still listing the old folder");
 
-        driver.frame(vec![select_all]);
+        driver.press_with(Modifiers::COMMAND, Key::A);
         driver.type_text(&canonical(&dir).join("zeta").display().to_string());
         assert_eq!(driver.press(Key::Enter), None);
-        assert_eq!(driver.dialog.dir(), canonical(&dir).join("zeta"));
+        assert_eq!(driver.state.dir(), canonical(&dir).join("zeta"));
         assert!(!driver.shows("No such folder"));
         driver.click("Up");
-        assert_eq!(driver.dialog.dir(), canonical(&dir));
+        assert_eq!(driver.state.dir(), canonical(&dir));
     }
 
     #[test]
@@ -933,7 +886,7 @@ mod tests {
         let mut driver = open_dialog(&missing);
         assert!(driver.shows("Cannot list"), "the listing explains the problem");
         driver.click("Up");
-        assert_eq!(driver.dialog.dir(), canonical(&dir));
+        assert_eq!(driver.state.dir(), canonical(&dir));
         assert!(!driver.shows("Cannot list"));
     }
 

@@ -3,8 +3,11 @@
 
 pub mod app;
 pub mod file_dialog;
+pub mod prompt;
 pub mod recent;
 pub mod recovery;
+#[cfg(test)]
+mod ui_driver;
 pub mod viewport;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};
