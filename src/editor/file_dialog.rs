@@ -18,7 +18,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use eframe::egui::{
-    self, Align, Button, Color32, Id, Key, Layout, Modal, Modifiers, RichText, ScrollArea, TextEdit, text::CCursor,
+    self, Align, Button, Id, Key, Layout, Modal, Modifiers, RichText, ScrollArea, TextEdit, text::CCursor,
     text_edit::TextEditState, text_selection::CCursorRange,
 };
 
@@ -316,7 +316,7 @@ impl FileDialog {
     /// (or opens the folder typed in the path bar), Escape cancels, or backs
     /// out of a "Replace?" question.
     pub fn show(&mut self, ctx: &egui::Context) -> Option<FileDialogOutcome> {
-        let ModalKeys { enter, escape } = take_modal_keys(ctx, self.id);
+        let ModalKeys { enter, escape } = take_modal_keys(ctx, self.id, &[self.path_bar_id(), self.file_name_id()]);
         let path_bar_focused = ctx.memory(|m| m.has_focus(self.path_bar_id()));
         let mut action = match (enter, escape, self.confirm_replace.is_some()) {
             (_, true, true) => Some(Action::KeepExisting),
@@ -418,7 +418,7 @@ impl FileDialog {
                             } else {
                                 format!("No folders or .{} files here", self.extension)
                             };
-                            ui.label(RichText::new(what).italics().color(Color32::GRAY));
+                            ui.label(RichText::new(what).italics().color(ui.visuals().weak_text_color()));
                         }
                         for (index, entry) in self.entries.iter().enumerate() {
                             // A trailing slash marks folders in any font.
@@ -772,6 +772,14 @@ mod tests {
     }
 
     #[test]
+    fn enter_on_a_button_reached_with_tab_presses_that_button() {
+        let dir = sample_dir();
+        let mut driver = save_dialog(dir.path(), "new.ron");
+        driver.focus("Cancel");
+        assert_eq!(driver.press(Key::Enter), Some(FileDialogOutcome::Cancelled));
+    }
+
+    #[test]
     fn saving_over_an_existing_file_asks_first() {
         let dir = sample_dir();
         let mut driver = save_dialog(dir.path(), "b.ron");
@@ -780,6 +788,7 @@ mod tests {
         // Escape backs out of the question, not out of the dialog.
         assert_eq!(driver.press(Key::Escape), None);
         assert!(!driver.exists("Replace"));
+        // Enter asks again.
         assert_eq!(driver.press(Key::Enter), None);
         assert_eq!(driver.click("Don't Replace"), None);
         assert!(driver.exists("Save"));

@@ -24,7 +24,7 @@ pub enum DiscardChoice {
 /// stray click cannot lose work. The prompt keeps no state of its own.
 pub fn discard_prompt(ctx: &egui::Context, title: &str, message: &str) -> Option<DiscardChoice> {
     let id = Id::unique("drape discard prompt");
-    let keys = take_modal_keys(ctx, id);
+    let keys = take_modal_keys(ctx, id, &[]);
     let mut choice = if keys.escape {
         Some(DiscardChoice::Cancel)
     } else if keys.enter {
@@ -66,16 +66,19 @@ pub(crate) struct ModalKeys {
 }
 
 /// Takes Enter and Escape out of this frame's input for the modal `modal_id`
-/// (an `egui::Modal` with that id), before any widget sees them: a focused
-/// text field or button would otherwise act on them as well. Only the top
-/// modal (as of the previous frame, or any modal when none was shown) gets
-/// them, so a prompt over a dialog keeps its keys.
-pub(crate) fn take_modal_keys(ctx: &egui::Context, modal_id: Id) -> ModalKeys {
+/// (an `egui::Modal` with that id), before any widget sees them, so a focused
+/// text field does not also act on them. Enter is left alone while a widget
+/// other than `enter_fields` has keyboard focus: a button reached with Tab
+/// presses itself on Enter. Only the top modal (as of the previous frame, or
+/// any modal when none was shown) gets the keys, so a prompt over a dialog
+/// keeps them.
+pub(crate) fn take_modal_keys(ctx: &egui::Context, modal_id: Id, enter_fields: &[Id]) -> ModalKeys {
     if !is_top_modal(ctx, modal_id) {
         return ModalKeys::default();
     }
+    let enter_is_ours = ctx.memory(|m| m.focused().is_none_or(|focused| enter_fields.contains(&focused)));
     ctx.input_mut(|i| ModalKeys {
-        enter: i.consume_key(Modifiers::NONE, Key::Enter),
+        enter: enter_is_ours && i.consume_key(Modifiers::NONE, Key::Enter),
         escape: i.consume_key(Modifiers::NONE, Key::Escape),
     })
 }
@@ -123,6 +126,13 @@ mod tests {
     fn escape_cancels_and_enter_saves() {
         assert_eq!(prompt().press(Key::Escape), Some(DiscardChoice::Cancel));
         assert_eq!(prompt().press(Key::Enter), Some(DiscardChoice::Save));
+    }
+
+    #[test]
+    fn enter_presses_a_button_reached_with_tab() {
+        let mut driver = prompt();
+        driver.focus("Don't Save");
+        assert_eq!(driver.press(Key::Enter), Some(DiscardChoice::Discard));
     }
 
     #[test]
