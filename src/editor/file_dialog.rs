@@ -18,8 +18,8 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use eframe::egui::{
-    self, Align, Button, Id, Key, Layout, Modal, Modifiers, RichText, ScrollArea, TextEdit, text::CCursor,
-    text_edit::TextEditState, text_selection::CCursorRange,
+    self, Align, Button, Id, Key, Layout, Modal, Modifiers, RichText, ScrollArea, TextEdit, TextStyle, text::CCursor,
+    text_edit::TextEditState, text_selection::CCursorRange, vec2,
 };
 
 use super::prompt::{ModalKeys, is_top_modal, take_modal_keys};
@@ -233,6 +233,8 @@ pub struct FileDialog {
     selection_active: bool,
     /// Scroll the listing to the selection on the next frame (arrow keys).
     scroll_to_selected: bool,
+    /// The listing's scroll offset and visible height in the last frame, in points.
+    listing_view: (f32, f32),
     file_name: String,
     /// Why the typed name cannot be opened or saved, shown under it.
     name_error: Option<String>,
@@ -285,6 +287,7 @@ impl FileDialog {
             selected: None,
             selection_active: false,
             scroll_to_selected: false,
+            listing_view: (0.0, LISTING_HEIGHT),
             file_name: file_name.to_owned(),
             name_error: None,
             confirm_replace: None,
@@ -361,14 +364,12 @@ impl FileDialog {
         ctx.input_mut(|i| {
             // Alt+Up first: a plain Up would also match it.
             if i.consume_key(Modifiers::ALT, Key::ArrowUp) {
-                Some(Action::Up)
-            } else if i.consume_key(Modifiers::NONE, Key::ArrowUp) {
-                Some(Action::MoveSelection(-1))
-            } else if i.consume_key(Modifiers::NONE, Key::ArrowDown) {
-                Some(Action::MoveSelection(1))
-            } else {
-                None
+                return Some(Action::Up);
             }
+            // Key repeat or a fast typist can put several presses in one frame.
+            let up = i.count_and_consume_key(Modifiers::NONE, Key::ArrowUp) as isize;
+            let down = i.count_and_consume_key(Modifiers::NONE, Key::ArrowDown) as isize;
+            (up != down).then_some(Action::MoveSelection(down - up))
         })
     }
 
@@ -397,46 +398,70 @@ impl FileDialog {
     }
 
     fn listing(&mut self, ui: &mut egui::Ui, action: &mut Option<Action>) {
+        let height = LISTING_HEIGHT.min(ui.ctx().content_rect().height() - DIALOG_HEIGHT_WITHOUT_LISTING).max(80.0);
         let frame = egui::Frame::group(ui.style()).inner_margin(4.0);
         frame.show(ui, |ui| {
-            ScrollArea::vertical()
-                // One scroll position per folder: a new folder starts at the top.
+            // One scroll position per folder: a new folder starts at the top.
+            let area = ScrollArea::vertical()
                 .id_salt(self.id.with("listing").with(&self.dir))
                 .auto_shrink([false, false])
-                .max_height(
-                    LISTING_HEIGHT.min(ui.ctx().content_rect().height() - DIALOG_HEIGHT_WITHOUT_LISTING).max(80.0),
-                )
-                .show(ui, |ui| {
-                    ui.with_layout(Layout::top_down_justified(Align::LEFT), |ui| {
-                        if let Some(error) = &self.list_error {
-                            ui.colored_label(ui.visuals().error_fg_color, error);
-                            return;
-                        }
-                        if self.entries.is_empty() {
-                            let what = if self.all_files || self.extension.is_empty() {
-                                "This folder is empty".to_owned()
-                            } else {
-                                format!("No folders or .{} files here", self.extension)
-                            };
-                            ui.label(RichText::new(what).italics().color(ui.visuals().weak_text_color()));
-                        }
-                        for (index, entry) in self.entries.iter().enumerate() {
-                            // A trailing slash marks folders in any font.
-                            let text = if entry.is_dir { format!("{}/", entry.name) } else { entry.name.clone() };
-                            let selected = self.selected == Some(index);
-                            let response = ui.add(Button::selectable(selected, text));
-                            if selected && std::mem::take(&mut self.scroll_to_selected) {
-                                response.scroll_to_me(None);
-                            }
-                            if response.double_clicked() {
-                                *action = Some(Action::Activate(index));
-                            } else if response.clicked() {
-                                *action = Some(Action::Select(index));
-                            }
-                        }
-                    });
-                });
+                .max_height(height);
+            let message = match &self.list_error {
+                Some(error) => Some(RichText::new(error).color(ui.visuals().error_fg_color)),
+                None if self.entries.is_empty() => Some(
+                    RichText::new(if self.all_files || self.extension.is_empty() {
+                        "This folder is empty".to_owned()
+                    } else {
+                        format!("No folders or .{} files here", self.extension)
+                    })
+                    .italics()
+                    .color(ui.visuals().weak_text_color()),
+                ),
+                None => None,
+            };
+            if let Some(message) = message {
+                area.show(ui, |ui| ui.label(message));
+                return;
+            }
+            self.entry_rows(ui, area, action);
         });
+    }
+
+    /// The entries as one selectable row each. Only the rows in view are
+    /// laid out, so a folder of thousands of files stays responsive.
+    fn entry_rows(&mut self, ui: &mut egui::Ui, mut area: ScrollArea, action: &mut Option<Action>) {
+        // Every row gets this height, which `show_rows` relies on.
+        let row_height = ui
+            .spacing()
+            .interact_size
+            .y
+            .max(ui.text_style_height(&TextStyle::Button) + 2.0 * ui.spacing().button_padding.y);
+        if let Some(index) = self.selected
+            && std::mem::take(&mut self.scroll_to_selected)
+        {
+            // Scroll just enough to bring the selected row into view.
+            let (offset, view_height) = self.listing_view;
+            let top = index as f32 * (row_height + ui.spacing().item_spacing.y);
+            let offset = offset.min(top).max(top + row_height - view_height);
+            area = area.vertical_scroll_offset(offset);
+        }
+        let output = area.show_rows(ui, row_height, self.entries.len(), |ui, rows| {
+            ui.with_layout(Layout::top_down_justified(Align::LEFT), |ui| {
+                for index in rows {
+                    let entry = &self.entries[index];
+                    // A trailing slash marks folders in any font.
+                    let text = if entry.is_dir { format!("{}/", entry.name) } else { entry.name.clone() };
+                    let button = Button::selectable(self.selected == Some(index), text).min_size(vec2(0.0, row_height));
+                    let response = ui.add(button);
+                    if response.double_clicked() {
+                        *action = Some(Action::Activate(index));
+                    } else if response.clicked() {
+                        *action = Some(Action::Select(index));
+                    }
+                }
+            });
+        });
+        self.listing_view = (output.state.clamped_offset().y, output.inner_rect.height());
     }
 
     fn name_row(&mut self, ui: &mut egui::Ui) {
@@ -616,6 +641,7 @@ impl FileDialog {
 mod tests {
     use super::*;
     use crate::editor::ui_driver::UiDriver;
+    use egui::Event;
 
     /// A folder with a few scenes, other files, a hidden file and sub-folders.
     fn sample_dir() -> tempfile::TempDir {
@@ -855,6 +881,35 @@ mod tests {
         assert_eq!(driver.state.dir(), canonical(&dir).join("zeta"));
         driver.press_with(Modifiers::ALT, Key::ArrowUp);
         assert_eq!(driver.state.dir(), canonical(&dir));
+    }
+
+    #[test]
+    fn only_rows_in_view_are_drawn_and_arrows_scroll_to_the_selection() {
+        let dir = tempfile::tempdir().unwrap();
+        for i in 0..200 {
+            fs::write(dir.path().join(format!("s{i:03}.ron")), "").unwrap();
+        }
+        let mut driver = open_dialog(dir.path());
+        assert!(driver.exists("s000.ron"));
+        assert!(!driver.exists("s150.ron"), "rows far out of view are not laid out");
+        driver.click("s001.ron");
+        for _ in 0..20 {
+            driver.press(Key::ArrowDown);
+        }
+        // Presses that arrive in one frame all count.
+        let down = |pressed| Event::Key {
+            key: Key::ArrowDown,
+            physical_key: None,
+            pressed,
+            repeat: false,
+            modifiers: Modifiers::NONE,
+        };
+        driver.frame((0..10).flat_map(|_| [down(true), down(false)]).collect());
+        assert_eq!(driver.value_of("File name").as_deref(), Some("s031.ron"));
+        assert!(driver.exists("s031.ron"), "the selection scrolled into view");
+        assert!(!driver.exists("s000.ron"));
+        driver.press(Key::ArrowUp);
+        assert!(driver.exists("s030.ron"));
     }
 
     #[test]
