@@ -38,9 +38,8 @@ pub enum FileDialogMode {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum FileDialogOutcome {
     /// An absolute path: an existing file for [`FileDialogMode::Open`]; for
-    /// [`FileDialogMode::Save`] a file in an existing folder, ending in the
-    /// dialog's extension unless the user picked an existing file without it,
-    /// and confirmed if it exists.
+    /// [`FileDialogMode::Save`] a path in an existing folder ending in the
+    /// dialog's extension, which the user agreed to replace if it exists.
     Picked(PathBuf),
     Cancelled,
 }
