@@ -18,11 +18,11 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use eframe::egui::{
-    self, Align, Button, Color32, Id, Layout, Modal, RichText, ScrollArea, TextEdit, text::CCursor,
-    text_edit::TextEditState, text_selection::CCursorRange,
+    self, Align, Button, Id, Key, Layout, Modal, Modifiers, RichText, ScrollArea, TextEdit, TextStyle, text::CCursor,
+    text_edit::TextEditState, text_selection::CCursorRange, vec2,
 };
 
-use super::prompt::{ModalKeys, take_modal_keys};
+use super::prompt::{ModalKeys, is_top_modal, take_modal_keys};
 use crate::atomic_file::io_reason;
 
 /// What the dialog is for.
@@ -38,9 +38,8 @@ pub enum FileDialogMode {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum FileDialogOutcome {
     /// An absolute path: an existing file for [`FileDialogMode::Open`]; for
-    /// [`FileDialogMode::Save`] a file in an existing folder, ending in the
-    /// dialog's extension unless the user picked an existing file without it,
-    /// and confirmed if it exists.
+    /// [`FileDialogMode::Save`] a path in an existing folder ending in the
+    /// dialog's extension, which the user agreed to replace if it exists.
     Picked(PathBuf),
     Cancelled,
 }
@@ -228,6 +227,13 @@ pub struct FileDialog {
     /// List every file, not only those with the extension.
     all_files: bool,
     selected: Option<usize>,
+    /// The selection was the last thing the user chose (a click or an arrow
+    /// key, not typing a name): Enter then opens a selected folder.
+    selection_active: bool,
+    /// Scroll the listing to the selection on the next frame (arrow keys).
+    scroll_to_selected: bool,
+    /// The listing's scroll offset and visible height in the last frame, in points.
+    listing_view: (f32, f32),
     file_name: String,
     /// Why the typed name cannot be opened or saved, shown under it.
     name_error: Option<String>,
@@ -243,6 +249,8 @@ enum Action {
     Up,
     Refresh,
     Select(usize),
+    /// Arrow keys: move the selection by this many rows.
+    MoveSelection(isize),
     Activate(usize),
     Confirm,
     Replace,
@@ -251,7 +259,10 @@ enum Action {
 }
 
 const DIALOG_WIDTH: f32 = 560.0;
+const MIN_DIALOG_WIDTH: f32 = 320.0;
 const LISTING_HEIGHT: f32 = 280.0;
+/// The dialog's height besides the listing, for fitting it in small windows.
+const DIALOG_HEIGHT_WITHOUT_LISTING: f32 = 200.0;
 
 impl FileDialog {
     /// A dialog listing `start_dir` (made absolute; a folder that cannot be
@@ -273,6 +284,9 @@ impl FileDialog {
             list_error: None,
             all_files: false,
             selected: None,
+            selection_active: false,
+            scroll_to_selected: false,
+            listing_view: (0.0, LISTING_HEIGHT),
             file_name: file_name.to_owned(),
             name_error: None,
             confirm_replace: None,
@@ -304,7 +318,7 @@ impl FileDialog {
     /// (or opens the folder typed in the path bar), Escape cancels, or backs
     /// out of a "Replace?" question.
     pub fn show(&mut self, ctx: &egui::Context) -> Option<FileDialogOutcome> {
-        let ModalKeys { enter, escape } = take_modal_keys(ctx, self.id);
+        let ModalKeys { enter, escape } = take_modal_keys(ctx, self.id, &[self.path_bar_id(), self.file_name_id()]);
         let path_bar_focused = ctx.memory(|m| m.has_focus(self.path_bar_id()));
         let mut action = match (enter, escape, self.confirm_replace.is_some()) {
             (_, true, true) => Some(Action::KeepExisting),
@@ -312,10 +326,11 @@ impl FileDialog {
             (true, _, true) => Some(Action::Replace),
             (true, _, false) if path_bar_focused => Some(Action::NavigateTyped),
             (true, _, false) => Some(Action::Confirm),
-            _ => None,
+            _ => self.take_list_keys(ctx),
         };
         Modal::new(self.id).show(ctx, |ui| {
-            ui.set_width(DIALOG_WIDTH);
+            // Narrower in a small window, so the buttons stay on screen.
+            ui.set_width(DIALOG_WIDTH.min(ctx.content_rect().width() - 40.0).max(MIN_DIALOG_WIDTH));
             ui.heading(&self.title);
             ui.add_space(4.0);
             self.path_bar(ui, &mut action);
@@ -337,6 +352,24 @@ impl FileDialog {
 
     fn file_name_id(&self) -> Id {
         self.id.with("file name")
+    }
+
+    /// Up/Down move through the listing and Alt+Up goes to the enclosing
+    /// folder, while no text field is being typed in (there they move the cursor).
+    fn take_list_keys(&self, ctx: &egui::Context) -> Option<Action> {
+        if self.confirm_replace.is_some() || ctx.egui_wants_keyboard_input() || !is_top_modal(ctx, self.id) {
+            return None;
+        }
+        ctx.input_mut(|i| {
+            // Alt+Up first: a plain Up would also match it.
+            if i.consume_key(Modifiers::ALT, Key::ArrowUp) {
+                return Some(Action::Up);
+            }
+            // Key repeat or a fast typist can put several presses in one frame.
+            let up = i.count_and_consume_key(Modifiers::NONE, Key::ArrowUp) as isize;
+            let down = i.count_and_consume_key(Modifiers::NONE, Key::ArrowDown) as isize;
+            (up != down).then_some(Action::MoveSelection(down - up))
+        })
     }
 
     fn path_bar(&mut self, ui: &mut egui::Ui, action: &mut Option<Action>) {
@@ -364,39 +397,70 @@ impl FileDialog {
     }
 
     fn listing(&mut self, ui: &mut egui::Ui, action: &mut Option<Action>) {
+        let height = LISTING_HEIGHT.min(ui.ctx().content_rect().height() - DIALOG_HEIGHT_WITHOUT_LISTING).max(80.0);
         let frame = egui::Frame::group(ui.style()).inner_margin(4.0);
         frame.show(ui, |ui| {
-            ScrollArea::vertical()
-                .id_salt(self.id.with("listing"))
+            // One scroll position per folder: a new folder starts at the top.
+            let area = ScrollArea::vertical()
+                .id_salt(self.id.with("listing").with(&self.dir))
                 .auto_shrink([false, false])
-                .max_height(LISTING_HEIGHT)
-                .show(ui, |ui| {
-                    ui.with_layout(Layout::top_down_justified(Align::LEFT), |ui| {
-                        if let Some(error) = &self.list_error {
-                            ui.colored_label(ui.visuals().error_fg_color, error);
-                            return;
-                        }
-                        if self.entries.is_empty() {
-                            let what = if self.all_files || self.extension.is_empty() {
-                                "This folder is empty".to_owned()
-                            } else {
-                                format!("No folders or .{} files here", self.extension)
-                            };
-                            ui.label(RichText::new(what).italics().color(Color32::GRAY));
-                        }
-                        for (index, entry) in self.entries.iter().enumerate() {
-                            // A trailing slash marks folders in any font.
-                            let text = if entry.is_dir { format!("{}/", entry.name) } else { entry.name.clone() };
-                            let response = ui.add(Button::selectable(self.selected == Some(index), text));
-                            if response.double_clicked() {
-                                *action = Some(Action::Activate(index));
-                            } else if response.clicked() {
-                                *action = Some(Action::Select(index));
-                            }
-                        }
-                    });
-                });
+                .max_height(height);
+            let message = match &self.list_error {
+                Some(error) => Some(RichText::new(error).color(ui.visuals().error_fg_color)),
+                None if self.entries.is_empty() => Some(
+                    RichText::new(if self.all_files || self.extension.is_empty() {
+                        "This folder is empty".to_owned()
+                    } else {
+                        format!("No folders or .{} files here", self.extension)
+                    })
+                    .italics()
+                    .color(ui.visuals().weak_text_color()),
+                ),
+                None => None,
+            };
+            if let Some(message) = message {
+                area.show(ui, |ui| ui.label(message));
+                return;
+            }
+            self.entry_rows(ui, area, action);
         });
+    }
+
+    /// The entries as one selectable row each. Only the rows in view are
+    /// laid out, so a folder of thousands of files stays responsive.
+    fn entry_rows(&mut self, ui: &mut egui::Ui, mut area: ScrollArea, action: &mut Option<Action>) {
+        // Every row gets this height, which `show_rows` relies on.
+        let row_height = ui
+            .spacing()
+            .interact_size
+            .y
+            .max(ui.text_style_height(&TextStyle::Button) + 2.0 * ui.spacing().button_padding.y);
+        if let Some(index) = self.selected
+            && std::mem::take(&mut self.scroll_to_selected)
+        {
+            // Scroll just enough to bring the selected row into view.
+            let (offset, view_height) = self.listing_view;
+            let top = index as f32 * (row_height + ui.spacing().item_spacing.y);
+            let offset = offset.min(top).max(top + row_height - view_height);
+            area = area.vertical_scroll_offset(offset);
+        }
+        let output = area.show_rows(ui, row_height, self.entries.len(), |ui, rows| {
+            ui.with_layout(Layout::top_down_justified(Align::LEFT), |ui| {
+                for index in rows {
+                    let entry = &self.entries[index];
+                    // A trailing slash marks folders in any font.
+                    let text = if entry.is_dir { format!("{}/", entry.name) } else { entry.name.clone() };
+                    let button = Button::selectable(self.selected == Some(index), text).min_size(vec2(0.0, row_height));
+                    let response = ui.add(button);
+                    if response.double_clicked() {
+                        *action = Some(Action::Activate(index));
+                    } else if response.clicked() {
+                        *action = Some(Action::Select(index));
+                    }
+                }
+            });
+        });
+        self.listing_view = (output.state.clamped_offset().y, output.inner_rect.height());
     }
 
     fn name_row(&mut self, ui: &mut egui::Ui) {
@@ -409,6 +473,7 @@ impl FileDialog {
             if response.changed() {
                 self.name_error = None;
                 self.confirm_replace = None;
+                self.selection_active = false;
             }
             if self.first_frame {
                 response.request_focus();
@@ -480,13 +545,16 @@ impl FileDialog {
                 }
             }
             Action::Refresh => self.relist(),
-            Action::Select(index) => {
-                self.selected = Some(index);
-                let entry = &self.entries[index];
-                if !entry.is_dir {
-                    self.file_name = entry.name.clone();
-                    self.name_error = None;
-                }
+            Action::Select(index) => self.select(index),
+            Action::MoveSelection(step) => {
+                let last = self.entries.len().checked_sub(1)?;
+                let index = match self.selected {
+                    Some(current) => current.saturating_add_signed(step).min(last),
+                    None if step < 0 => last,
+                    None => 0,
+                };
+                self.select(index);
+                self.scroll_to_selected = true;
             }
             Action::Activate(index) => {
                 let entry = self.entries[index].clone();
@@ -504,12 +572,24 @@ impl FileDialog {
         None
     }
 
+    /// Selects a listed entry; a file's name goes into the name field.
+    fn select(&mut self, index: usize) {
+        self.selected = Some(index);
+        self.selection_active = true;
+        let entry = &self.entries[index];
+        if !entry.is_dir {
+            self.file_name = entry.name.clone();
+            self.name_error = None;
+        }
+    }
+
     /// The Open/Save button, Enter, or a double click on a file.
     fn confirm(&mut self) -> Option<FileDialogOutcome> {
-        // With no name typed, Enter on a selected folder opens it.
-        if self.file_name.trim().is_empty()
-            && let Some(entry) = self.selected.map(|i| &self.entries[i])
+        // A folder just selected in the listing, or selected with no name
+        // typed, is opened, as in desktop file choosers.
+        if let Some(entry) = self.selected.map(|i| &self.entries[i])
             && entry.is_dir
+            && (self.selection_active || self.file_name.trim().is_empty())
         {
             self.navigate(entry.path.clone());
             return None;
@@ -541,6 +621,7 @@ impl FileDialog {
 
     fn relist(&mut self) {
         self.selected = None;
+        self.selection_active = false;
         let filter = (!self.all_files && !self.extension.is_empty()).then_some(self.extension.as_str());
         match list_dir(&self.dir, filter) {
             Ok(entries) => {
@@ -559,7 +640,7 @@ impl FileDialog {
 mod tests {
     use super::*;
     use crate::editor::ui_driver::UiDriver;
-    use egui::{Key, Modifiers};
+    use egui::Event;
 
     /// A folder with a few scenes, other files, a hidden file and sub-folders.
     fn sample_dir() -> tempfile::TempDir {
@@ -716,6 +797,14 @@ mod tests {
     }
 
     #[test]
+    fn enter_on_a_button_reached_with_tab_presses_that_button() {
+        let dir = sample_dir();
+        let mut driver = save_dialog(dir.path(), "new.ron");
+        driver.focus("Cancel");
+        assert_eq!(driver.press(Key::Enter), Some(FileDialogOutcome::Cancelled));
+    }
+
+    #[test]
     fn saving_over_an_existing_file_asks_first() {
         let dir = sample_dir();
         let mut driver = save_dialog(dir.path(), "b.ron");
@@ -724,6 +813,7 @@ mod tests {
         // Escape backs out of the question, not out of the dialog.
         assert_eq!(driver.press(Key::Escape), None);
         assert!(!driver.exists("Replace"));
+        // Enter asks again.
         assert_eq!(driver.press(Key::Enter), None);
         assert_eq!(driver.click("Don't Replace"), None);
         assert!(driver.exists("Save"));
@@ -757,6 +847,68 @@ mod tests {
             driver.double_click("inner.ron"),
             Some(FileDialogOutcome::Picked(canonical(&dir).join("Alpha/inner.ron")))
         );
+    }
+
+    #[test]
+    fn enter_opens_a_folder_selected_in_the_listing() {
+        let dir = sample_dir();
+        let mut driver = save_dialog(dir.path(), "scene.ron");
+        driver.click("zeta/");
+        assert_eq!(driver.value_of("File name").as_deref(), Some("scene.ron"), "a folder leaves the name alone");
+        assert_eq!(driver.press(Key::Enter), None);
+        assert_eq!(driver.state.dir(), canonical(&dir).join("zeta"));
+        assert_eq!(driver.press(Key::Enter), Some(FileDialogOutcome::Picked(canonical(&dir).join("zeta/scene.ron"))));
+    }
+
+    #[test]
+    fn arrow_keys_move_through_the_listing_and_alt_up_goes_up() {
+        let dir = sample_dir();
+        let mut driver = open_dialog(dir.path());
+        driver.click("Alpha/");
+        // The name field no longer has focus: arrows move the selection.
+        driver.press(Key::ArrowDown);
+        driver.press(Key::ArrowDown);
+        assert_eq!(driver.value_of("File name").as_deref(), Some("A.ron"));
+        for _ in 0..10 {
+            driver.press(Key::ArrowDown);
+        }
+        assert_eq!(driver.value_of("File name").as_deref(), Some("c.RON"), "stops at the last entry");
+        driver.press(Key::ArrowUp);
+        assert_eq!(driver.value_of("File name").as_deref(), Some("b.ron"));
+        driver.click("zeta/");
+        driver.press(Key::Enter);
+        assert_eq!(driver.state.dir(), canonical(&dir).join("zeta"));
+        driver.press_with(Modifiers::ALT, Key::ArrowUp);
+        assert_eq!(driver.state.dir(), canonical(&dir));
+    }
+
+    #[test]
+    fn only_rows_in_view_are_drawn_and_arrows_scroll_to_the_selection() {
+        let dir = tempfile::tempdir().unwrap();
+        for i in 0..200 {
+            fs::write(dir.path().join(format!("s{i:03}.ron")), "").unwrap();
+        }
+        let mut driver = open_dialog(dir.path());
+        assert!(driver.exists("s000.ron"));
+        assert!(!driver.exists("s150.ron"), "rows far out of view are not laid out");
+        driver.click("s001.ron");
+        for _ in 0..20 {
+            driver.press(Key::ArrowDown);
+        }
+        // Presses that arrive in one frame all count.
+        let down = |pressed| Event::Key {
+            key: Key::ArrowDown,
+            physical_key: None,
+            pressed,
+            repeat: false,
+            modifiers: Modifiers::NONE,
+        };
+        driver.frame((0..10).flat_map(|_| [down(true), down(false)]).collect());
+        assert_eq!(driver.value_of("File name").as_deref(), Some("s031.ron"));
+        assert!(driver.exists("s031.ron"), "the selection scrolled into view");
+        assert!(!driver.exists("s000.ron"));
+        driver.press(Key::ArrowUp);
+        assert!(driver.exists("s030.ron"));
     }
 
     #[test]

@@ -24,7 +24,7 @@ pub enum DiscardChoice {
 /// stray click cannot lose work. The prompt keeps no state of its own.
 pub fn discard_prompt(ctx: &egui::Context, title: &str, message: &str) -> Option<DiscardChoice> {
     let id = Id::unique("drape discard prompt");
-    let keys = take_modal_keys(ctx, id);
+    let keys = take_modal_keys(ctx, id, &[]);
     let mut choice = if keys.escape {
         Some(DiscardChoice::Cancel)
     } else if keys.enter {
@@ -66,19 +66,28 @@ pub(crate) struct ModalKeys {
 }
 
 /// Takes Enter and Escape out of this frame's input for the modal `modal_id`
-/// (an `egui::Modal` with that id), before any widget sees them: a focused
-/// text field or button would otherwise act on them as well. Only the top
-/// modal (as of the previous frame, or any modal when none was shown) gets
-/// them, so a prompt over a dialog keeps its keys.
-pub(crate) fn take_modal_keys(ctx: &egui::Context, modal_id: Id) -> ModalKeys {
-    let layer = egui::LayerId::new(egui::Order::Foreground, modal_id);
-    if !ctx.memory(|m| m.top_modal_layer().is_none_or(|top| top == layer)) {
+/// (an `egui::Modal` with that id), before any widget sees them, so a focused
+/// text field does not also act on them. Enter is left alone while a widget
+/// other than `enter_fields` has keyboard focus: a button reached with Tab
+/// presses itself on Enter. Only the top modal (as of the previous frame, or
+/// any modal when none was shown) gets the keys, so a prompt over a dialog
+/// keeps them.
+pub(crate) fn take_modal_keys(ctx: &egui::Context, modal_id: Id, enter_fields: &[Id]) -> ModalKeys {
+    if !is_top_modal(ctx, modal_id) {
         return ModalKeys::default();
     }
+    let enter_is_ours = ctx.memory(|m| m.focused().is_none_or(|focused| enter_fields.contains(&focused)));
     ctx.input_mut(|i| ModalKeys {
-        enter: i.consume_key(Modifiers::NONE, Key::Enter),
+        enter: enter_is_ours && i.consume_key(Modifiers::NONE, Key::Enter),
         escape: i.consume_key(Modifiers::NONE, Key::Escape),
     })
+}
+
+/// Whether the `egui::Modal` with `modal_id` was the top modal in the
+/// previous frame, or no modal was shown then (its own first frame).
+pub(crate) fn is_top_modal(ctx: &egui::Context, modal_id: Id) -> bool {
+    let layer = egui::LayerId::new(egui::Order::Foreground, modal_id);
+    ctx.memory(|m| m.top_modal_layer().is_none_or(|top| top == layer))
 }
 
 #[cfg(test)]
@@ -120,6 +129,13 @@ mod tests {
     }
 
     #[test]
+    fn enter_presses_a_button_reached_with_tab() {
+        let mut driver = prompt();
+        driver.focus("Don't Save");
+        assert_eq!(driver.press(Key::Enter), Some(DiscardChoice::Discard));
+    }
+
+    #[test]
     fn nothing_is_chosen_without_input() {
         let mut driver = prompt();
         assert_eq!(driver.frame(Vec::new()), None);
@@ -132,5 +148,34 @@ mod tests {
             modifiers: Modifiers::NONE,
         };
         assert_eq!(driver.frame(vec![egui::Event::PointerMoved(pos), button(true), button(false)]), None);
+    }
+
+    /// A file dialog with the prompt possibly shown over it.
+    struct Stacked {
+        dialog: crate::editor::file_dialog::FileDialog,
+        prompt_open: bool,
+        choice: Option<DiscardChoice>,
+    }
+
+    fn show_stacked(state: &mut Stacked, ctx: &egui::Context) -> Option<crate::editor::file_dialog::FileDialogOutcome> {
+        let outcome = state.dialog.show(ctx);
+        if state.prompt_open {
+            state.choice = discard_prompt(ctx, "Unsaved changes", "Save changes?");
+            state.prompt_open = state.choice.is_none();
+        }
+        outcome
+    }
+
+    #[test]
+    fn a_prompt_over_a_dialog_takes_the_keys_first() {
+        use crate::editor::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+        let dir = tempfile::tempdir().unwrap();
+        let dialog = FileDialog::new(FileDialogMode::Open, "Open Scene", dir.path(), "", "ron");
+        let mut driver = UiDriver::new(Stacked { dialog, prompt_open: false, choice: None }, show_stacked);
+        driver.state.prompt_open = true;
+        driver.frame(Vec::new());
+        assert_eq!(driver.press(Key::Escape), None, "the dialog stays open");
+        assert_eq!(driver.state.choice, Some(DiscardChoice::Cancel));
+        assert_eq!(driver.press(Key::Escape), Some(FileDialogOutcome::Cancelled));
     }
 }

@@ -242,7 +242,7 @@ mod tests {
         recent.push(&b);
         assert!(recent.remove(&a));
         assert!(!recent.remove(&a));
-        assert_eq!(recent.paths(), [b.clone()]);
+        assert_eq!(recent.paths(), std::slice::from_ref(&b));
         // A file deleted since it was listed can still be removed by its listed path.
         fs::remove_file(&b).unwrap();
         assert!(recent.remove(&b));

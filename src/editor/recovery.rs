@@ -80,8 +80,8 @@ impl Recovery {
     }
 
     /// Writes `scene` to the recovery file atomically (replacing an older one),
-    /// noting `original`, the file the scene belongs to, and the current time.
-    /// Creates the directory when needed.
+    /// noting `original`, the file the scene belongs to (made absolute), and
+    /// the current time. Creates the directory when needed.
     pub fn write(&self, scene: &Scene, original: Option<&Path>) -> Result<(), SceneError> {
         self.write_at(scene, original, SystemTime::now())
     }
@@ -93,7 +93,9 @@ impl Recovery {
         let mut text = format!("{HEADER_FIRST_LINE}\n");
         // A RON string literal escapes quotes and line breaks; a path that is
         // not UTF-8 cannot be written as one and is left out.
-        if let Some(original) = original.and_then(Path::to_str)
+        // Absolute, so the restore offer still finds it from another working directory.
+        let original = original.map(|path| std::path::absolute(path).unwrap_or_else(|_| path.to_owned()));
+        if let Some(original) = original.as_deref().and_then(Path::to_str)
             && let Ok(quoted) = ron::to_string(original)
         {
             text.push_str(&format!("{ORIGINAL_PREFIX}{quoted}\n"));
@@ -259,6 +261,10 @@ mod tests {
         recovery.write(&tent(), None).unwrap();
         let recovered = recovery.read().unwrap().unwrap();
         assert_eq!((recovered.scene, recovered.original), (tent(), None));
+
+        recovery.write(&tent(), Some(Path::new("relative/tent.ron"))).unwrap();
+        let original = recovery.read().unwrap().unwrap().original.unwrap();
+        assert_eq!(original, std::env::current_dir().unwrap().join("relative/tent.ron"));
     }
 
     #[test]

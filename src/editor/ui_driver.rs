@@ -67,23 +67,18 @@ impl<S, O: Clone> UiDriver<S, O> {
         self.find(label).is_some()
     }
 
+    /// A mouse click at the widget's centre (which also takes keyboard focus
+    /// from a text field, as a real click does).
     pub fn click(&mut self, label: &str) -> Option<O> {
-        self.act(label, accesskit::Action::Click)
+        self.clicks(label, 1)
     }
 
-    pub fn focus(&mut self, label: &str) -> Option<O> {
-        self.act(label, accesskit::Action::Focus)
-    }
-
-    fn act(&mut self, label: &str, action: accesskit::Action) -> Option<O> {
-        let (target, _) = self.find(label).unwrap_or_else(|| panic!("no widget labelled {label:?}"));
-        let request =
-            accesskit::ActionRequest { action, target_tree: accesskit::TreeId::ROOT, target_node: target, data: None };
-        self.frame(vec![Event::AccessKitActionRequest(request)])
-    }
-
-    /// Two presses and releases at the widget's centre, as a mouse would.
+    /// Two clicks in quick succession at the widget's centre.
     pub fn double_click(&mut self, label: &str) -> Option<O> {
+        self.clicks(label, 2)
+    }
+
+    fn clicks(&mut self, label: &str, count: usize) -> Option<O> {
         let (_, node) = self.find(label).unwrap_or_else(|| panic!("no widget labelled {label:?}"));
         let bounds = node.bounds().expect("widget bounds");
         let pos = Pos2::new(((bounds.x0 + bounds.x1) / 2.0) as f32, ((bounds.y0 + bounds.y1) / 2.0) as f32);
@@ -96,8 +91,22 @@ impl<S, O: Clone> UiDriver<S, O> {
         // A pause first, so an earlier click does not pair with these.
         self.time += 1.0;
         self.frame(vec![Event::PointerMoved(pos)]);
-        self.frame(vec![button(true), button(false)]);
-        self.frame(vec![button(true), button(false)])
+        for _ in 0..count {
+            self.frame(vec![button(true), button(false)]);
+        }
+        self.outcome.clone()
+    }
+
+    /// Gives the widget keyboard focus, as Tab would.
+    pub fn focus(&mut self, label: &str) -> Option<O> {
+        let (target, _) = self.find(label).unwrap_or_else(|| panic!("no widget labelled {label:?}"));
+        let request = accesskit::ActionRequest {
+            action: accesskit::Action::Focus,
+            target_tree: accesskit::TreeId::ROOT,
+            target_node: target,
+            data: None,
+        };
+        self.frame(vec![Event::AccessKitActionRequest(request)])
     }
 
     pub fn type_text(&mut self, text: &str) -> Option<O> {
