@@ -170,6 +170,8 @@ pub struct DrapeApp {
     quit_after_frames: Option<u64>,
     frames_drawn: u64,
     pub(super) files: Files,
+    /// Where the viewport was drawn last frame (points).
+    viewport_rect: egui::Rect,
     /// Frame the cloth (and move the ground under it) once a newly opened scene is relaxed.
     pub(super) frame_when_shown: bool,
 }
@@ -232,6 +234,7 @@ impl DrapeApp {
             quit_after_frames: None,
             frames_drawn: 0,
             files: Files::new(default_config_dir(), default_state_dir()),
+            viewport_rect: egui::Rect::NOTHING,
             frame_when_shown: false,
         }
         .with_mesh()
@@ -247,6 +250,20 @@ impl DrapeApp {
     pub fn with_file_dirs(mut self, config_dir: Option<PathBuf>, state_dir: Option<PathBuf>) -> Self {
         self.files = Files::new(config_dir, state_dir);
         self
+    }
+
+    /// Where the viewport was drawn in the last frame, in points.
+    pub fn viewport_rect(&self) -> egui::Rect {
+        self.viewport_rect
+    }
+
+    /// Where a world point appears on screen (points), `None` behind the camera.
+    pub fn screen_pos(&self, world: glam::Vec3) -> Option<egui::Pos2> {
+        let rect = self.viewport_rect;
+        // Projected at one pixel per point: the camera only needs the aspect ratio.
+        let size = (rect.width().round().max(1.0) as u32, rect.height().round().max(1.0) as u32);
+        let at = self.camera.project(world, size)?;
+        Some(rect.min + egui::vec2(at.x * rect.width() / size.0 as f32, at.y * rect.height() / size.1 as f32))
     }
 
     /// The window's context once the first frame has run.
@@ -754,6 +771,8 @@ impl DrapeApp {
     fn viewport(&mut self, ui: &mut egui::Ui) {
         let rect = ui.available_rect_before_wrap();
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
+        response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Viewport"));
+        self.viewport_rect = rect;
         let aspect = rect.width() / rect.height().max(1.0);
         let pixels_per_point = ui.ctx().pixels_per_point();
         let size_px = (

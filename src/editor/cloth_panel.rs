@@ -38,12 +38,13 @@ impl DrapeApp {
         let cloth = self.doc.scene().cloth.clone();
         egui::Grid::new("cloth").num_columns(2).show(ui, |ui| {
             let (mut width, mut height) = cloth.size;
-            ui.label("Width");
-            let r = ui.add(DragValue::new(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m"));
+            let label = ui.label("Width").id;
+            let r = ui.add(DragValue::new(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
             self.field(&r, "Cloth size", |s| s.cloth.size.0 = width);
             ui.end_row();
-            ui.label("Height");
-            let r = ui.add(DragValue::new(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m"));
+            let label = ui.label("Height").id;
+            let r =
+                ui.add(DragValue::new(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
             self.field(&r, "Cloth size", |s| s.cloth.size.1 = height);
             ui.end_row();
 
@@ -52,9 +53,11 @@ impl DrapeApp {
             ui.horizontal(|ui| {
                 let range = MIN_GRID_SIDE..=MAX_GRID_SIDE;
                 let r = ui.add(DragValue::new(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
+                r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid columns"));
                 self.field(&r, "Grid", |s| edits::set_grid(s, (cols, s.cloth.grid.1)));
                 ui.label("×");
                 let r = ui.add(DragValue::new(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
+                r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid rows"));
                 self.field(&r, "Grid", |s| edits::set_grid(s, (s.cloth.grid.0, rows)));
             });
             ui.end_row();
@@ -80,27 +83,31 @@ impl DrapeApp {
             .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
         egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
             let mut elasticity = key.elasticity;
-            ui.label("Elasticity").on_hover_text("How much longer the fabric is than its grid: 1 is taut, more sags.");
-            let r = ui.add(Slider::new(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3));
+            let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";
+            let label = ui.label("Elasticity").on_hover_text(hint).id;
+            let slider = Slider::new(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
+            let r = ui.add(slider).labelled_by(label);
             self.field(&r, "Elasticity", |s| s.keys[index].elasticity = elasticity);
             ui.end_row();
 
             let mut stiffness = key.stiffness;
-            ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.");
-            let r = ui.add(Slider::new(&mut stiffness, 0.0..=1.0).max_decimals(3));
+            let label = ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.").id;
+            let r = ui.add(Slider::new(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
             self.field(&r, "Stiffness", |s| s.keys[index].stiffness = stiffness);
             ui.end_row();
 
             let mut iterations = key.relax.iterations;
-            ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.");
-            let r = ui.add(DragValue::new(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0));
+            let label = ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.").id;
+            let drag = DragValue::new(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
+            let r = ui.add(drag).labelled_by(label);
             self.field(&r, "Relaxation iterations", |s| s.keys[index].relax.iterations = iterations);
             ui.end_row();
 
             let mut tolerance = key.relax.tolerance;
-            ui.label("Tolerance").on_hover_text("Relaxation stops once no point moves more than this × the spacing.");
+            let hint = "Relaxation stops once no point moves more than this × the spacing in a sweep.";
+            let label = ui.label("Tolerance").on_hover_text(hint).id;
             let slider = Slider::new(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
-            let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}")));
+            let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
             self.field(&r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
             ui.end_row();
         });
@@ -159,8 +166,9 @@ impl DrapeApp {
                 egui::Grid::new("pin position").num_columns(2).show(ui, |ui| {
                     let mut pos = pin.pos;
                     for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
-                        ui.label(axis);
-                        let r = ui.add(DragValue::new(value).speed(0.005).max_decimals(4).suffix(" m"));
+                        let label = ui.label(axis).id;
+                        let drag = DragValue::new(value).speed(0.005).max_decimals(4).suffix(" m");
+                        let r = ui.add(drag).labelled_by(label);
                         let new = pos_after(pin.pos, axis, *value);
                         self.field(&r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
                         ui.end_row();

@@ -53,6 +53,11 @@ fn nearest_point(rect: Rect, grid: (u32, u32), pos: Pos2) -> Option<(u32, u32)> 
 }
 
 impl GridEditor {
+    /// Where grid point `point` of `cloth` is drawn when the widget occupies `widget_rect` (tests, scripts).
+    pub fn point_in(widget_rect: Rect, cloth: &Cloth, point: (u32, u32)) -> Pos2 {
+        point_pos(widget_rect.shrink(PIN_RADIUS + 1.0), cloth.grid, point)
+    }
+
     /// Draws the grid of `cloth` with the pins of `key`; `selected` pins are
     /// ringed, `highlight` (a point hovered here or in the viewport) is marked.
     /// Returns the user's actions and the point under the pointer.
@@ -71,6 +76,7 @@ impl GridEditor {
         let size = size.max(Vec2::splat(24.0));
         let (outer, response) =
             ui.allocate_exact_size(size + Vec2::splat(2.0 * PIN_RADIUS + 2.0), Sense::click_and_drag());
+        response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Grid editor"));
         let rect = outer.shrink(PIN_RADIUS + 1.0);
         let painter = ui.painter_at(outer);
         let visuals = ui.visuals();
