@@ -692,6 +692,11 @@ fn cancelling_leaves_no_file_and_keeps_earlier_ones() {
             assert!(matches!(result, Err(ExportError::Cancelled)), "{format:?} at {cancel_at}: {result:?}");
             assert_eq!(files_in(dir.path()), Vec::<String>::new(), "{format:?} cancelled at {cancel_at}");
         }
+        // A sequence's directory that the export made goes again.
+        let dir = tempfile::tempdir().unwrap();
+        let result = export_animation(&scene, 0..=10, &dir.path().join("seq"), format, &mut |done, _| done < 3);
+        assert!(matches!(result, Err(ExportError::Cancelled)));
+        assert_eq!(files_in(dir.path()), Vec::<String>::new(), "{format:?} into a new directory");
         // An earlier export of the same name survives a cancelled one.
         let dir = tempfile::tempdir().unwrap();
         let output = dir.path().join(format!("out.{}", format.extension()));

@@ -482,6 +482,8 @@ pub(crate) fn write_around(
 /// final files and moved into place once every frame is written.
 fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> Result<Vec<PathBuf>, ExportError> {
     let named_files = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    // A directory this export made is removed again if the export fails.
+    let mut created_dir = false;
     let (dir, name) = if named_files {
         check_directory(output)?;
         let dir = match output.parent() {
@@ -499,12 +501,20 @@ fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> 
         {
             return Err(ExportError::MissingDirectory { path: output.to_path_buf(), dir: parent.to_path_buf() });
         }
-        fs::create_dir_all(output).map_err(|e| ExportError::write(output, e))?;
+        if !output.is_dir() {
+            fs::create_dir(output).map_err(|e| ExportError::write(output, e))?;
+            created_dir = true;
+        }
         let name = options.sequence_name.clone().unwrap_or_else(|| file_stem_for(&job.source.scene.name));
         (output.to_path_buf(), name)
     };
     let staging = dir.join(format!(".{name}.export-{}", std::process::id()));
-    fs::create_dir(&staging).map_err(|e| ExportError::write(&staging, e))?;
+    if let Err(error) = fs::create_dir(&staging) {
+        if created_dir {
+            let _ = fs::remove_dir(&dir);
+        }
+        return Err(ExportError::write(&staging, error));
+    }
     let object_name = job.name_or("cloth").to_string();
     let frames = job.frames();
     let written = job.for_each_frame(|_, frame, mesh| {
@@ -522,7 +532,12 @@ fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> 
         Ok(())
     });
     let _ = fs::remove_dir_all(&staging);
-    moved.map_err(|e| ExportError::write(&dir, e))?;
+    if let Err(error) = moved {
+        if created_dir && files.is_empty() {
+            let _ = fs::remove_dir(&dir);
+        }
+        return Err(ExportError::write(&dir, error));
+    }
     Ok(files)
 }
 
