@@ -721,6 +721,8 @@ fn frames_outside_the_timeline_are_refused_with_both_ranges() {
         error.to_string(),
         "frames 100..130 reach outside the scene's timeline 0..120: export frames within it (or lengthen the timeline)"
     );
+    let error = export_animation(&scene, 121..=121, &output, AnimationFormat::Mdd, &mut |_, _| true).unwrap_err();
+    assert!(error.to_string().starts_with("frame 121 is outside the scene's timeline 0..120"), "{error}");
     let error = export_animation(&scene, -1..=3, &output, AnimationFormat::Glb, &mut |_, _| true).unwrap_err();
     assert!(matches!(error, ExportError::FramesOutsideTimeline { first: -1, last: 3, start: 0, end: 120 }));
     #[allow(clippy::reversed_empty_ranges)]

@@ -150,8 +150,8 @@ pub struct ExportSummary {
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
     #[error(
-        "frames {first}..{last} reach outside the scene's timeline {start}..{end}: export frames within it \
-         (or lengthen the timeline)"
+        "{} outside the scene's timeline {start}..{end}: export frames within it (or lengthen the timeline)",
+        if first == last { format!("frame {first} is") } else { format!("frames {first}..{last} reach") }
     )]
     FramesOutsideTimeline { first: i32, last: i32, start: i32, end: i32 },
     #[error("the frame range {first}..{last} ends before it starts: give the smaller frame first")]
