@@ -1,16 +1,13 @@
 //! The `drape` command line: check scenes and export their rest shapes and animation.
 
-use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Result, anyhow, bail};
-use clap::{Parser, Subcommand, ValueEnum};
+use anyhow::{Result, anyhow};
+use clap::{Parser, Subcommand};
+use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
-use drape::animate::{EvaluateOptions, Evaluator, frame_time_secs};
-use drape::atomic_file::io_reason;
-use drape::export::{write_atomically, write_obj};
-use drape::mesh::Mesh;
+use drape::export::animation::padded_frame;
 use drape::render::headless::SceneOverlays;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis};
 use drape::shape::relax::mean_structural_error;
@@ -26,6 +23,7 @@ macro_rules! say {
     }};
 }
 
+mod export_command;
 mod render_command;
 
 #[derive(Parser)]
@@ -48,25 +46,26 @@ enum Command {
         /// The scene file (.ron).
         scene: PathBuf,
     },
-    /// Write the cloth at a frame as a Wavefront OBJ, or a numbered OBJ sequence for a frame range.
+    /// Write the cloth at a frame as OBJ, or a frame range as a PC2/MDD point cache, glTF, USD or OBJ sequence.
     Export {
         /// The scene file (.ron).
         scene: PathBuf,
-        /// Output file (.obj) with --frame; output directory with --frames.
+        /// Output: out.obj (one frame), out.pc2, out.mdd, out.glb, out.gltf, out.usda (an animation), or a
+        /// directory with --frames (an OBJ sequence DIR/NAME_FRAME.obj; out.obj with --frames: out_FRAME.obj).
         #[arg(short, long)]
         output: PathBuf,
-        /// Frame to export (default: the timeline's start).
+        /// Frame to export (default: the timeline's start for OBJ, the whole timeline for the animation formats).
         #[arg(long, allow_negative_numbers = true, conflicts_with = "frames")]
         frame: Option<i32>,
-        /// Frame range A..B, both ends included: writes OUT/NAME_FRAME.obj for each frame.
+        /// Frame range A..B, both ends included, within the scene's timeline.
         #[arg(long, value_parser = parse_frame_range, allow_hyphen_values = true)]
         frames: Option<FrameRange>,
-        /// Output format; by default it follows the output's extension (obj for a sequence).
+        /// Output format; by default it follows the output's extension (obj for a sequence into a directory).
         #[arg(long, value_enum)]
-        format: Option<Format>,
+        format: Option<export_command::Format>,
         /// What to export: the animated cloth, or the key in effect before (approx) or after (relaxed) relaxation.
-        #[arg(long, value_enum, default_value_t = Stage::Animated)]
-        stage: Stage,
+        #[arg(long, value_enum, default_value_t = export_command::Stage::Animated)]
+        stage: export_command::Stage,
         /// Animated stage only: the blended rest shapes without the layer stack.
         #[arg(long)]
         no_layers: bool,
@@ -100,21 +99,6 @@ enum Command {
         #[arg(long)]
         triangulation: bool,
     },
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-enum Format {
-    Obj,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
-enum Stage {
-    /// The surface approximated from the catenary network of the key in effect.
-    Approx,
-    /// The rest shape of the key in effect, after relaxation.
-    Relaxed,
-    /// The full animation: blended rest shapes and the layer stack.
-    Animated,
 }
 
 /// An inclusive frame range `A..B`.
@@ -151,8 +135,8 @@ fn main() -> ExitCode {
     let result = match command {
         Command::Check { scene } => check(&scene),
         Command::Export { scene, output, frame, frames, format, stage, no_layers } => {
-            let request = ExportRequest { frame, frames, format, stage, layers: !no_layers };
-            export(&scene, &output, request)
+            let request = export_command::ExportRequest { frame, frames, format, stage, layers: !no_layers };
+            export_command::export(&scene, &output, request)
         }
         Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries, triangulation } => {
             let overlays = SceneOverlays { wireframe, pins, catenaries, triangulation };
@@ -362,137 +346,10 @@ fn stretched_pin_warnings(scene: &Scene, key: &Key) -> Vec<String> {
     warnings
 }
 
-struct ExportRequest {
-    frame: Option<i32>,
-    frames: Option<FrameRange>,
-    format: Option<Format>,
-    stage: Stage,
-    layers: bool,
-}
-
-fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
-    let scene = scene::load(path)?;
-    if !request.layers && request.stage != Stage::Animated {
-        bail!("--no-layers applies to the animated stage only; the {:?} stage has no layers", request.stage);
-    }
-    let mut exporter =
-        Exporter { scene: &scene, stage: request.stage, layers: request.layers, evaluator: Evaluator::new() };
-    match request.frames {
-        None => {
-            let format = request.format.map_or_else(|| format_from_extension(output), Ok)?;
-            let frame = request.frame.unwrap_or(scene.timeline.start);
-            let mesh = exporter.mesh(frame);
-            write_mesh(&mesh, &scene.name, output, format)?;
-            say!(
-                "wrote {} ({} vertices, {} triangles; frame {frame}, {})",
-                output.display(),
-                mesh.vertex_count(),
-                mesh.triangle_count(),
-                exporter.describe(frame)
-            );
-        }
-        Some(range) => {
-            let format = request.format.unwrap_or(Format::Obj);
-            if output.is_file() {
-                bail!("{} is a file: --frames writes a numbered sequence into a directory", output.display());
-            }
-            fs::create_dir_all(output)
-                .map_err(|e| anyhow!("cannot create the directory {}: {}", output.display(), io_reason(&e)))?;
-            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
-            let width = frame_number_width(range);
-            let mut first_file = None;
-            let mut last_file = None;
-            for frame in range.first..=range.last {
-                let file = output.join(format!("{stem}_{}.{}", padded_frame(frame, width), extension(format)));
-                let mesh = exporter.mesh(frame);
-                write_mesh(&mesh, &scene.name, &file, format)?;
-                first_file.get_or_insert_with(|| file.clone());
-                last_file = Some(file);
-            }
-            let count = i64::from(range.last) - i64::from(range.first) + 1;
-            say!(
-                "wrote {count} file{} to {} (frames {}..{}, {}; {} … {})",
-                if count == 1 { "" } else { "s" },
-                output.display(),
-                range.first,
-                range.last,
-                exporter.describe(range.first),
-                first_file.as_deref().and_then(Path::file_name).map(|n| n.to_string_lossy()).unwrap_or_default(),
-                last_file.as_deref().and_then(Path::file_name).map(|n| n.to_string_lossy()).unwrap_or_default(),
-            );
-        }
-    }
-    Ok(())
-}
-
-/// Produces the mesh of each exported frame through the one evaluator.
-struct Exporter<'s> {
-    scene: &'s Scene,
-    stage: Stage,
-    layers: bool,
-    evaluator: Evaluator,
-}
-
-impl Exporter<'_> {
-    fn mesh(&mut self, frame: i32) -> Mesh {
-        let scene = self.scene;
-        match self.stage {
-            Stage::Animated => {
-                let t_secs = frame_time_secs(&scene.timeline, f64::from(frame));
-                self.evaluator.evaluate_with(scene, t_secs, EvaluateOptions { layers: self.layers })
-            }
-            Stage::Approx | Stage::Relaxed => {
-                let shape = self.evaluator.key_shape(&scene.cloth, scene.key_in_effect(frame as f64));
-                let stage = if self.stage == Stage::Approx { &shape.rest.approximated } else { &shape.rest.relaxed };
-                Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), stage)
-            }
-        }
-    }
-
-    fn describe(&self, frame: i32) -> String {
-        match self.stage {
-            Stage::Animated if self.layers => "animated".to_string(),
-            Stage::Animated => "animated, no layers".to_string(),
-            Stage::Approx => format!("approximated key at frame {}", self.scene.key_in_effect(frame as f64).frame),
-            Stage::Relaxed => format!("relaxed key at frame {}", self.scene.key_in_effect(frame as f64).frame),
-        }
-    }
-}
-
-fn format_from_extension(output: &Path) -> Result<Format> {
-    match output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("obj") => Ok(Format::Obj),
-        Some(other) => bail!(
-            "cannot tell the format from the extension .{other} of {}: use .obj or --format obj",
-            output.display()
-        ),
-        None => bail!("{} has no extension: name it .obj or pass --format obj", output.display()),
-    }
-}
-
-fn extension(format: Format) -> &'static str {
-    match format {
-        Format::Obj => "obj",
-    }
-}
-
-fn write_mesh(mesh: &Mesh, name: &str, output: &Path, format: Format) -> Result<()> {
-    match format {
-        Format::Obj => write_atomically(output, |w| write_obj(mesh, name, w))
-            .map_err(|e| anyhow!("cannot write {}: {}", output.display(), io_reason(&e))),
-    }
-}
-
 /// Digits for the frame numbers of a sequence: at least 4, more when needed,
-/// so files sort in frame order.
+/// so files sort in frame order (the export's naming, shared by `drape render`).
 fn frame_number_width(range: FrameRange) -> usize {
-    let digits = |f: i32| f.unsigned_abs().to_string().len();
-    digits(range.first).max(digits(range.last)).max(4)
-}
-
-fn padded_frame(frame: i32, width: usize) -> String {
-    let sign = if frame < 0 { "-" } else { "" };
-    format!("{sign}{:0width$}", frame.unsigned_abs())
+    drape::export::animation::frame_number_width(range.first, range.last)
 }
 
 #[cfg(test)]
