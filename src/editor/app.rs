@@ -172,6 +172,10 @@ pub struct DrapeApp {
     pub(super) files: Files,
     /// Where the viewport was drawn last frame (points).
     viewport_rect: egui::Rect,
+    /// The window title last sent.
+    sent_title: String,
+    /// Where the status bar was drawn last frame (points).
+    status_rect: egui::Rect,
     /// Frame the cloth (and move the ground under it) once a newly opened scene is relaxed.
     pub(super) frame_when_shown: bool,
 }
@@ -235,6 +239,8 @@ impl DrapeApp {
             frames_drawn: 0,
             files: Files::new(default_config_dir(), default_state_dir()),
             viewport_rect: egui::Rect::NOTHING,
+            sent_title: String::new(),
+            status_rect: egui::Rect::NOTHING,
             frame_when_shown: false,
         }
         .with_mesh()
@@ -255,6 +261,11 @@ impl DrapeApp {
     /// Where the viewport was drawn in the last frame, in points.
     pub fn viewport_rect(&self) -> egui::Rect {
         self.viewport_rect
+    }
+
+    /// Where the status bar (messages, timings) was drawn in the last frame, in points.
+    pub fn status_rect(&self) -> egui::Rect {
+        self.status_rect
     }
 
     /// Where a world point appears on screen (points), `None` behind the camera.
@@ -833,10 +844,15 @@ impl eframe::App for DrapeApp {
         self.measure_frame();
         self.advance_playback(&ctx);
         self.handle_close_request(&ctx);
-        ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.title()));
+        // A viewport command asks for another frame: send the title only when it changes.
+        let title = self.title();
+        if title != self.sent_title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.sent_title = title;
+        }
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
         egui::Panel::bottom("timeline").show(ui, |ui| self.timeline_panel(ui));
-        egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
+        self.status_rect = egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui)).response.rect;
         egui::Panel::left("cloth").default_size(280.0).show(ui, |ui| {
             self.view_panel(ui);
             ui.separator();

@@ -62,13 +62,15 @@ impl DrapeApp {
             });
             ui.end_row();
 
-            ui.label("Texture");
+            let label = ui.label("Texture").id;
             let mut texture = cloth.texture;
-            egui::ComboBox::from_id_salt("texture").selected_text(format!("{texture:?}")).show_ui(ui, |ui| {
-                for option in [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker] {
-                    ui.selectable_value(&mut texture, option, format!("{option:?}"));
-                }
-            });
+            let combo =
+                egui::ComboBox::from_id_salt("texture").selected_text(format!("{texture:?}")).show_ui(ui, |ui| {
+                    for option in [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker] {
+                        ui.selectable_value(&mut texture, option, format!("{option:?}"));
+                    }
+                });
+            let _ = combo.response.labelled_by(label);
             if texture != cloth.texture {
                 self.apply("Texture", |s| s.cloth.texture = texture);
             }

@@ -71,7 +71,8 @@ impl GridEditor {
     ) -> (Vec<GridAction>, Option<(u32, u32)>) {
         let grid = cloth.grid;
         let aspect = (cloth.width_m() / cloth.height_m()) as f32;
-        let side = ui.available_width().clamp(80.0, MAX_SIDE);
+        // Clear of the panel's edge, where dragging resizes the panel instead.
+        let side = (ui.available_width() - 16.0).clamp(80.0, MAX_SIDE);
         let size = if aspect >= 1.0 { Vec2::new(side, side / aspect) } else { Vec2::new(side * aspect, side) };
         let size = size.max(Vec2::splat(24.0));
         let (outer, response) =

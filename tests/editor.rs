@@ -1,0 +1,267 @@
+//! The editor driven like a user would: egui_kittest runs the real app with
+//! the wgpu renderer (Mesa's llvmpipe or lavapipe; `WGPU_BACKEND` picks), so
+//! the 3D viewport is drawn exactly as in the window.
+//!
+//! Snapshots live in `tests/snapshots/`; `UPDATE_SNAPSHOTS=1` rewrites them.
+//! Tolerance: a pixel fails when its YIQ distance exceeds [`PIXEL_THRESHOLD`]
+//! (egui's own default); at most [`MAX_FAILED_PIXELS`] of the 792 000 may
+//! fail. Measured: snapshots taken on lavapipe differ from llvmpipe's in
+//! 335–382 pixels, all on the cloth's silhouette and the pins' rims
+//! (anti-aliasing); pinning one point changes 42 000.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use drape::editor::DrapeApp;
+use drape::editor::files::new_scene;
+use drape::editor::grid_editor::GridEditor;
+use drape::scene::{self, Scene};
+use eframe::egui::accesskit::Role;
+use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
+use egui_kittest::kittest::Queryable;
+use egui_kittest::{Harness, SnapshotOptions};
+
+const SIZE: egui::Vec2 = egui::vec2(1100.0, 720.0);
+const PIXEL_THRESHOLD: f32 = 0.6;
+const MAX_FAILED_PIXELS: usize = 1000;
+const RELAX_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// Takes snapshot `name`, with the status bar (timings, temporary paths) masked.
+fn snapshot(harness: &mut Harness<'_, DrapeApp>, name: &str) {
+    let status = harness.state().status_rect();
+    harness.mask(status);
+    harness.snapshot_options(name, &snapshot_options());
+}
+
+fn snapshot_options() -> SnapshotOptions {
+    SnapshotOptions::new().threshold(PIXEL_THRESHOLD).max_failed_pixels(MAX_FAILED_PIXELS)
+}
+
+/// A scratch folder with the magic carpet copied in, and private config/state folders.
+struct Workspace {
+    dir: tempfile::TempDir,
+}
+
+impl Workspace {
+    fn new() -> Workspace {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy("scenes/magic_carpet.ron", dir.path().join("carpet.ron")).unwrap();
+        Workspace { dir }
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir.path().join(name)
+    }
+}
+
+fn open_editor(workspace: &Workspace, scene: Scene, path: Option<PathBuf>) -> Harness<'static, DrapeApp> {
+    let (config, state) = (workspace.path("config"), workspace.path("state"));
+    let mut harness = Harness::builder().with_size(SIZE).wgpu().build_eframe(move |cc| {
+        DrapeApp::new(scene, path, cc.wgpu_render_state.as_ref()).with_file_dirs(Some(config), Some(state))
+    });
+    settle(&mut harness);
+    harness
+}
+
+/// Lets the worker finish relaxing and the UI draw the result. Between
+/// settles, frames run with `run_ok`: while a relaxation runs the status
+/// bar's spinner keeps asking for frames, as it should.
+fn settle(harness: &mut Harness<'_, DrapeApp>) {
+    for _ in 0..3 {
+        assert!(harness.state_mut().wait_for_shapes(RELAX_TIMEOUT), "relaxation finished");
+        harness.run();
+    }
+}
+
+/// A click at `pos` with `modifiers` held from before the press until after the release.
+fn click_at(harness: &mut Harness<'_, DrapeApp>, pos: Pos2, modifiers: Modifiers) {
+    harness.event(Event::ModifiersChanged(modifiers));
+    harness.event(Event::PointerMoved(pos));
+    harness.run_ok();
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton { pos, button: PointerButton::Primary, pressed, modifiers });
+        harness.run_ok();
+    }
+    harness.event(Event::ModifiersChanged(Modifiers::NONE));
+    harness.run_ok();
+}
+
+/// Presses at `from`, moves to `to` in a few steps, releases: a drag as a hand makes it.
+fn drag(harness: &mut Harness<'_, DrapeApp>, from: Pos2, to: Pos2) {
+    harness.event(Event::PointerMoved(from));
+    harness.run_ok();
+    let press = |pressed, pos| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    harness.event(press(true, from));
+    harness.run_ok();
+    for step in 1..=6 {
+        harness.event(Event::PointerMoved(from.lerp(to, step as f32 / 6.0)));
+        harness.run_ok();
+    }
+    harness.event(press(false, to));
+    harness.run_ok();
+}
+
+fn pin_pos(scene: &Scene, key: usize, grid: (u32, u32)) -> (f64, f64, f64) {
+    scene.keys[key].pins.iter().find(|p| p.grid == grid).map(|p| p.pos).expect("pinned")
+}
+
+fn open_through_the_menu(harness: &mut Harness<'_, DrapeApp>, path: &Path) {
+    harness.get_by_label("File").click();
+    harness.run_ok();
+    harness.get_by_label_contains("Open…").click();
+    harness.run_ok();
+    let field = harness.get_by_label("File name");
+    field.focus();
+    field.type_text(&path.display().to_string());
+    harness.run_ok();
+    harness.key_press(Key::Enter);
+    harness.run_ok();
+    settle(harness);
+}
+
+#[test]
+fn model_undo_save_and_reopen() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, new_scene(), None);
+
+    // Open a scene with File ▸ Open.
+    open_through_the_menu(&mut harness, &carpet);
+    let opened = scene::load(&carpet).unwrap();
+    assert_eq!(harness.state().scene(), &opened);
+    assert_eq!(harness.state().document().path(), Some(carpet.as_path()));
+    assert!(harness.state().title().starts_with("carpet.ron — "), "{}", harness.state().title());
+    snapshot(&mut harness, "editor_opened");
+
+    // Pin the middle of the cloth in the grid editor: it is pinned where the cloth hangs.
+    let grid_rect = harness.get_by_label("Grid editor").rect();
+    let middle = (10, 16);
+    let cols = opened.cloth.cols();
+    let hanging = harness.state().mesh().positions[middle.1 as usize * cols + middle.0 as usize];
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &opened.cloth, middle), Modifiers::NONE);
+    let pinned = pin_pos(harness.state().scene(), 0, middle);
+    assert_eq!(pinned, (hanging.x as f64, hanging.y as f64, hanging.z as f64));
+    assert_eq!(harness.state().selection(), [middle]);
+    assert!(harness.state().title().contains('*'), "the title marks unsaved work");
+    settle(&mut harness);
+    snapshot(&mut harness, "editor_pinned");
+
+    // Drag a corner pin up in the viewport: it moves, nothing else does, one undo step.
+    let corner = (0, 0);
+    let before = harness.state().scene().clone();
+    let start = pin_pos(&before, 0, corner);
+    let on_screen =
+        harness.state().screen_pos(glam::Vec3::new(start.0 as f32, start.1 as f32, start.2 as f32)).unwrap();
+    drag(&mut harness, on_screen, on_screen - egui::vec2(0.0, 80.0));
+    let moved = pin_pos(harness.state().scene(), 0, corner);
+    assert!(moved.1 > start.1 + 0.05, "the pin went up: {start:?} → {moved:?}");
+    for pin in &before.keys[0].pins {
+        if pin.grid != corner {
+            assert_eq!(pin_pos(harness.state().scene(), 0, pin.grid), pin.pos);
+        }
+    }
+    assert_eq!(harness.state().document().undo_label(), Some("Move pin"));
+    settle(&mut harness);
+    let after_drag = harness.state().scene().clone();
+
+    // Change the fabric's elasticity.
+    harness.get_by_role_and_label(Role::Slider, "Elasticity").set_value_accesskit(1.3);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[0].elasticity, 1.3);
+    settle(&mut harness);
+    assert_eq!(harness.state().shown_scene(), harness.state().scene(), "the new shape is on screen");
+    snapshot(&mut harness, "editor_edited");
+    let edited = harness.state().scene().clone();
+
+    // Undo twice (elasticity, then the drag as one step), redo both.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &after_drag);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(pin_pos(harness.state().scene(), 0, corner), start, "one undo takes the whole drag back");
+    harness.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    harness.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &edited);
+    settle(&mut harness);
+
+    // Save (Ctrl+S writes the scene's own file) and read it back.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    harness.run_ok();
+    assert!(!harness.state().document().is_dirty());
+    assert!(!harness.state().title().contains('*'));
+    let saved = scene::load(&carpet).unwrap();
+    assert_eq!(&saved, harness.state().scene());
+    let mut without_view = saved.clone();
+    without_view.view = None;
+    let mut expected = edited.clone();
+    expected.view = None;
+    assert_eq!(without_view, expected, "the file holds the edits");
+
+    // Reopen it in a fresh editor: the same scene, the same camera.
+    let camera = *harness.state().camera();
+    let reopened = open_editor(&workspace, saved.clone(), Some(carpet.clone()));
+    assert_eq!(reopened.state().scene(), &saved);
+    let view = reopened.state().camera().to_view();
+    assert!((view.yaw_deg - camera.to_view().yaw_deg).abs() < 1e-9);
+}
+
+#[test]
+fn a_scene_that_fails_to_load_leaves_the_work_alone() {
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    harness.get_by_role_and_label(Role::Slider, "Elasticity").set_value_accesskit(1.5);
+    harness.run_ok();
+    settle(&mut harness);
+    let work = harness.state().scene().clone();
+    let broken = workspace.path("broken.ron");
+    std::fs::write(&broken, "(version: 1, cloth: (size: (1.0, 1.0), grid: (4, 4)),\n keys: [(frame: 0, pins: [])])")
+        .unwrap();
+    // Unsaved work: the editor asks first; "Don't Save" goes on to the dialog.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    harness.run_ok();
+    harness.get_by_label("Don't Save").click();
+    harness.run_ok();
+    let field = harness.get_by_label("File name");
+    field.focus();
+    field.type_text(&broken.display().to_string());
+    harness.run_ok();
+    harness.key_press(Key::Enter);
+    harness.run_ok();
+    assert!(harness.query_by_label_contains("broken.ron:2:").is_some(), "the error names the file and line");
+    assert_eq!(harness.state().scene(), &work);
+    assert!(harness.state().document().is_dirty());
+    harness.get_by_label("OK").click();
+    harness.run_ok();
+    assert!(harness.query_by_label_contains("broken.ron:2:").is_none());
+}
+
+#[test]
+fn delete_unpins_the_selected_pins_and_the_last_pin_stays() {
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    let grid_rect = harness.get_by_label("Grid editor").rect();
+    let cloth = harness.state().scene().cloth.clone();
+    // Select both top corners with Shift+click, then Delete: one of them must stay (a key needs a pin).
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::SHIFT);
+    assert_eq!(harness.state().selection(), [(0, 0)]);
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (32, 0)), Modifiers::SHIFT);
+    assert_eq!(harness.state().selection(), [(0, 0), (32, 0)]);
+    harness.key_press(Key::Delete);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[0].pins.len(), 2, "an edit leaving no pin is refused");
+    assert!(harness.query_by_label_contains("at least one pin").is_some());
+    // One pin selected: Delete unpins it.
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::SHIFT);
+    assert_eq!(harness.state().selection(), [(32, 0)]);
+    harness.key_press(Key::Delete);
+    harness.run_ok();
+    let pins: Vec<_> = harness.state().scene().keys[0].pins.iter().map(|p| p.grid).collect();
+    assert_eq!(pins, [(0, 0)]);
+}
