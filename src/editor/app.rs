@@ -368,7 +368,7 @@ impl DrapeApp {
     }
 
     /// Applies an edit to the document, reporting a rejected one in the status bar.
-    pub(super) fn apply(&mut self, label: &str, change: impl FnOnce(&mut Scene)) {
+    pub fn apply(&mut self, label: &str, change: impl FnOnce(&mut Scene)) {
         match self.doc.edit(label, change) {
             Ok(()) => {
                 let pins = &self.doc.scene().keys[self.edit_key_index()].pins;
