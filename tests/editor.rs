@@ -265,3 +265,27 @@ fn delete_unpins_the_selected_pins_and_the_last_pin_stays() {
     let pins: Vec<_> = harness.state().scene().keys[0].pins.iter().map(|p| p.grid).collect();
     assert_eq!(pins, [(0, 0)]);
 }
+
+#[test]
+fn file_export_writes_the_animation_beside_the_scene() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    harness.get_by_label("File").click();
+    harness.run_ok();
+    harness.get_by_label("Export…").click();
+    harness.run_ok();
+    // The window offers the whole timeline as glTF next to the scene.
+    assert!(harness.query_by_label_contains("121 frames").is_some());
+    harness.get_by_label("Export").click();
+    let glb = workspace.path("carpet.glb");
+    let deadline = std::time::Instant::now() + Duration::from_secs(120);
+    while harness.query_by_label_contains("Exported 121 frames").is_none() {
+        assert!(std::time::Instant::now() < deadline, "the export finished");
+        harness.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let bytes = std::fs::read(&glb).unwrap();
+    assert_eq!(&bytes[..4], b"glTF");
+    assert!(harness.query_by_label("Export animation").is_none(), "the window closes when done");
+}

@@ -15,6 +15,7 @@ use eframe::egui::{self, Key as KeyCode, KeyboardShortcut, Modifiers, Sense};
 use eframe::egui_wgpu;
 
 use super::document::Document;
+use super::export_window::ExportWindow;
 use super::files::Files;
 use super::grid_editor::GridEditor;
 use super::recent::default_config_dir;
@@ -170,6 +171,7 @@ pub struct DrapeApp {
     quit_after_frames: Option<u64>,
     frames_drawn: u64,
     pub(super) files: Files,
+    pub(super) export: ExportWindow,
     /// Where the viewport was drawn last frame (points).
     viewport_rect: egui::Rect,
     /// The window title last sent.
@@ -238,6 +240,7 @@ impl DrapeApp {
             quit_after_frames: None,
             frames_drawn: 0,
             files: Files::new(default_config_dir(), default_state_dir()),
+            export: ExportWindow::default(),
             viewport_rect: egui::Rect::NOTHING,
             sent_title: String::new(),
             status_rect: egui::Rect::NOTHING,
@@ -860,6 +863,7 @@ impl eframe::App for DrapeApp {
         });
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport(ui));
         self.shortcuts_window(&ctx);
+        self.export_window(&ctx);
         self.file_dialogs(&ctx);
         // A gesture ends when the mouse lets go (a drag on a slider or a pin is one undo step).
         if self.pin_drag.is_none() && !ctx.input(|i| i.pointer.any_down()) {

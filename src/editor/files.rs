@@ -117,6 +117,10 @@ impl DrapeApp {
             self.file_save_as();
         }
         ui.separator();
+        if ui.button("Export…").on_hover_text("PC2, MDD, glTF, USD or an OBJ sequence").clicked() {
+            self.open_export();
+        }
+        ui.separator();
         if ui.button("Quit").clicked() {
             self.ask_then(Pending::Quit);
         }
@@ -295,6 +299,11 @@ impl DrapeApp {
         }
         self.error_window(ctx);
         self.recovery_window(ctx);
+    }
+
+    /// Shows a file problem (load, save, export) until the user dismisses it.
+    pub(super) fn show_file_error(&mut self, message: String) {
+        self.files.error = Some(message);
     }
 
     fn error_window(&mut self, ctx: &egui::Context) {

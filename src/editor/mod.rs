@@ -5,6 +5,7 @@ pub mod app;
 mod cloth_panel;
 pub mod document;
 pub mod edits;
+mod export_window;
 pub mod file_dialog;
 pub mod files;
 pub mod grid_editor;

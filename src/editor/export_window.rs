@@ -1,0 +1,262 @@
+//! File ▸ Export: the evaluated animation of a frame range as PC2, MDD,
+//! glTF, USD or an OBJ sequence, written on a worker thread with a progress
+//! bar and Cancel, through the same exporter as `drape export`.
+
+use std::ops::RangeInclusive;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+
+use super::app::DrapeApp;
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use crate::export::{AnimationFormat, ExportError, ExportSummary, export_animation};
+use crate::scene::Scene;
+
+/// An export running on its worker.
+struct Job {
+    handle: JoinHandle<Result<ExportSummary, ExportError>>,
+    done: Arc<AtomicUsize>,
+    total: Arc<AtomicUsize>,
+    cancel: Arc<AtomicBool>,
+    started: Instant,
+}
+
+/// The Export window's settings and the running export.
+pub(super) struct ExportWindow {
+    open: bool,
+    format: AnimationFormat,
+    first: i32,
+    last: i32,
+    output: String,
+    dialog: Option<FileDialog>,
+    job: Option<Job>,
+}
+
+impl Default for ExportWindow {
+    fn default() -> Self {
+        ExportWindow {
+            open: false,
+            format: AnimationFormat::Glb,
+            first: 0,
+            last: 0,
+            output: String::new(),
+            dialog: None,
+            job: None,
+        }
+    }
+}
+
+/// Starts exporting `scene` on a worker thread.
+fn start(
+    scene: Scene,
+    frames: RangeInclusive<i32>,
+    output: PathBuf,
+    format: AnimationFormat,
+    ctx: egui::Context,
+) -> Job {
+    let (done, total) = (Arc::new(AtomicUsize::new(0)), Arc::new(AtomicUsize::new(1)));
+    let cancel = Arc::new(AtomicBool::new(false));
+    let (worker_done, worker_total, worker_cancel) = (done.clone(), total.clone(), Arc::clone(&cancel));
+    let handle = std::thread::spawn(move || {
+        let mut progress = |d: usize, t: usize| {
+            worker_done.store(d, Ordering::Relaxed);
+            worker_total.store(t.max(1), Ordering::Relaxed);
+            ctx.request_repaint_after(Duration::from_millis(100));
+            !worker_cancel.load(Ordering::Relaxed)
+        };
+        let result = export_animation(&scene, frames, &output, format, &mut progress);
+        ctx.request_repaint();
+        result
+    });
+    Job { handle, done, total, cancel, started: Instant::now() }
+}
+
+/// `path` with its extension replaced by `format`'s.
+fn with_format_extension(path: &str, format: AnimationFormat) -> String {
+    if path.trim().is_empty() {
+        return String::new();
+    }
+    Path::new(path).with_extension(format.extension()).display().to_string()
+}
+
+impl DrapeApp {
+    /// Opens the Export window on the whole timeline, next to the scene's file.
+    pub(super) fn open_export(&mut self) {
+        let scene = self.doc.scene();
+        let window = &mut self.export;
+        window.open = true;
+        window.first = scene.timeline.start;
+        window.last = scene.timeline.end;
+        if window.output.is_empty() {
+            let stem = self
+                .doc
+                .path()
+                .and_then(Path::file_stem)
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "cloth".to_owned());
+            let dir = self.doc.path().and_then(Path::parent).map(Path::to_path_buf).unwrap_or_default();
+            window.output = dir.join(format!("{stem}.{}", window.format.extension())).display().to_string();
+        }
+    }
+
+    pub(super) fn export_window(&mut self, ctx: &egui::Context) {
+        self.finish_export();
+        if !self.export.open {
+            return;
+        }
+        let timeline = self.doc.scene().timeline.clone();
+        let mut open = true;
+        let mut start_now = false;
+        let mut choose = false;
+        let busy = self.export.job.is_some();
+        egui::Window::new("Export animation").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
+            let window = &mut self.export;
+            ui.add_enabled_ui(!busy, |ui| {
+                egui::Grid::new("export").num_columns(2).show(ui, |ui| {
+                    let label = ui.label("Format").id;
+                    let before = window.format;
+                    let combo = egui::ComboBox::from_id_salt("export format")
+                        .selected_text(format!("{} (.{})", before.description(), before.extension()))
+                        .show_ui(ui, |ui| {
+                            for format in AnimationFormat::ALL {
+                                let text = format!("{} (.{})", format.description(), format.extension());
+                                ui.selectable_value(&mut window.format, format, text);
+                            }
+                        });
+                    let _ = combo.response.labelled_by(label);
+                    if window.format != before {
+                        window.output = with_format_extension(&window.output, window.format);
+                    }
+                    ui.end_row();
+
+                    ui.label("Frames");
+                    ui.horizontal(|ui| {
+                        let range = timeline.start..=timeline.end;
+                        ui.add(egui::DragValue::new(&mut window.first).range(range.clone()))
+                            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "First frame"));
+                        ui.label("to");
+                        ui.add(egui::DragValue::new(&mut window.last).range(range))
+                            .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Last frame"));
+                        window.last = window.last.max(window.first);
+                        let seconds = f64::from(window.last - window.first + 1) / timeline.fps;
+                        ui.weak(format!(
+                            "{} frames, {seconds:.2} s at {} fps",
+                            window.last - window.first + 1,
+                            timeline.fps
+                        ));
+                    });
+                    ui.end_row();
+
+                    let label = ui.label("File").id;
+                    ui.horizontal(|ui| {
+                        let field = egui::TextEdit::singleline(&mut window.output).desired_width(320.0);
+                        let _ = ui.add(field).labelled_by(label);
+                        choose = ui.button("Choose…").clicked();
+                    });
+                    ui.end_row();
+                });
+            });
+            ui.separator();
+            match &window.job {
+                Some(job) => {
+                    let (done, total) = (job.done.load(Ordering::Relaxed), job.total.load(Ordering::Relaxed));
+                    let fraction = done as f32 / total as f32;
+                    let elapsed = job.started.elapsed().as_secs_f64();
+                    ui.add(egui::ProgressBar::new(fraction).show_percentage().animate(true));
+                    ui.horizontal(|ui| {
+                        ui.label(format!("{done} of {total} frame evaluations, {elapsed:.1} s"));
+                        if ui.button("Cancel").clicked() {
+                            job.cancel.store(true, Ordering::Relaxed);
+                        }
+                    });
+                }
+                None => {
+                    ui.horizontal(|ui| {
+                        let ready = !window.output.trim().is_empty();
+                        start_now = ui.add_enabled(ready, egui::Button::new("Export")).clicked();
+                    });
+                }
+            }
+        });
+        if choose {
+            let (dir, name) = split_output(&self.export.output);
+            let extension = self.export.format.extension();
+            self.export.dialog = Some(FileDialog::new(FileDialogMode::Save, "Export to", &dir, &name, extension));
+        }
+        if let Some(dialog) = &mut self.export.dialog
+            && let Some(outcome) = dialog.show(ctx)
+        {
+            if let FileDialogOutcome::Picked(path) = outcome {
+                self.export.output = path.display().to_string();
+            }
+            self.export.dialog = None;
+        }
+        if start_now {
+            let output = PathBuf::from(self.export.output.trim());
+            let frames = self.export.first..=self.export.last;
+            self.export.job = Some(start(self.doc.scene().clone(), frames, output, self.export.format, ctx.clone()));
+        }
+        if !open {
+            // Closing the window cancels an export in progress.
+            if let Some(job) = &self.export.job {
+                job.cancel.store(true, Ordering::Relaxed);
+            }
+            self.export.open = false;
+        }
+        if self.export.job.is_some() {
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    /// Reports a finished export.
+    fn finish_export(&mut self) {
+        if !self.export.job.as_ref().is_some_and(|job| job.handle.is_finished()) {
+            return;
+        }
+        let job = self.export.job.take().expect("checked above");
+        match job.handle.join() {
+            Ok(Ok(summary)) => {
+                let file = summary.files.first().map(|f| f.display().to_string()).unwrap_or_default();
+                let seconds = job.started.elapsed().as_secs_f64();
+                self.report(format!("Exported {} frames to {file} in {seconds:.1} s", summary.frame_count), false);
+                self.export.open = false;
+            }
+            Ok(Err(ExportError::Cancelled)) => self.report("Export cancelled; nothing was written.".to_owned(), false),
+            Ok(Err(error)) => self.show_file_error(format!("Could not export:\n{error}")),
+            Err(_) => self.show_file_error("The export stopped unexpectedly; nothing was written.".to_owned()),
+        }
+    }
+}
+
+/// The folder and file name of a typed output path (the working directory for a bare name).
+fn split_output(output: &str) -> (PathBuf, String) {
+    let path = Path::new(output.trim());
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let dir = path.parent().filter(|d| d.is_dir()).map(Path::to_path_buf);
+    (dir.or_else(|| std::env::current_dir().ok()).unwrap_or_default(), name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn changing_the_format_changes_the_extension() {
+        assert_eq!(with_format_extension("/a/carpet.glb", AnimationFormat::Pc2), "/a/carpet.pc2");
+        assert_eq!(with_format_extension("carpet", AnimationFormat::Usda), "carpet.usda");
+        assert_eq!(with_format_extension("  ", AnimationFormat::Usda), "");
+    }
+
+    #[test]
+    fn a_typed_path_splits_into_folder_and_name() {
+        let (dir, name) = split_output("/tmp/carpet.glb");
+        assert_eq!((dir, name.as_str()), (PathBuf::from("/tmp"), "carpet.glb"));
+        let (dir, name) = split_output("/no/such/folder/x.pc2");
+        assert_eq!(name, "x.pc2");
+        assert_eq!(dir, std::env::current_dir().unwrap());
+    }
+}
