@@ -904,6 +904,7 @@ pub fn run(scene: Scene, path: Option<PathBuf>, quit_after_frames: Option<u64>) 
             if let Some(frames) = quit_after_frames {
                 app = app.quit_after_frames(frames);
             }
+            app.remember_opened();
             app.offer_recovery();
             Ok(Box::new(app))
         }),

@@ -322,6 +322,14 @@ impl DrapeApp {
         }
     }
 
+    /// Adds the scene the editor was started on to the recent files.
+    pub fn remember_opened(&mut self) {
+        if let Some(path) = self.doc.path().map(Path::to_path_buf) {
+            self.files.recent.push(&path);
+            self.save_recent();
+        }
+    }
+
     /// Looks for unsaved work a crashed session left; call once at start.
     pub fn offer_recovery(&mut self) {
         let Some(recovery) = &self.files.recovery else { return };

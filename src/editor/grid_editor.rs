@@ -31,6 +31,24 @@ pub struct GridEditor {
     box_start: Option<Pos2>,
 }
 
+/// The modifiers held when the primary button was last released this frame
+/// (else now): on a slow frame, a Shift released right after the click must
+/// still count.
+pub fn click_modifiers(ui: &egui::Ui) -> egui::Modifiers {
+    ui.input(|i| {
+        i.events
+            .iter()
+            .rev()
+            .find_map(|event| match event {
+                egui::Event::PointerButton {
+                    button: egui::PointerButton::Primary, pressed: false, modifiers, ..
+                } => Some(*modifiers),
+                _ => None,
+            })
+            .unwrap_or(i.modifiers)
+    })
+}
+
 /// Where grid point `(i, j)` is drawn in `rect` (j = 0 on the top edge).
 fn point_pos(rect: Rect, grid: (u32, u32), (i, j): (u32, u32)) -> Pos2 {
     let fx = i as f32 / (grid.0.max(2) - 1) as f32;
@@ -120,7 +138,7 @@ impl GridEditor {
         }
 
         let mut actions = Vec::new();
-        let shift = ui.input(|i| i.modifiers.shift);
+        let shift = click_modifiers(ui).shift;
         if response.drag_started() {
             self.box_start = response.interact_pointer_pos();
         }

@@ -78,11 +78,7 @@ impl DrapeApp {
             && same_grid
             && response.hovered()
         {
-            let radius_px = PICK_RADIUS_PT * pixels_per_point;
-            if let Some(index) = picking::pick_vertex(&self.camera, size_px, &self.mesh.positions, pointer, radius_px) {
-                let cols = self.shown.cloth.cols();
-                self.hovered = Some(((index % cols) as u32, (index / cols) as u32));
-            }
+            self.hovered = self.point_at(pointer, size_px, pixels_per_point);
         }
 
         if self.pin_drag.is_some() {
@@ -95,12 +91,7 @@ impl DrapeApp {
         if response.drag_started_by(PointerButton::Primary) {
             // The drag starts where the button went down, a few pixels before egui calls it a drag.
             let origin = ui.input(|i| i.pointer.press_origin()).map(to_px);
-            let radius_px = PICK_RADIUS_PT * pixels_per_point;
-            let cols = self.shown.cloth.cols();
-            let grabbed = origin
-                .filter(|_| same_grid)
-                .and_then(|at| picking::pick_vertex(&self.camera, size_px, &self.mesh.positions, at, radius_px))
-                .map(|index| ((index % cols) as u32, (index / cols) as u32));
+            let grabbed = origin.filter(|_| same_grid).and_then(|at| self.point_at(at, size_px, pixels_per_point));
             if let Some(point) = grabbed
                 && edits::is_pinned(&self.doc.scene().keys[self.edit_key_index()], point)
             {
@@ -110,6 +101,7 @@ impl DrapeApp {
             return;
         }
         if response.clicked_by(PointerButton::Primary) {
+            let shift = super::grid_editor::click_modifiers(ui).shift;
             match self.hovered {
                 Some(point) => {
                     let key = &self.doc.scene().keys[self.edit_key_index()];
@@ -123,6 +115,32 @@ impl DrapeApp {
                 None => {}
             }
         }
+    }
+
+    /// The grid point under `pointer_px`: a pin of the key being edited when
+    /// one is that close (pins are drawn over the cloth, so they win even
+    /// behind a fold), else the nearest cloth point on the front layer.
+    fn point_at(&self, pointer_px: Vec2, size_px: (u32, u32), pixels_per_point: f32) -> Option<(u32, u32)> {
+        let radius_px = PICK_RADIUS_PT * pixels_per_point;
+        let cols = self.shown.cloth.cols();
+        let key = &self.doc.scene().keys[self.edit_key_index()];
+        let pins: Vec<(u32, u32)> = key.pins.iter().map(|p| p.grid).collect();
+        let pin_positions: Vec<Vec3> = pins
+            .iter()
+            .map(|&(i, j)| self.mesh.positions.get(j as usize * cols + i as usize).copied().unwrap_or(Vec3::NAN))
+            .collect();
+        let nearest_pin = pins.iter().zip(&pin_positions).enumerate().min_by(|a, b| {
+            let distance =
+                |p: Vec3| self.camera.project(p, size_px).map_or(f32::INFINITY, |at| at.distance(pointer_px));
+            distance(*a.1.1).total_cmp(&distance(*b.1.1))
+        });
+        if let Some((_, (&grid, &position))) = nearest_pin
+            && self.camera.project(position, size_px).is_some_and(|at| at.distance(pointer_px) <= radius_px)
+        {
+            return Some(grid);
+        }
+        let index = picking::pick_vertex(&self.camera, size_px, &self.mesh.positions, pointer_px, radius_px)?;
+        Some(((index % cols) as u32, (index / cols) as u32))
     }
 
     fn select(&mut self, point: (u32, u32), add: bool) {
