@@ -115,13 +115,18 @@ fn open_through_the_menu(harness: &mut Harness<'_, DrapeApp>, path: &Path) {
     harness.run_ok();
     harness.get_by_label_contains("Open…").click();
     harness.run_ok();
+    pick_in_file_dialog(harness, path);
+    settle(harness);
+}
+
+/// Types `path` into the open file dialog's name field and presses Enter.
+fn pick_in_file_dialog(harness: &mut Harness<'_, DrapeApp>, path: &Path) {
     let field = harness.get_by_label("File name");
     field.focus();
     field.type_text(&path.display().to_string());
     harness.run_ok();
     harness.key_press(Key::Enter);
     harness.run_ok();
-    settle(harness);
 }
 
 #[test]
@@ -228,12 +233,7 @@ fn a_scene_that_fails_to_load_leaves_the_work_alone() {
     harness.run_ok();
     harness.get_by_label("Don't Save").click();
     harness.run_ok();
-    let field = harness.get_by_label("File name");
-    field.focus();
-    field.type_text(&broken.display().to_string());
-    harness.run_ok();
-    harness.key_press(Key::Enter);
-    harness.run_ok();
+    pick_in_file_dialog(&mut harness, &broken);
     assert!(harness.query_by_label_contains("broken.ron:2:").is_some(), "the error names the file and line");
     assert_eq!(harness.state().scene(), &work);
     assert!(harness.state().document().is_dirty());
@@ -288,4 +288,110 @@ fn file_export_writes_the_animation_beside_the_scene() {
     let bytes = std::fs::read(&glb).unwrap();
     assert_eq!(&bytes[..4], b"glTF");
     assert!(harness.query_by_label("Export animation").is_none(), "the window closes when done");
+}
+
+/// The window manager's close button: a close request for the root viewport.
+fn request_close(harness: &mut Harness<'_, DrapeApp>) {
+    let root = harness.input_mut().viewports.entry(egui::ViewportId::ROOT).or_default();
+    root.events.push(egui::ViewportEvent::Close);
+}
+
+/// Whether the last frame sent `command` to the window.
+fn sent(harness: &Harness<'_, DrapeApp>, command: &egui::ViewportCommand) -> bool {
+    harness.output().viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.commands.contains(command))
+}
+
+#[test]
+fn closing_the_window_with_unsaved_work_asks_first() {
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    harness.get_by_role_and_label(Role::Slider, "Elasticity").set_value_accesskit(1.2);
+    harness.run_ok();
+    settle(&mut harness);
+
+    request_close(&mut harness);
+    harness.step();
+    assert!(sent(&harness, &egui::ViewportCommand::CancelClose), "the close is held back");
+    harness.run_ok();
+    assert!(harness.query_by_label("Don't Save").is_some(), "the question is asked");
+
+    // Cancel: the window stays, the work too.
+    harness.get_by_label("Cancel").click();
+    harness.run_ok();
+    assert!(harness.query_by_label("Don't Save").is_none());
+    assert!(harness.state().document().is_dirty());
+
+    // Don't Save: the window closes.
+    request_close(&mut harness);
+    harness.run_ok();
+    harness.get_by_label("Don't Save").click();
+    harness.step();
+    assert!(sent(&harness, &egui::ViewportCommand::Close), "Don't Save closes the window");
+}
+
+/// Where frame `frame` is on the timeline's track (8 points of margin each side).
+fn timeline_pos(harness: &Harness<'_, DrapeApp>, frame: f64) -> Pos2 {
+    let rect = harness.get_by_label("Timeline").rect();
+    let timeline = &harness.state().scene().timeline;
+    let inner = rect.shrink2(egui::vec2(8.0, 0.0));
+    let fraction = (frame - f64::from(timeline.start)) / f64::from(timeline.end - timeline.start);
+    Pos2::new(inner.left() + fraction as f32 * inner.width(), rect.center().y)
+}
+
+#[test]
+fn the_timeline_scrubs_adds_a_key_and_eases_it() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    let keys_before = harness.state().scene().keys.clone();
+
+    // Scrub: drag the playhead along the track; the mesh is evaluate at that frame.
+    let (from, to) = (timeline_pos(&harness, 10.0), timeline_pos(&harness, 60.0));
+    drag(&mut harness, from, to);
+    settle(&mut harness);
+    assert_eq!(harness.state().frame(), 60.0);
+    let scene = harness.state().scene().clone();
+    let expected = drape::animate::evaluate(&scene, drape::animate::frame_time_secs(&scene.timeline, 60.0));
+    assert_eq!(*harness.state().mesh(), expected);
+
+    // K: a key at frame 60 holding the pose on screen.
+    harness.key_press(Key::K);
+    harness.run_ok();
+    settle(&mut harness);
+    let keys = &harness.state().scene().keys;
+    assert_eq!(keys.len(), keys_before.len() + 1);
+    let added = keys.iter().find(|k| k.frame == 60).expect("a key at frame 60");
+    let cols = scene.cloth.cols();
+    for pin in &added.pins {
+        let p = expected.positions[pin.grid.1 as usize * cols + pin.grid.0 as usize];
+        assert_eq!(pin.pos, (f64::from(p.x), f64::from(p.y), f64::from(p.z)));
+    }
+    // The new key holds the pose: the frame looks the same as before it was added.
+    assert_eq!(harness.state().mesh().positions.len(), expected.positions.len());
+
+    // Right-click the key: its segment eases linearly now.
+    let index = harness.state().scene().keys.iter().position(|k| k.frame == 60).unwrap();
+    let diamond = timeline_pos(&harness, 60.0) + egui::vec2(0.0, 8.0);
+    harness.event(Event::PointerMoved(diamond));
+    harness.run_ok();
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos: diamond,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        harness.run_ok();
+    }
+    harness.get_by_label("Linear").click();
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[index].ease, drape::scene::Ease::Linear);
+
+    // Undo twice: no easing change, no key.
+    harness.key_press(Key::Escape);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys, keys_before);
 }

@@ -22,12 +22,12 @@ use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
 use super::shaper::Shaper;
 use super::viewport::{self, ViewportFrame};
-use super::viewport_input::PinDrag;
+use super::viewport_input::{AxisLock, PinDrag};
 use crate::animate::{Evaluator, frame_time_secs};
 use crate::mesh::Mesh;
 use crate::render::camera::bounds;
 use crate::render::headless::scene_bounds;
-use crate::render::overlay::{Marker, PinState, colors};
+use crate::render::overlay::{Marker, PinState, Segment, colors};
 use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions};
 use crate::scene::{Cloth, ClothTexture, Key, Scene};
 use crate::shape::RelaxReport;
@@ -53,7 +53,8 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Ctrl+Shift+S", "Save as"),
     ("Ctrl+Z", "Undo"),
     ("Ctrl+Shift+Z, Ctrl+Y", "Redo"),
-    ("Delete", "Unpin the selected pins"),
+    ("Delete", "Unpin the selected pins (or delete the key selected on the timeline)"),
+    ("K", "Add a rest-shape key at the playhead, from the current pose"),
     ("F", "Frame the cloth in the viewport"),
     ("Space", "Play / pause"),
     ("Left / Right", "Step one frame back / forward"),
@@ -145,6 +146,11 @@ pub struct DrapeApp {
     /// The frame the playhead is on (fractional while playing).
     frame: f64,
     playing: bool,
+    /// Playback wraps round to the start (else it stops at the end).
+    pub(super) looping: bool,
+    /// The rest-shape key selected on the timeline, and the one being dragged there.
+    pub(super) selected_key: Option<usize>,
+    pub(super) key_drag: Option<usize>,
     play_started: Option<(Instant, f64)>,
     pub(super) camera: OrbitCamera,
     ground: Ground,
@@ -222,6 +228,9 @@ impl DrapeApp {
             }),
             mesh_of: None,
             playing: false,
+            looping: true,
+            selected_key: None,
+            key_drag: None,
             play_started: None,
             camera,
             toggles: ViewToggles::default(),
@@ -293,6 +302,8 @@ impl DrapeApp {
         self.requested = None;
         self.playing = false;
         self.play_started = None;
+        self.selected_key = None;
+        self.key_drag = None;
         self.frame = self.doc.scene().timeline.start as f64;
         self.mesh_of = None;
     }
@@ -505,9 +516,14 @@ impl DrapeApp {
         let (started_at, started_frame) = *self.play_started.get_or_insert((Instant::now(), self.frame));
         let length = (timeline.end - timeline.start) as f64 + 1.0;
         let played = started_at.elapsed().as_secs_f64() * timeline.fps;
-        // Loops over start..=end, holding whole frames like the scene's clock.
-        let offset = (started_frame - timeline.start as f64 + played).rem_euclid(length).floor();
-        self.frame = timeline.start as f64 + offset;
+        // Loops over start..=end (or stops at the end), holding whole frames like the scene's clock.
+        let offset = started_frame - timeline.start as f64 + played;
+        if !self.looping && offset >= length - 1.0 {
+            self.frame = timeline.end as f64;
+            self.playing = false;
+            return;
+        }
+        self.frame = timeline.start as f64 + offset.rem_euclid(length).floor();
         ctx.request_repaint();
     }
 
@@ -541,6 +557,18 @@ impl DrapeApp {
                     PinState::Normal
                 }
             };
+            if let Some(drag) = &self.pin_drag
+                && let Some(axis) = drag.lock
+            {
+                // The locked axis as a line through the dragged pin, in the usual X/Y/Z colours.
+                let color = match axis {
+                    AxisLock::X => [0.9, 0.25, 0.2, 0.9],
+                    AxisLock::Y => [0.35, 0.85, 0.25, 0.9],
+                    AxisLock::Z => [0.25, 0.45, 0.95, 0.9],
+                };
+                let reach = axis.vector() * self.camera.distance_m * 2.0;
+                overlay.segments.push(Segment { a: drag.anchor - reach, b: drag.anchor + reach, width_px: 1.5, color });
+            }
             if self.pin_drag.is_some() {
                 // Dragged pins are drawn where the mouse put them, before the cloth catches up.
                 let doc_key = &self.doc.scene().keys[self.edit_key_index()];
@@ -652,24 +680,11 @@ impl DrapeApp {
         });
     }
 
-    fn timeline_panel(&mut self, ui: &mut egui::Ui) {
-        let timeline = self.doc.scene().timeline.clone();
-        ui.horizontal(|ui| {
-            let label = if self.playing { "Pause" } else { "Play" };
-            if ui.button(label).clicked() {
-                self.toggle_play();
-            }
-            let mut frame = self.frame.round() as i32;
-            let slider = egui::Slider::new(&mut frame, timeline.start..=timeline.end).text("frame");
-            ui.spacing_mut().slider_width = (ui.available_width() - 200.0).max(100.0);
-            if ui.add(slider).changed() {
-                self.set_frame(frame as f64);
-            }
-            ui.label(format!("{:.2} s @ {} fps", frame_time_secs(&timeline, self.frame), timeline.fps));
-        });
+    pub fn playing(&self) -> bool {
+        self.playing
     }
 
-    fn toggle_play(&mut self) {
+    pub(super) fn toggle_play(&mut self) {
         self.playing = !self.playing;
         self.play_started = None;
     }
@@ -778,7 +793,14 @@ impl DrapeApp {
             self.frame_all(aspect);
         }
         if pressed(KeyCode::Delete) || pressed(KeyCode::Backspace) {
-            self.delete_selected_pins();
+            if self.selection.is_empty() && self.selected_key.is_some() {
+                self.delete_selected_key();
+            } else {
+                self.delete_selected_pins();
+            }
+        }
+        if pressed(KeyCode::K) {
+            self.add_key_here();
         }
     }
 

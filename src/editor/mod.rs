@@ -14,6 +14,7 @@ pub mod prompt;
 pub mod recent;
 pub mod recovery;
 pub mod shaper;
+mod timeline;
 #[cfg(test)]
 mod ui_driver;
 pub mod viewport;
