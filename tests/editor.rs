@@ -369,6 +369,17 @@ fn the_timeline_scrubs_adds_a_key_and_eases_it() {
     // The new key holds the pose: the frame looks the same as before it was added.
     assert_eq!(harness.state().mesh().positions.len(), expected.positions.len());
 
+    // Onion skin: two ghosts each side, four frames apart.
+    harness.get_by_label("Onion skin").click();
+    harness.run_ok();
+    assert_eq!(harness.state().ghost_count(), 4);
+    harness.key_press(Key::F);
+    harness.run_ok();
+    snapshot(&mut harness, "editor_onion");
+    harness.get_by_label("Onion skin").click();
+    harness.run_ok();
+    assert_eq!(harness.state().ghost_count(), 0);
+
     // Right-click the key: its segment eases linearly now.
     let index = harness.state().scene().keys.iter().position(|k| k.frame == 60).unwrap();
     let diamond = timeline_pos(&harness, 60.0) + egui::vec2(0.0, 8.0);

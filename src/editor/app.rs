@@ -78,6 +78,10 @@ pub struct ViewToggles {
     pub catenaries: bool,
     pub triangulation: bool,
     pub ground: bool,
+    /// Onion skin: ghosts of the `onion_frames` frames before and after, `onion_spacing` frames apart.
+    pub onion: bool,
+    pub onion_frames: u32,
+    pub onion_spacing: u32,
 }
 
 impl Default for ViewToggles {
@@ -89,6 +93,9 @@ impl Default for ViewToggles {
             catenaries: false,
             triangulation: false,
             ground: true,
+            onion: false,
+            onion_frames: 2,
+            onion_spacing: 4,
         }
     }
 }
@@ -141,6 +148,11 @@ pub struct DrapeApp {
     /// The shapes last asked of the worker, so a request is made once per change.
     requested: Option<(Cloth, Vec<Key>)>,
     pub(super) mesh: Arc<Mesh>,
+    /// Onion-skin ghosts and what they show: (frame, frames, spacing, shown version).
+    ghosts: Arc<Vec<(Arc<Mesh>, [f32; 3], f32)>>,
+    ghosts_of: Option<(f64, u32, u32, u64)>,
+    /// Counts changes of `shown`.
+    shown_version: u64,
     /// What `mesh` shows: (frame, stage); `None` when it must be rebuilt.
     mesh_of: Option<(f64, Stage)>,
     /// The frame the playhead is on (fractional while playing).
@@ -227,6 +239,9 @@ impl DrapeApp {
                 indices: Vec::new(),
             }),
             mesh_of: None,
+            ghosts: Arc::default(),
+            ghosts_of: None,
+            shown_version: 0,
             playing: false,
             looping: true,
             selected_key: None,
@@ -339,6 +354,11 @@ impl DrapeApp {
     /// The mesh on screen: for [`Stage::Animation`], `evaluate` of the shown scene at [`DrapeApp::frame`].
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
+    }
+
+    /// How many onion-skin ghosts the viewport draws now.
+    pub fn ghost_count(&self) -> usize {
+        self.ghosts.len()
     }
 
     pub fn selection(&self) -> &[(u32, u32)] {
@@ -461,6 +481,7 @@ impl DrapeApp {
         let missing: Vec<Key> = scene.keys.iter().filter(|k| cache.get(&scene.cloth, k).is_none()).cloned().collect();
         if missing.is_empty() {
             self.shown = scene.clone();
+            self.shown_version += 1;
             self.mesh_of = None;
             self.requested = None;
             if std::mem::take(&mut self.frame_when_shown) {
@@ -499,6 +520,36 @@ impl DrapeApp {
             }
         }
         self.mesh_of = Some((self.frame, self.stage));
+    }
+
+    /// Onion-skin ghosts around the playhead: earlier frames tinted blue,
+    /// later ones orange, fainter further away; none outside the timeline.
+    fn refresh_ghosts(&mut self) {
+        let toggles = self.toggles;
+        if !toggles.onion || self.stage != Stage::Animation {
+            self.ghosts = Arc::default();
+            self.ghosts_of = None;
+            return;
+        }
+        let wanted = (self.frame, toggles.onion_frames, toggles.onion_spacing, self.shown_version);
+        if self.ghosts_of == Some(wanted) {
+            return;
+        }
+        let timeline = self.shown.timeline.clone();
+        let mut ghosts = Vec::new();
+        for step in 1..=toggles.onion_frames {
+            let offset = f64::from(step * toggles.onion_spacing.max(1));
+            let opacity = 0.45 / step as f32;
+            for (frame, tint) in [(self.frame - offset, [0.35, 0.55, 1.0]), (self.frame + offset, [1.0, 0.6, 0.3])] {
+                if frame < f64::from(timeline.start) || frame > f64::from(timeline.end) {
+                    continue;
+                }
+                let mesh = self.evaluator.evaluate(&self.shown, frame_time_secs(&timeline, frame));
+                ghosts.push((Arc::new(mesh), tint, opacity));
+            }
+        }
+        self.ghosts = Arc::new(ghosts);
+        self.ghosts_of = Some(wanted);
     }
 
     /// The relaxation report of the shown key being edited.
@@ -632,7 +683,19 @@ impl DrapeApp {
             ui.toggle_value(&mut self.toggles.catenaries, "Catenaries");
             ui.toggle_value(&mut self.toggles.triangulation, "Triangulation");
             ui.toggle_value(&mut self.toggles.ground, "Ground");
+            ui.toggle_value(&mut self.toggles.onion, "Onion skin")
+                .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
         });
+        if self.toggles.onion {
+            ui.horizontal(|ui| {
+                let label = ui.label("Ghosts").id;
+                let drag = egui::DragValue::new(&mut self.toggles.onion_frames).range(1..=8);
+                ui.add(drag).labelled_by(label).on_hover_text("Ghosts on each side of the playhead");
+                let label = ui.label("every").id;
+                let drag = egui::DragValue::new(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
+                ui.add(drag).labelled_by(label);
+            });
+        }
     }
 
     fn status_bar(&mut self, ui: &mut egui::Ui) {
@@ -819,6 +882,7 @@ impl DrapeApp {
         self.keyboard(ui.ctx(), aspect);
         self.sync_shapes();
         self.refresh_mesh();
+        self.refresh_ghosts();
         if std::mem::take(&mut self.frame_all_pending) {
             self.frame_all(aspect);
         }
@@ -846,6 +910,7 @@ impl DrapeApp {
             camera: self.camera,
             options: self.render_options(),
             overlay: Arc::new(self.overlay()),
+            ghosts: self.ghosts.clone(),
             size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(rect, frame));

@@ -83,6 +83,16 @@ impl DrapeApp {
         let key = self.doc.scene().keys[index].clone();
         ui.strong(format!("Fabric — key at frame {}", key.frame))
             .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
+        let playhead = self.frame().round() as i32;
+        if playhead != key.frame {
+            // Off a key, edits would change the key back at its own frame: offer a key here instead.
+            ui.horizontal_wrapped(|ui| {
+                ui.weak(format!("The playhead is at frame {playhead}; edits change the key at frame {}.", key.frame));
+                if ui.small_button(format!("Add a key at {playhead}")).on_hover_text("K").clicked() {
+                    self.add_key_here();
+                }
+            });
+        }
         egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
             let mut elasticity = key.elasticity;
             let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";

@@ -11,7 +11,7 @@ use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, ScreenDescriptor
 
 use crate::mesh::Mesh;
 use crate::render::compose::Compositor;
-use crate::render::{FrameInput, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
+use crate::render::{FrameInput, Ghost, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
 
 struct ViewportResources {
     renderer: Renderer,
@@ -35,6 +35,8 @@ pub struct ViewportFrame {
     pub camera: OrbitCamera,
     pub options: RenderOptions,
     pub overlay: Arc<Overlay>,
+    /// Onion-skin ghosts: mesh, linear RGB tint, opacity.
+    pub ghosts: Arc<Vec<(Arc<Mesh>, [f32; 3], f32)>>,
     /// The viewport's size in physical pixels.
     pub size_px: (u32, u32),
 }
@@ -54,11 +56,13 @@ impl CallbackTrait for ViewportFrame {
         if resources.target.resize(device, self.size_px) {
             resources.compositor.set_source(device, &resources.target);
         }
+        let ghosts: Vec<Ghost> =
+            self.ghosts.iter().map(|(mesh, tint, opacity)| Ghost { mesh, tint: *tint, opacity: *opacity }).collect();
         let input = FrameInput {
             mesh: &self.mesh,
             camera: &self.camera,
             options: &self.options,
-            ghosts: &[],
+            ghosts: &ghosts,
             overlay: &self.overlay,
         };
         resources.renderer.prepare(device, queue, resources.target.size_px(), input);
