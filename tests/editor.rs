@@ -406,3 +406,47 @@ fn the_timeline_scrubs_adds_a_key_and_eases_it() {
     harness.run_ok();
     assert_eq!(harness.state().scene().keys, keys_before);
 }
+
+#[test]
+fn a_wave_is_added_keyed_and_reordered() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    let layers_before = harness.state().scene().layers.len();
+
+    harness.get_by_label("Add layer").click();
+    harness.run_ok();
+    harness.get_by_label("Wave").click();
+    harness.run_ok();
+    let index = layers_before;
+    assert_eq!(harness.state().scene().layers.len(), layers_before + 1);
+    assert_eq!(harness.state().scene().layers[index].kind(), "Wave");
+
+    // Key the magnitude at frame 0, then raise it at frame 48: a ramp.
+    harness.get_by_label("Key magnitude").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(48.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "magnitude").set_value_accesskit(0.2);
+    harness.run_ok();
+    settle(&mut harness);
+    let drape::scene::Layer::Wave(wave) = &harness.state().scene().layers[index] else { panic!("a wave") };
+    let keys: Vec<_> = match &wave.magnitude {
+        drape::scene::Param::Keys(keys) => keys.iter().map(|k| (k.frame, k.value)).collect(),
+        other => panic!("keyed, not {other:?}"),
+    };
+    assert_eq!(keys, [(0, 0.03), (48, 0.2)]);
+    // The mesh on screen includes the new layer.
+    let scene = harness.state().scene().clone();
+    let expected = drape::animate::evaluate(&scene, drape::animate::frame_time_secs(&scene.timeline, 48.0));
+    assert_eq!(*harness.state().mesh(), expected);
+
+    // Move it up one place: the stack order changes, one undo puts it back.
+    let label = format!("Move {} up", scene.layers[index].label(index));
+    harness.get_by_label(&label).click();
+    harness.run_ok();
+    assert_eq!(harness.state().scene().layers[index - 1].kind(), "Wave");
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().layers[index].kind(), "Wave");
+}

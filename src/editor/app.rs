@@ -162,6 +162,8 @@ pub struct DrapeApp {
     pub(super) looping: bool,
     /// The rest-shape key selected on the timeline, and the one being dragged there.
     pub(super) selected_key: Option<usize>,
+    /// The layer whose parameters the Layers panel shows.
+    pub(super) selected_layer: Option<usize>,
     pub(super) key_drag: Option<usize>,
     play_started: Option<(Instant, f64)>,
     pub(super) camera: OrbitCamera,
@@ -245,6 +247,7 @@ impl DrapeApp {
             playing: false,
             looping: true,
             selected_key: None,
+            selected_layer: None,
             key_drag: None,
             play_started: None,
             camera,
@@ -318,6 +321,7 @@ impl DrapeApp {
         self.playing = false;
         self.play_started = None;
         self.selected_key = None;
+        self.selected_layer = None;
         self.key_drag = None;
         self.frame = self.doc.scene().timeline.start as f64;
         self.mesh_of = None;
@@ -947,6 +951,9 @@ impl eframe::App for DrapeApp {
             self.view_panel(ui);
             ui.separator();
             self.cloth_panel(ui);
+        });
+        egui::Panel::right("layers").default_size(270.0).min_size(220.0).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| self.layers_panel(ui));
         });
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport(ui));
         self.shortcuts_window(&ctx);

@@ -9,6 +9,8 @@ mod export_window;
 pub mod file_dialog;
 pub mod files;
 pub mod grid_editor;
+mod layers_panel;
+pub mod param_edit;
 pub mod picking;
 pub mod prompt;
 pub mod recent;

@@ -1,0 +1,296 @@
+//! The layer stack on the right: add Sway / Wave / Noise / Follow-through,
+//! rename, reorder, enable, and every parameter with a key toggle (a diamond) beside
+//! it. Values show what the parameter is at the playhead; editing a keyed
+//! parameter keys it there.
+
+use eframe::egui::{self, DragValue};
+
+use super::app::DrapeApp;
+use super::param_edit::{key_at, param_mut, param_names, set_at, toggle_key};
+use crate::animate::track::sample;
+use crate::scene::{FollowThrough, Layer, Noise, Param, Sway, Wave, WaveAxis};
+
+/// A new layer of `kind` with gentle defaults that show its effect at once.
+fn new_layer(kind: &str) -> Layer {
+    let c = Param::Constant;
+    match kind {
+        "Sway" => Layer::Sway(Sway {
+            name: String::new(),
+            enabled: true,
+            weight: c(1.0),
+            magnitude: c(0.1),
+            direction: (1.0, 0.0, 0.0),
+            speed: c(1.0),
+            frequency: c(0.5),
+            phase: c(0.0),
+            falloff: c(1.0),
+        }),
+        "Wave" => Layer::Wave(Wave {
+            name: String::new(),
+            enabled: true,
+            weight: c(1.0),
+            magnitude: c(0.03),
+            frequency: c(8.0),
+            phase: c(0.0),
+            speed: c(4.0),
+            direction_deg: c(0.0),
+            axis: WaveAxis::Normal,
+            falloff: c(1.0),
+        }),
+        "Noise" => Layer::Noise(Noise {
+            name: String::new(),
+            enabled: true,
+            weight: c(1.0),
+            amplitude: c(0.05),
+            scale: c(0.5),
+            speed: c(1.0),
+            direction: (1.0, 0.0, 0.0),
+            turbulence: c(0.3),
+            octaves: 2,
+            seed: 0,
+            falloff: c(1.0),
+        }),
+        _ => Layer::FollowThrough(FollowThrough {
+            name: String::new(),
+            enabled: true,
+            weight: c(1.0),
+            lag: c(0.25),
+            falloff: c(1.0),
+        }),
+    }
+}
+
+fn name_mut(layer: &mut Layer) -> &mut String {
+    match layer {
+        Layer::Sway(l) => &mut l.name,
+        Layer::Wave(l) => &mut l.name,
+        Layer::Noise(l) => &mut l.name,
+        Layer::FollowThrough(l) => &mut l.name,
+    }
+}
+
+fn enabled_mut(layer: &mut Layer) -> &mut bool {
+    match layer {
+        Layer::Sway(l) => &mut l.enabled,
+        Layer::Wave(l) => &mut l.enabled,
+        Layer::Noise(l) => &mut l.enabled,
+        Layer::FollowThrough(l) => &mut l.enabled,
+    }
+}
+
+/// The small drawn icons of the layer panel (the default fonts have no such glyphs).
+#[derive(Clone, Copy)]
+enum Icon {
+    /// A key: filled when the parameter is keyed at this frame.
+    Diamond {
+        filled: bool,
+    },
+    Up,
+    Down,
+}
+
+/// A 16-point icon button with an accessible `label`.
+fn icon_button(ui: &mut egui::Ui, icon: Icon, enabled: bool, label: &str) -> egui::Response {
+    let sense = if enabled { egui::Sense::click() } else { egui::Sense::hover() };
+    let (rect, response) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), sense);
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, enabled, label));
+    let visuals = ui.style().interact(&response);
+    let color = if enabled { visuals.fg_stroke.color } else { ui.visuals().weak_text_color().gamma_multiply(0.5) };
+    let c = rect.center();
+    let r = 5.0;
+    let points = match icon {
+        Icon::Diamond { .. } => {
+            vec![c + egui::vec2(0.0, -r), c + egui::vec2(r, 0.0), c + egui::vec2(0.0, r), c + egui::vec2(-r, 0.0)]
+        }
+        Icon::Up => vec![c + egui::vec2(0.0, -r), c + egui::vec2(r, r * 0.7), c + egui::vec2(-r, r * 0.7)],
+        Icon::Down => vec![c + egui::vec2(0.0, r), c + egui::vec2(-r, -r * 0.7), c + egui::vec2(r, -r * 0.7)],
+    };
+    let fill = match icon {
+        Icon::Diamond { filled: true } => egui::Color32::from_rgb(255, 200, 20),
+        Icon::Diamond { filled: false } => egui::Color32::TRANSPARENT,
+        _ => color,
+    };
+    ui.painter().add(egui::Shape::convex_polygon(points, fill, egui::Stroke::new(1.2, color)));
+    response
+}
+
+impl DrapeApp {
+    pub(super) fn layers_panel(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Layers");
+        ui.menu_button("Add layer", |ui| {
+            for (kind, label) in
+                [("Sway", "Sway"), ("Wave", "Wave"), ("Noise", "Noise (gusts)"), ("FollowThrough", "Follow-through")]
+            {
+                if ui.button(label).clicked() {
+                    let at = self.doc.scene().layers.len();
+                    self.apply("Add layer", |s| s.layers.push(new_layer(kind)));
+                    self.selected_layer = Some(at);
+                }
+            }
+        });
+        ui.weak("Applied top to bottom.");
+        let layers = self.doc.scene().layers.clone();
+        for (index, layer) in layers.iter().enumerate() {
+            ui.horizontal(|ui| {
+                let mut enabled = layer.enabled();
+                let checkbox = ui.checkbox(&mut enabled, "").on_hover_text("Enabled");
+                let label = layer.label(index);
+                checkbox.widget_info(|| {
+                    egui::WidgetInfo::selected(egui::Role::CheckBox, true, enabled, format!("Enable {label}"))
+                });
+                if checkbox.changed() {
+                    self.apply("Enable layer", |s| *enabled_mut(&mut s.layers[index]) = enabled);
+                }
+                let label = layer.label(index);
+                let last = index + 1 == layers.len();
+                let up = icon_button(ui, Icon::Up, index > 0, &format!("Move {label} up")).on_hover_text("Earlier");
+                if up.clicked() {
+                    self.apply("Reorder layers", |s| s.layers.swap(index, index - 1));
+                    self.selected_layer = Some(index - 1);
+                }
+                let down = icon_button(ui, Icon::Down, !last, &format!("Move {label} down")).on_hover_text("Later");
+                if down.clicked() {
+                    self.apply("Reorder layers", |s| s.layers.swap(index, index + 1));
+                    self.selected_layer = Some(index + 1);
+                }
+                let remove = ui.small_button("×").on_hover_text("Remove the layer");
+                remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
+                if remove.clicked() {
+                    self.apply("Remove layer", |s| {
+                        s.layers.remove(index);
+                    });
+                    self.selected_layer = None;
+                }
+                let selected = self.selected_layer == Some(index);
+                let kind = if layer.kind() == "FollowThrough" { "Follow-through" } else { layer.kind() };
+                let title =
+                    if layer.name().is_empty() { format!("{kind} {}", index + 1) } else { layer.name().to_owned() };
+                if ui.selectable_label(selected, title).on_hover_text(label).clicked() {
+                    self.selected_layer = if selected { None } else { Some(index) };
+                }
+            });
+        }
+        let Some(index) = self.selected_layer.filter(|i| *i < layers.len()) else { return };
+        ui.separator();
+        self.layer_details(ui, index, &layers[index]);
+    }
+
+    fn layer_details(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
+        let frame = self.frame().round() as i32;
+        let mut name = layer.name().to_owned();
+        ui.horizontal(|ui| {
+            let label = ui.label("Name").id;
+            let edit = ui.add(egui::TextEdit::singleline(&mut name).desired_width(140.0)).labelled_by(label);
+            if edit.changed() {
+                self.apply("Rename layer", |s| *name_mut(&mut s.layers[index]) = name.clone());
+            }
+        });
+        ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
+        egui::Grid::new("layer parameters").num_columns(3).show(ui, |ui| {
+            for (param, unit) in param_names(layer) {
+                let mut copy = layer.clone();
+                let Some(current) = param_mut(&mut copy, param) else { continue };
+                let keyed_here = key_at(current, frame).is_some();
+                let keyed = matches!(current, Param::Keys(_));
+                let mut value = sample(current, f64::from(frame));
+                let label = ui.label(param.replace('_', " ")).id;
+                let drag = DragValue::new(&mut value).speed(0.01).max_decimals(4);
+                let drag = if unit.is_empty() { drag } else { drag.suffix(format!(" {unit}")) };
+                let response = ui.add(drag).labelled_by(label);
+                let hint = if keyed {
+                    "Keyed: click to add or remove the key at this frame"
+                } else {
+                    "Key this parameter here"
+                };
+                let toggle = icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key {param}"));
+                let toggle = toggle.on_hover_text(hint);
+                ui.end_row();
+                let what = format!("Layer {}", param.replace('_', " "));
+                if response.drag_started() {
+                    self.doc.begin_gesture(&what);
+                }
+                if response.changed() {
+                    self.apply(&what, |s| {
+                        if let Some(p) = param_mut(&mut s.layers[index], param) {
+                            set_at(p, frame, value);
+                        }
+                    });
+                }
+                if toggle.clicked() {
+                    self.apply("Key parameter", |s| {
+                        if let Some(p) = param_mut(&mut s.layers[index], param) {
+                            toggle_key(p, frame);
+                        }
+                    });
+                }
+            }
+        });
+        self.layer_vectors(ui, index, layer);
+    }
+
+    /// The layer's fixed settings: directions, the wave's axis, the gusts' octaves and seed.
+    fn layer_vectors(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
+        let direction = match layer {
+            Layer::Sway(l) => Some(l.direction),
+            Layer::Noise(l) => Some(l.direction),
+            _ => None,
+        };
+        if let Some(mut d) = direction {
+            ui.horizontal(|ui| {
+                ui.label("Direction");
+                let mut changed = false;
+                for value in [&mut d.0, &mut d.1, &mut d.2] {
+                    changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
+                }
+                if changed {
+                    self.apply("Layer direction", |s| match &mut s.layers[index] {
+                        Layer::Sway(l) => l.direction = d,
+                        Layer::Noise(l) => l.direction = d,
+                        _ => {}
+                    });
+                }
+            });
+        }
+        if let Layer::Wave(wave) = layer {
+            let mut fixed = matches!(wave.axis, WaveAxis::Fixed(_));
+            let mut axis = match wave.axis {
+                WaveAxis::Fixed(v) => v,
+                WaveAxis::Normal => (0.0, 1.0, 0.0),
+            };
+            ui.horizontal(|ui| {
+                let mut changed =
+                    ui.checkbox(&mut fixed, "Fixed axis").on_hover_text("Else along the surface normal").changed();
+                if fixed {
+                    for value in [&mut axis.0, &mut axis.1, &mut axis.2] {
+                        changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
+                    }
+                }
+                if changed {
+                    let new = if fixed { WaveAxis::Fixed(axis) } else { WaveAxis::Normal };
+                    self.apply("Wave axis", |s| {
+                        if let Layer::Wave(l) = &mut s.layers[index] {
+                            l.axis = new;
+                        }
+                    });
+                }
+            });
+        }
+        if let Layer::Noise(noise) = layer {
+            let (mut octaves, mut seed) = (noise.octaves, noise.seed);
+            ui.horizontal(|ui| {
+                ui.label("Octaves");
+                let a = ui.add(DragValue::new(&mut octaves).range(1..=crate::scene::MAX_NOISE_OCTAVES)).changed();
+                ui.label("Seed");
+                let b = ui.add(DragValue::new(&mut seed)).changed();
+                if a || b {
+                    self.apply("Gusts", |s| {
+                        if let Layer::Noise(l) = &mut s.layers[index] {
+                            l.octaves = octaves;
+                            l.seed = seed;
+                        }
+                    });
+                }
+            });
+        }
+    }
+}
