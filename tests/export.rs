@@ -766,3 +766,43 @@ fn a_full_disk_is_reported_with_the_file() {
     let error = ExportError::write(path, io::Error::from_raw_os_error(28));
     assert_eq!(error.to_string(), "cannot write /shots/carpet.pc2: No space left on device");
 }
+
+// ------------------------------------------------------------------ Blender
+
+/// Blender itself, when it is installed (not in CI: it is a large package):
+/// the PC2 and MDD caches on the base OBJ through the Mesh Cache modifier,
+/// and the `.glb` through Blender's glTF importer, each compared at several
+/// frames with Drape's OBJ of that frame imported into Blender the same way.
+#[test]
+fn blender_plays_the_point_caches_and_the_gltf() {
+    let has_blender = Command::new("blender").arg("--version").output().is_ok_and(|o| o.status.success());
+    if !has_blender {
+        println!("SKIPPED: Blender is not installed (apt install blender python3-numpy to run this check)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = load("magic_carpet.ron");
+    let frames = 0..=120;
+    for extension in ["pc2", "mdd", "glb"] {
+        export(&scene, frames.clone(), &dir.path().join(format!("carpet.{extension}")));
+    }
+    std::fs::create_dir(dir.path().join("seq")).unwrap();
+    export_animation(&scene, frames, &dir.path().join("seq/carpet.obj"), AnimationFormat::ObjSequence, &mut |_, _| {
+        true
+    })
+    .unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/tools/check_blender.py");
+    let run = Command::new("blender")
+        .args(["-b", "--factory-startup", "--python"])
+        .arg(&script)
+        .arg("--")
+        .arg(dir.path())
+        .args(["carpet", "24", "0", "1", "37", "60", "119", "120"])
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&run.stdout);
+    let checks: Vec<&str> = report.lines().filter(|l| l.contains("largest difference")).collect();
+    println!("{}", checks.join("\n"));
+    assert!(run.status.success(), "Blender disagrees:\n{report}{}", String::from_utf8_lossy(&run.stderr));
+    assert_eq!(checks.len(), 3 * 6 + 1, "every format at every frame was checked:\n{report}");
+}
