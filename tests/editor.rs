@@ -398,6 +398,27 @@ fn the_timeline_scrubs_adds_a_key_and_eases_it() {
     harness.run_ok();
     assert_eq!(harness.state().scene().keys[index].ease, drape::scene::Ease::Linear);
 
+    // Duplicate the key from its menu: the playhead has a key, so the copy goes to the next free frame.
+    harness.event(Event::PointerMoved(diamond));
+    harness.run_ok();
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos: diamond,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        harness.run_ok();
+    }
+    harness.get_by_label("Duplicate key").click();
+    harness.run_ok();
+    let keys = &harness.state().scene().keys;
+    let copy = keys.iter().find(|k| k.frame == 61).expect("a copy at frame 61");
+    let original = keys.iter().find(|k| k.frame == 60).unwrap();
+    assert_eq!((&copy.pins, copy.elasticity), (&original.pins, original.elasticity));
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+
     // Undo twice: no easing change, no key.
     harness.key_press(Key::Escape);
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
@@ -439,6 +460,29 @@ fn a_wave_is_added_keyed_and_reordered() {
     // The mesh on screen includes the new layer.
     let scene = harness.state().scene().clone();
     let expected = drape::animate::evaluate(&scene, drape::animate::frame_time_secs(&scene.timeline, 48.0));
+    assert_eq!(*harness.state().mesh(), expected);
+
+    harness.key_press(Key::F);
+    harness.run_ok();
+    snapshot(&mut harness, "editor_wave");
+
+    // Solo: the viewport shows the wave alone; the scene keeps every layer on.
+    let solo = format!("Solo {}", scene.layers[index].label(index));
+    harness.get_by_label(&solo).click();
+    harness.run_ok();
+    let mut alone = scene.clone();
+    for (i, layer) in alone.layers.iter_mut().enumerate() {
+        let (drape::scene::Layer::Sway(drape::scene::Sway { enabled, .. })
+        | drape::scene::Layer::Wave(drape::scene::Wave { enabled, .. })
+        | drape::scene::Layer::Noise(drape::scene::Noise { enabled, .. })
+        | drape::scene::Layer::FollowThrough(drape::scene::FollowThrough { enabled, .. })) = layer;
+        *enabled = i == index;
+    }
+    let expected_alone = drape::animate::evaluate(&alone, drape::animate::frame_time_secs(&alone.timeline, 48.0));
+    assert_eq!(*harness.state().mesh(), expected_alone);
+    assert_eq!(harness.state().scene(), &scene, "solo is a view, not an edit");
+    harness.get_by_label(&solo).click();
+    harness.run_ok();
     assert_eq!(*harness.state().mesh(), expected);
 
     // Move it up one place: the stack order changes, one undo puts it back.

@@ -150,11 +150,11 @@ pub struct DrapeApp {
     pub(super) mesh: Arc<Mesh>,
     /// Onion-skin ghosts and what they show: (frame, frames, spacing, shown version).
     ghosts: Arc<Vec<(Arc<Mesh>, [f32; 3], f32)>>,
-    ghosts_of: Option<(f64, u32, u32, u64)>,
+    ghosts_of: Option<(f64, u32, u32, u64, Option<usize>)>,
     /// Counts changes of `shown`.
     shown_version: u64,
-    /// What `mesh` shows: (frame, stage); `None` when it must be rebuilt.
-    mesh_of: Option<(f64, Stage)>,
+    /// What `mesh` shows: (frame, stage, solo layer); `None` when it must be rebuilt.
+    mesh_of: Option<(f64, Stage, Option<usize>)>,
     /// The frame the playhead is on (fractional while playing).
     frame: f64,
     playing: bool,
@@ -164,6 +164,8 @@ pub struct DrapeApp {
     pub(super) selected_key: Option<usize>,
     /// The layer whose parameters the Layers panel shows.
     pub(super) selected_layer: Option<usize>,
+    /// A layer shown alone (the others off in the viewport only; the scene keeps them).
+    pub(super) solo_layer: Option<usize>,
     pub(super) key_drag: Option<usize>,
     play_started: Option<(Instant, f64)>,
     pub(super) camera: OrbitCamera,
@@ -248,6 +250,7 @@ impl DrapeApp {
             looping: true,
             selected_key: None,
             selected_layer: None,
+            solo_layer: None,
             key_drag: None,
             play_started: None,
             camera,
@@ -322,6 +325,7 @@ impl DrapeApp {
         self.play_started = None;
         self.selected_key = None;
         self.selected_layer = None;
+        self.solo_layer = None;
         self.key_drag = None;
         self.frame = self.doc.scene().timeline.start as f64;
         self.mesh_of = None;
@@ -505,16 +509,17 @@ impl DrapeApp {
     }
 
     fn refresh_mesh(&mut self) {
-        if self.mesh_of == Some((self.frame, self.stage)) {
+        if self.mesh_of == Some((self.frame, self.stage, self.solo_layer)) {
             return;
         }
         let scene = &self.shown;
         match self.stage {
             Stage::Animation => {
                 let t_secs = frame_time_secs(&scene.timeline, self.frame);
+                let shown = soloed(scene, self.solo_layer);
                 // The last frame's paint callback has let go of the mesh by now, so this rarely copies.
                 let mesh = Arc::make_mut(&mut self.mesh);
-                self.evaluator.evaluate_into(scene, t_secs, Default::default(), mesh);
+                self.evaluator.evaluate_into(&shown, t_secs, Default::default(), mesh);
             }
             Stage::Relaxed | Stage::Approximated | Stage::Catenaries => {
                 let key = scene.key_in_effect(self.frame);
@@ -523,7 +528,7 @@ impl DrapeApp {
                 self.mesh = Arc::new(Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), points));
             }
         }
-        self.mesh_of = Some((self.frame, self.stage));
+        self.mesh_of = Some((self.frame, self.stage, self.solo_layer));
     }
 
     /// Onion-skin ghosts around the playhead: earlier frames tinted blue,
@@ -535,11 +540,12 @@ impl DrapeApp {
             self.ghosts_of = None;
             return;
         }
-        let wanted = (self.frame, toggles.onion_frames, toggles.onion_spacing, self.shown_version);
+        let wanted = (self.frame, toggles.onion_frames, toggles.onion_spacing, self.shown_version, self.solo_layer);
         if self.ghosts_of == Some(wanted) {
             return;
         }
         let timeline = self.shown.timeline.clone();
+        let shown = soloed(&self.shown, self.solo_layer).into_owned();
         let mut ghosts = Vec::new();
         for step in 1..=toggles.onion_frames {
             let offset = f64::from(step * toggles.onion_spacing.max(1));
@@ -548,7 +554,7 @@ impl DrapeApp {
                 if frame < f64::from(timeline.start) || frame > f64::from(timeline.end) {
                     continue;
                 }
-                let mesh = self.evaluator.evaluate(&self.shown, frame_time_secs(&timeline, frame));
+                let mesh = self.evaluator.evaluate(&shown, frame_time_secs(&timeline, frame));
                 ghosts.push((Arc::new(mesh), tint, opacity));
             }
         }
@@ -637,6 +643,7 @@ impl DrapeApp {
                 overlay.add_pins(&self.mesh, pins);
             }
         }
+        self.add_layer_arrow(&mut overlay);
         let highlight = self.hovered.or(self.grid_hovered);
         if let Some((i, j)) = highlight
             && !key.pins.iter().any(|p| p.grid == (i, j))
@@ -651,6 +658,42 @@ impl DrapeApp {
             });
         }
         overlay
+    }
+
+    /// The selected layer's direction as an arrow over the cloth: a sway's or
+    /// the gusts' world direction from the cloth's centre, a wave's direction
+    /// of travel along the surface at the centre.
+    fn add_layer_arrow(&self, overlay: &mut Overlay) {
+        use crate::scene::Layer;
+        let Some(layer) = self.selected_layer.and_then(|i| self.shown.layers.get(i)) else { return };
+        let mesh = &self.mesh;
+        let (cols, rows) = (mesh.cols, mesh.rows);
+        if cols < 3 || rows < 3 || mesh.positions.len() != cols * rows {
+            return;
+        }
+        let at = |i: usize, j: usize| mesh.positions[j * cols + i];
+        let (ci, cj) = (cols / 2, rows / 2);
+        let centre = at(ci, cj);
+        let direction = match layer {
+            Layer::Sway(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
+            Layer::Noise(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
+            Layer::Wave(l) => {
+                let angle = crate::animate::track::sample(&l.direction_deg, self.frame).to_radians() as f32;
+                let along_u = (at(ci + 1, cj) - at(ci - 1, cj)).normalize_or_zero();
+                let along_v = (at(ci, cj + 1) - at(ci, cj - 1)).normalize_or_zero();
+                along_u * angle.cos() + along_v * angle.sin()
+            }
+            Layer::FollowThrough(_) => return,
+        };
+        let Some(direction) = direction.try_normalize() else { return };
+        let size = bounds(&mesh.positions).map_or(1.0, |(lo, hi)| (hi - lo).max_element());
+        let tip = centre + direction * size * 0.45;
+        let side = direction.cross(self.camera.backward()).normalize_or_zero() * size * 0.05;
+        let back = tip - direction * size * 0.08;
+        let color = [0.2, 0.85, 1.0, 1.0];
+        for (a, b) in [(centre, tip), (tip, back + side), (tip, back - side)] {
+            overlay.segments.push(Segment { a, b, width_px: 3.0, color });
+        }
     }
 
     fn render_options(&self) -> RenderOptions {
@@ -979,6 +1022,23 @@ impl eframe::App for DrapeApp {
     fn on_exit(&mut self) {
         self.clean_exit();
     }
+}
+
+/// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).
+fn soloed(scene: &Scene, solo: Option<usize>) -> std::borrow::Cow<'_, Scene> {
+    use crate::scene::Layer;
+    let Some(solo) = solo.filter(|s| *s < scene.layers.len()) else { return std::borrow::Cow::Borrowed(scene) };
+    let mut alone = scene.clone();
+    for (index, layer) in alone.layers.iter_mut().enumerate() {
+        let enabled = match layer {
+            Layer::Sway(l) => &mut l.enabled,
+            Layer::Wave(l) => &mut l.enabled,
+            Layer::Noise(l) => &mut l.enabled,
+            Layer::FollowThrough(l) => &mut l.enabled,
+        };
+        *enabled = index == solo;
+    }
+    std::borrow::Cow::Owned(alone)
 }
 
 /// Opens the editor window on `scene` (the built-in magic carpet when `None`);

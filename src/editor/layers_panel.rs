@@ -146,11 +146,13 @@ impl DrapeApp {
                 let up = icon_button(ui, Icon::Up, index > 0, &format!("Move {label} up")).on_hover_text("Earlier");
                 if up.clicked() {
                     self.apply("Reorder layers", |s| s.layers.swap(index, index - 1));
+                    self.solo_layer = None;
                     self.selected_layer = Some(index - 1);
                 }
                 let down = icon_button(ui, Icon::Down, !last, &format!("Move {label} down")).on_hover_text("Later");
                 if down.clicked() {
                     self.apply("Reorder layers", |s| s.layers.swap(index, index + 1));
+                    self.solo_layer = None;
                     self.selected_layer = Some(index + 1);
                 }
                 let remove = ui.small_button("×").on_hover_text("Remove the layer");
@@ -160,6 +162,15 @@ impl DrapeApp {
                         s.layers.remove(index);
                     });
                     self.selected_layer = None;
+                    self.solo_layer = None;
+                }
+                let mut solo = self.solo_layer == Some(index);
+                let solo_toggle = ui.toggle_value(&mut solo, "S").on_hover_text("Solo: show this layer alone");
+                solo_toggle.widget_info(|| {
+                    egui::WidgetInfo::selected(egui::Role::Switch, true, solo, format!("Solo {label}"))
+                });
+                if solo_toggle.changed() {
+                    self.solo_layer = solo.then_some(index);
                 }
                 let selected = self.selected_layer == Some(index);
                 let kind = if layer.kind() == "FollowThrough" { "Follow-through" } else { layer.kind() };

@@ -213,6 +213,24 @@ impl DrapeApp {
             }
         }
 
+        // The selected layer's parameter keys, as small dots along the top of the keys' row.
+        if let Some(layer) = self.selected_layer.and_then(|i| self.doc.scene().layers.get(i)) {
+            let mut layer = layer.clone();
+            let mut frames: Vec<i32> = Vec::new();
+            for (name, _) in super::param_edit::param_names(&layer) {
+                if let Some(crate::scene::Param::Keys(keys)) = super::param_edit::param_mut(&mut layer, name) {
+                    frames.extend(keys.iter().map(|k| k.frame));
+                }
+            }
+            frames.sort_unstable();
+            frames.dedup();
+            let color = Color32::from_rgb(90, 200, 255);
+            for frame in frames {
+                let x = track.x(f64::from(frame));
+                painter.circle_filled(Pos2::new(x, center_y - DIAMOND - 4.0), 2.5, color);
+            }
+        }
+
         // Playhead.
         let x = track.x(self.frame());
         let red = Color32::from_rgb(230, 60, 50);
@@ -292,10 +310,33 @@ impl DrapeApp {
             self.set_frame(f64::from(key.frame));
             ui.close();
         }
+        if ui.button("Duplicate key").on_hover_text("To the playhead, or the next free frame after this key").clicked()
+        {
+            self.duplicate_key(index);
+            ui.close();
+        }
         if ui.button("Delete key").clicked() {
             self.delete_selected_key();
             ui.close();
         }
+    }
+
+    /// Copies key `index` to the playhead's frame when no key is there, else
+    /// to the first free frame after it; the copy is selected.
+    fn duplicate_key(&mut self, index: usize) {
+        let keys = &self.doc.scene().keys;
+        let playhead = self.frame().round() as i32;
+        let taken = |frame: i32| keys.iter().any(|k| k.frame == frame);
+        let frame = if taken(playhead) {
+            (keys[index].frame + 1..).find(|f| !taken(*f)).expect("frames are unbounded")
+        } else {
+            playhead
+        };
+        let mut copy = keys[index].clone();
+        copy.frame = frame;
+        let at = keys.iter().position(|k| k.frame > frame).unwrap_or(keys.len());
+        self.apply("Duplicate key", |s| s.keys.insert(at, copy));
+        self.selected_key = Some(at);
     }
 
     /// Moves key `index` to `frame`, kept between its neighbours (keys keep their order).
