@@ -2,13 +2,21 @@
 //! screen (relaxed on the worker thread, taken by the UI, evaluated into the
 //! mesh the viewport draws). A tablecloth hung from four corners, one corner
 //! lifted a little further each iteration so no shape is ever cached.
+//!
+//! And scrubbing: the editor's whole CPU time for one frame (egui's layout of
+//! every panel plus evaluating the cloth at the new frame), run headless by
+//! egui_kittest without a GPU, a 128² cloth with two keys and four layers,
+//! the playhead moved one frame per iteration.
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::editor::DrapeApp;
-use drape::scene::{Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline};
+use drape::scene::{
+    Cloth, Ease, FollowThrough, Key, Layer, Noise, Param, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
+};
+use egui_kittest::Harness;
 
 fn tablecloth(n: u32) -> Scene {
     let last = n - 1;
@@ -54,5 +62,83 @@ fn edit_to_shape(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, edit_to_shape);
+/// The tablecloth with a second key (one corner lifted) and four layers.
+fn animated_tablecloth(n: u32) -> Scene {
+    let mut scene = tablecloth(n);
+    let mut lifted = scene.keys[0].clone();
+    lifted.frame = 48;
+    lifted.pins[0].pos.1 = 1.4;
+    scene.keys.push(lifted);
+    let c = Param::Constant;
+    scene.layers = vec![
+        Layer::Sway(Sway {
+            name: "sway".to_owned(),
+            enabled: true,
+            weight: c(1.0),
+            magnitude: c(0.05),
+            direction: (1.0, 0.0, 0.0),
+            speed: c(1.0),
+            frequency: c(0.5),
+            phase: c(0.0),
+            falloff: c(1.0),
+        }),
+        Layer::Wave(Wave {
+            name: "wave".to_owned(),
+            enabled: true,
+            weight: c(1.0),
+            magnitude: c(0.02),
+            frequency: c(8.0),
+            phase: c(0.0),
+            speed: c(4.0),
+            direction_deg: c(30.0),
+            axis: WaveAxis::Normal,
+            falloff: c(1.0),
+        }),
+        Layer::Noise(Noise {
+            name: "gusts".to_owned(),
+            enabled: true,
+            weight: c(1.0),
+            amplitude: c(0.03),
+            scale: c(0.5),
+            speed: c(1.0),
+            direction: (1.0, 0.0, 0.3),
+            turbulence: c(0.3),
+            octaves: 2,
+            seed: 1,
+            falloff: c(1.0),
+        }),
+        Layer::FollowThrough(FollowThrough {
+            name: "follow".to_owned(),
+            enabled: true,
+            weight: c(1.0),
+            lag: c(0.25),
+            falloff: c(1.0),
+        }),
+    ];
+    scene
+}
+
+fn scrub_frame(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scrub_frame");
+    group.sample_size(20).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(4));
+    for n in [64u32, 128] {
+        let scene = animated_tablecloth(n);
+        let mut harness = Harness::builder()
+            .with_size([1400.0, 860.0])
+            .build_eframe(move |_| DrapeApp::new(scene, None, None).with_file_dirs(None, None));
+        harness.step();
+        let mut frame = 0.0;
+        group.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, _| {
+            b.iter(|| {
+                frame = (frame + 1.0) % 121.0;
+                harness.state_mut().set_frame(frame);
+                harness.step();
+                black_box(harness.state().mesh().positions[0])
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, edit_to_shape, scrub_frame);
 criterion_main!(benches);
