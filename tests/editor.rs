@@ -329,6 +329,21 @@ fn closing_the_window_with_unsaved_work_asks_first() {
     assert!(sent(&harness, &egui::ViewportCommand::Close), "Don't Save closes the window");
 }
 
+/// A right click at `pos` (opens a context menu).
+fn right_click(harness: &mut Harness<'_, DrapeApp>, pos: Pos2) {
+    harness.event(Event::PointerMoved(pos));
+    harness.run_ok();
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        harness.run_ok();
+    }
+}
+
 /// Where frame `frame` is on the timeline's track (8 points of margin each side).
 fn timeline_pos(harness: &Harness<'_, DrapeApp>, frame: f64) -> Pos2 {
     let rect = harness.get_by_label("Timeline").rect();
@@ -383,33 +398,13 @@ fn the_timeline_scrubs_adds_a_key_and_eases_it() {
     // Right-click the key: its segment eases linearly now.
     let index = harness.state().scene().keys.iter().position(|k| k.frame == 60).unwrap();
     let diamond = timeline_pos(&harness, 60.0) + egui::vec2(0.0, 8.0);
-    harness.event(Event::PointerMoved(diamond));
-    harness.run_ok();
-    for pressed in [true, false] {
-        harness.event(Event::PointerButton {
-            pos: diamond,
-            button: PointerButton::Secondary,
-            pressed,
-            modifiers: Modifiers::NONE,
-        });
-        harness.run_ok();
-    }
+    right_click(&mut harness, diamond);
     harness.get_by_label("Linear").click();
     harness.run_ok();
     assert_eq!(harness.state().scene().keys[index].ease, drape::scene::Ease::Linear);
 
     // Duplicate the key from its menu: the playhead has a key, so the copy goes to the next free frame.
-    harness.event(Event::PointerMoved(diamond));
-    harness.run_ok();
-    for pressed in [true, false] {
-        harness.event(Event::PointerButton {
-            pos: diamond,
-            button: PointerButton::Secondary,
-            pressed,
-            modifiers: Modifiers::NONE,
-        });
-        harness.run_ok();
-    }
+    right_click(&mut harness, diamond);
     harness.get_by_label("Duplicate key").click();
     harness.run_ok();
     let keys = &harness.state().scene().keys;
@@ -472,11 +467,7 @@ fn a_wave_is_added_keyed_and_reordered() {
     harness.run_ok();
     let mut alone = scene.clone();
     for (i, layer) in alone.layers.iter_mut().enumerate() {
-        let (drape::scene::Layer::Sway(drape::scene::Sway { enabled, .. })
-        | drape::scene::Layer::Wave(drape::scene::Wave { enabled, .. })
-        | drape::scene::Layer::Noise(drape::scene::Noise { enabled, .. })
-        | drape::scene::Layer::FollowThrough(drape::scene::FollowThrough { enabled, .. })) = layer;
-        *enabled = i == index;
+        *layer.enabled_mut() = i == index;
     }
     let expected_alone = drape::animate::evaluate(&alone, drape::animate::frame_time_secs(&alone.timeline, 48.0));
     assert_eq!(*harness.state().mesh(), expected_alone);

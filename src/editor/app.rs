@@ -1026,17 +1026,10 @@ impl eframe::App for DrapeApp {
 
 /// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).
 fn soloed(scene: &Scene, solo: Option<usize>) -> std::borrow::Cow<'_, Scene> {
-    use crate::scene::Layer;
     let Some(solo) = solo.filter(|s| *s < scene.layers.len()) else { return std::borrow::Cow::Borrowed(scene) };
     let mut alone = scene.clone();
     for (index, layer) in alone.layers.iter_mut().enumerate() {
-        let enabled = match layer {
-            Layer::Sway(l) => &mut l.enabled,
-            Layer::Wave(l) => &mut l.enabled,
-            Layer::Noise(l) => &mut l.enabled,
-            Layer::FollowThrough(l) => &mut l.enabled,
-        };
-        *enabled = index == solo;
+        *layer.enabled_mut() = index == solo;
     }
     std::borrow::Cow::Owned(alone)
 }

@@ -69,15 +69,6 @@ fn name_mut(layer: &mut Layer) -> &mut String {
     }
 }
 
-fn enabled_mut(layer: &mut Layer) -> &mut bool {
-    match layer {
-        Layer::Sway(l) => &mut l.enabled,
-        Layer::Wave(l) => &mut l.enabled,
-        Layer::Noise(l) => &mut l.enabled,
-        Layer::FollowThrough(l) => &mut l.enabled,
-    }
-}
-
 /// The small drawn icons of the layer panel (the default fonts have no such glyphs).
 #[derive(Clone, Copy)]
 enum Icon {
@@ -139,7 +130,7 @@ impl DrapeApp {
                     egui::WidgetInfo::selected(egui::Role::CheckBox, true, enabled, format!("Enable {label}"))
                 });
                 if checkbox.changed() {
-                    self.apply("Enable layer", |s| *enabled_mut(&mut s.layers[index]) = enabled);
+                    self.apply("Enable layer", |s| *s.layers[index].enabled_mut() = enabled);
                 }
                 let label = layer.label(index);
                 let last = index + 1 == layers.len();

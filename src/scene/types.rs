@@ -249,6 +249,15 @@ impl Layer {
         }
     }
 
+    pub fn enabled_mut(&mut self) -> &mut bool {
+        match self {
+            Layer::Sway(l) => &mut l.enabled,
+            Layer::Wave(l) => &mut l.enabled,
+            Layer::Noise(l) => &mut l.enabled,
+            Layer::FollowThrough(l) => &mut l.enabled,
+        }
+    }
+
     pub fn weight(&self) -> &Param {
         match self {
             Layer::Sway(l) => &l.weight,
