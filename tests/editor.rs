@@ -484,4 +484,83 @@ fn a_wave_is_added_keyed_and_reordered() {
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_ok();
     assert_eq!(harness.state().scene().layers[index].kind(), "Wave");
+
+    // Drag it by its grip above the first layer: it is applied first now, the others keep their order.
+    let grip = |harness: &Harness<'_, DrapeApp>, i: usize| {
+        let layer = &harness.state().scene().layers[i];
+        harness.get_by_label(&format!("Drag {} to reorder", layer.label(i))).rect().center()
+    };
+    let (from, top) = (grip(&harness, index), grip(&harness, 0) - egui::vec2(0.0, 8.0));
+    drag(&mut harness, from, top);
+    let order: Vec<_> = harness.state().scene().layers.iter().map(|l| l.kind()).collect();
+    let mut expected_order: Vec<_> = scene.layers.iter().map(|l| l.kind()).collect();
+    let moved = expected_order.remove(index);
+    expected_order.insert(0, moved);
+    assert_eq!(order, expected_order);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &scene, "one drag, one undo step");
+
+    // The selected wave's keys show on the timeline; drag the one at 48 to 60.
+    let dot = |harness: &Harness<'_, DrapeApp>, frame: f64| {
+        let rect = harness.get_by_label("Timeline").rect();
+        Pos2::new(timeline_pos(harness, frame).x, rect.bottom() - 6.0 - 3.0 - 6.0 - 5.0)
+    };
+    let (from, to) = (dot(&harness, 48.0), dot(&harness, 60.0));
+    drag(&mut harness, from, to);
+    let drape::scene::Layer::Wave(wave) = &harness.state().scene().layers[index] else { panic!("a wave") };
+    let frames: Vec<_> = match &wave.magnitude {
+        drape::scene::Param::Keys(keys) => keys.iter().map(|k| (k.frame, k.value)).collect(),
+        other => panic!("keyed, not {other:?}"),
+    };
+    assert_eq!(frames, [(0, 0.03), (60, 0.2)]);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &scene, "one drag, one undo step");
+}
+
+#[test]
+fn keys_and_layers_survive_save_and_reopen() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+
+    // A key at 30 with its own easing, and a wave with a keyed magnitude.
+    harness.state_mut().set_frame(30.0);
+    harness.run_ok();
+    harness.key_press(Key::K);
+    harness.run_ok();
+    settle(&mut harness);
+    assert!(harness.state().scene().keys.iter().any(|k| k.frame == 30), "K keyed frame 30");
+    let diamond = timeline_pos(&harness, 30.0) + egui::vec2(0.0, 8.0);
+    right_click(&mut harness, diamond);
+    harness.get_by_label("Bounce").click();
+    harness.run_ok();
+    harness.key_press(Key::Escape);
+    harness.get_by_label("Add layer").click();
+    harness.run_ok();
+    harness.get_by_label("Wave").click();
+    harness.run_ok();
+    harness.get_by_label("Key magnitude").click();
+    harness.run_ok();
+    settle(&mut harness);
+    let edited = harness.state().scene().clone();
+    assert!(edited.keys.iter().any(|k| k.frame == 30 && k.ease == drape::scene::Ease::Bounce));
+
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    harness.run_ok();
+    assert!(!harness.state().document().is_dirty());
+    let saved = scene::load(&carpet).unwrap();
+    assert!(saved.view.is_some(), "the camera is saved with the scene");
+    assert_eq!(Scene { view: None, ..saved.clone() }, Scene { view: None, ..edited }, "the file holds the edits");
+
+    // A fresh editor opening the file shows the same scene and the same frame-30 mesh.
+    let mut reopened = open_editor(&workspace, new_scene(), None);
+    open_through_the_menu(&mut reopened, &carpet);
+    assert_eq!(reopened.state().scene(), &saved);
+    reopened.state_mut().set_frame(30.0);
+    settle(&mut reopened);
+    harness.state_mut().set_frame(30.0);
+    settle(&mut harness);
+    assert_eq!(reopened.state().mesh(), harness.state().mesh());
 }

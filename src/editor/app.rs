@@ -164,9 +164,13 @@ pub struct DrapeApp {
     pub(super) selected_key: Option<usize>,
     /// The layer whose parameters the Layers panel shows.
     pub(super) selected_layer: Option<usize>,
+    /// The layer being dragged by its grip in the layer list.
+    pub(super) layer_drag: Option<usize>,
     /// A layer shown alone (the others off in the viewport only; the scene keeps them).
     pub(super) solo_layer: Option<usize>,
     pub(super) key_drag: Option<usize>,
+    /// The frame of the selected layer's parameter keys being dragged on the timeline.
+    pub(super) param_key_drag: Option<i32>,
     play_started: Option<(Instant, f64)>,
     pub(super) camera: OrbitCamera,
     ground: Ground,
@@ -250,8 +254,10 @@ impl DrapeApp {
             looping: true,
             selected_key: None,
             selected_layer: None,
+            layer_drag: None,
             solo_layer: None,
             key_drag: None,
+            param_key_drag: None,
             play_started: None,
             camera,
             toggles: ViewToggles::default(),
@@ -325,8 +331,10 @@ impl DrapeApp {
         self.play_started = None;
         self.selected_key = None;
         self.selected_layer = None;
+        self.layer_drag = None;
         self.solo_layer = None;
         self.key_drag = None;
+        self.param_key_drag = None;
         self.frame = self.doc.scene().timeline.start as f64;
         self.mesh_of = None;
     }

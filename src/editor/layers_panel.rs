@@ -78,11 +78,17 @@ enum Icon {
     },
     Up,
     Down,
+    /// Three bars: drag the row by it.
+    Grip,
 }
 
 /// A 16-point icon button with an accessible `label`.
 fn icon_button(ui: &mut egui::Ui, icon: Icon, enabled: bool, label: &str) -> egui::Response {
-    let sense = if enabled { egui::Sense::click() } else { egui::Sense::hover() };
+    let sense = match icon {
+        _ if !enabled => egui::Sense::hover(),
+        Icon::Grip => egui::Sense::drag(),
+        _ => egui::Sense::click(),
+    };
     let (rect, response) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), sense);
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, enabled, label));
     let visuals = ui.style().interact(&response);
@@ -95,6 +101,14 @@ fn icon_button(ui: &mut egui::Ui, icon: Icon, enabled: bool, label: &str) -> egu
         }
         Icon::Up => vec![c + egui::vec2(0.0, -r), c + egui::vec2(r, r * 0.7), c + egui::vec2(-r, r * 0.7)],
         Icon::Down => vec![c + egui::vec2(0.0, r), c + egui::vec2(-r, -r * 0.7), c + egui::vec2(r, -r * 0.7)],
+        Icon::Grip => {
+            for dy in [-3.5, 0.0, 3.5] {
+                let y = c.y + dy;
+                ui.painter()
+                    .line_segment([egui::pos2(c.x - r, y), egui::pos2(c.x + r, y)], egui::Stroke::new(1.2, color));
+            }
+            return response;
+        }
     };
     let fill = match icon {
         Icon::Diamond { filled: true } => egui::Color32::from_rgb(255, 200, 20),
@@ -121,8 +135,16 @@ impl DrapeApp {
         });
         ui.weak("Applied top to bottom.");
         let layers = self.doc.scene().layers.clone();
+        let mut rows = Vec::with_capacity(layers.len());
+        let mut dropped = false;
         for (index, layer) in layers.iter().enumerate() {
-            ui.horizontal(|ui| {
+            let row = ui.horizontal(|ui| {
+                let grip = icon_button(ui, Icon::Grip, true, &format!("Drag {} to reorder", layer.label(index)));
+                let grip = grip.on_hover_cursor(egui::CursorIcon::Grab);
+                if grip.drag_started() {
+                    self.layer_drag = Some(index);
+                }
+                dropped |= grip.drag_stopped();
                 let mut enabled = layer.enabled();
                 let checkbox = ui.checkbox(&mut enabled, "").on_hover_text("Enabled");
                 let label = layer.label(index);
@@ -136,15 +158,11 @@ impl DrapeApp {
                 let last = index + 1 == layers.len();
                 let up = icon_button(ui, Icon::Up, index > 0, &format!("Move {label} up")).on_hover_text("Earlier");
                 if up.clicked() {
-                    self.apply("Reorder layers", |s| s.layers.swap(index, index - 1));
-                    self.solo_layer = None;
-                    self.selected_layer = Some(index - 1);
+                    self.move_layer(index, index - 1);
                 }
                 let down = icon_button(ui, Icon::Down, !last, &format!("Move {label} down")).on_hover_text("Later");
                 if down.clicked() {
-                    self.apply("Reorder layers", |s| s.layers.swap(index, index + 1));
-                    self.solo_layer = None;
-                    self.selected_layer = Some(index + 1);
+                    self.move_layer(index, index + 1);
                 }
                 let remove = ui.small_button("×").on_hover_text("Remove the layer");
                 remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
@@ -171,10 +189,47 @@ impl DrapeApp {
                     self.selected_layer = if selected { None } else { Some(index) };
                 }
             });
+            rows.push(row.response.rect);
         }
+        self.layer_drop(ui, &rows, dropped);
         let Some(index) = self.selected_layer.filter(|i| *i < layers.len()) else { return };
         ui.separator();
         self.layer_details(ui, index, &layers[index]);
+    }
+
+    /// While a row is dragged by its grip: a line where it would land; on release, the move.
+    fn layer_drop(&mut self, ui: &mut egui::Ui, rows: &[egui::Rect], dropped: bool) {
+        let Some(from) = self.layer_drag.filter(|i| *i < rows.len()) else {
+            self.layer_drag = None;
+            return;
+        };
+        let Some(pointer) = ui.input(|i| i.pointer.interact_pos()) else { return };
+        let centers: Vec<f32> = rows.iter().map(|r| r.center().y).collect();
+        let slot = drop_slot(&centers, pointer.y);
+        let y = match slot {
+            0 => rows[0].top(),
+            s if s == rows.len() => rows[s - 1].bottom(),
+            s => (rows[s - 1].bottom() + rows[s].top()) / 2.0,
+        };
+        let x = rows[0].x_range();
+        ui.painter().hline(x, y, egui::Stroke::new(2.0, ui.visuals().selection.stroke.color));
+        if dropped {
+            self.layer_drag = None;
+            self.move_layer(from, moved_to(from, slot));
+        }
+    }
+
+    /// Moves layer `from` to position `to` as one undo step; selection and solo follow their layers.
+    pub(super) fn move_layer(&mut self, from: usize, to: usize) {
+        if from == to || to >= self.doc.scene().layers.len() {
+            return;
+        }
+        self.apply("Reorder layers", |s| {
+            let layer = s.layers.remove(from);
+            s.layers.insert(to, layer);
+        });
+        self.selected_layer = self.selected_layer.map(|i| index_after_move(i, from, to));
+        self.solo_layer = self.solo_layer.map(|i| index_after_move(i, from, to));
     }
 
     fn layer_details(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
@@ -293,6 +348,66 @@ impl DrapeApp {
                     });
                 }
             });
+        }
+    }
+}
+
+/// Where a row dropped at height `y` goes, as a gap between rows: 0 above the
+/// first, `centers.len()` below the last. Rows are in order, top to bottom.
+fn drop_slot(centers: &[f32], y: f32) -> usize {
+    centers.iter().take_while(|c| **c < y).count()
+}
+
+/// The index a row taken from `from` ends up at when dropped into gap `slot`.
+fn moved_to(from: usize, slot: usize) -> usize {
+    if slot > from { slot - 1 } else { slot }
+}
+
+/// Where the layer at `index` is after moving the one at `from` to `to`.
+fn index_after_move(index: usize, from: usize, to: usize) -> usize {
+    if index == from {
+        to
+    } else if from < index && index <= to {
+        index - 1
+    } else if to <= index && index < from {
+        index + 1
+    } else {
+        index
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_drop_lands_in_the_gap_under_the_pointer() {
+        let centers = [10.0, 30.0, 50.0];
+        assert_eq!(drop_slot(&centers, 0.0), 0);
+        assert_eq!(drop_slot(&centers, 25.0), 1);
+        assert_eq!(drop_slot(&centers, 99.0), 3);
+        assert_eq!(drop_slot(&centers, f32::NAN), 0, "no pointer height: the top, never a panic");
+        assert_eq!(drop_slot(&[], 5.0), 0);
+    }
+
+    #[test]
+    fn dropping_next_to_itself_is_no_move() {
+        assert_eq!(moved_to(1, 1), 1);
+        assert_eq!(moved_to(1, 2), 1);
+        assert_eq!(moved_to(0, 3), 2);
+        assert_eq!(moved_to(2, 0), 0);
+    }
+
+    #[test]
+    fn other_layers_keep_their_identity_through_a_move() {
+        for (from, to) in [(0, 3), (3, 0), (1, 2), (2, 1), (2, 2)] {
+            let mut order: Vec<usize> = (0..4).collect();
+            let moved = order.remove(from);
+            order.insert(to, moved);
+            for original in 0..4 {
+                let now = index_after_move(original, from, to);
+                assert_eq!(order[now], original, "layer {original} after moving {from} to {to}");
+            }
         }
     }
 }

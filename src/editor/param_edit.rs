@@ -100,6 +100,47 @@ pub fn param_mut<'a>(layer: &'a mut Layer, name: &str) -> Option<&'a mut Param> 
     })
 }
 
+/// Every frame at which some parameter of `layer` has a key, in order, once each.
+pub fn key_frames(layer: &Layer) -> Vec<i32> {
+    let mut layer = layer.clone();
+    let mut frames = Vec::new();
+    for (name, _) in param_names(&layer) {
+        if let Some(Param::Keys(keys)) = param_mut(&mut layer, name) {
+            frames.extend(keys.iter().map(|k| k.frame));
+        }
+    }
+    frames.sort_unstable();
+    frames.dedup();
+    frames
+}
+
+/// The frames the keys at `from` may move to without reaching another key
+/// frame of the layer: strictly between its neighbours in [`key_frames`].
+/// `None` when no parameter is keyed at `from`.
+pub fn retime_range(layer: &Layer, from: i32) -> Option<(i32, i32)> {
+    let frames = key_frames(layer);
+    let at = frames.iter().position(|f| *f == from)?;
+    let low = if at > 0 { frames[at - 1].saturating_add(1) } else { i32::MIN };
+    let high = frames.get(at + 1).map_or(i32::MAX, |f| f - 1);
+    Some((low, high))
+}
+
+/// Moves every parameter key of `layer` at frame `from` to `to`, clamped into
+/// [`retime_range`] so keys never pass or land on one another; returns the
+/// frame they ended at (`from` when nothing is keyed there).
+pub fn move_keys(layer: &mut Layer, from: i32, to: i32) -> i32 {
+    let Some((low, high)) = retime_range(layer, from) else { return from };
+    let to = to.clamp(low, high);
+    for (name, _) in param_names(layer) {
+        if let Some(Param::Keys(keys)) = param_mut(layer, name) {
+            for key in keys.iter_mut().filter(|k| k.frame == from) {
+                key.frame = to;
+            }
+        }
+    }
+    to
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -107,6 +148,22 @@ mod tests {
 
     fn keys(pairs: &[(i32, f64)]) -> Param {
         Param::Keys(pairs.iter().map(|&(frame, value)| ParamKey { frame, value, ease: Ease::default() }).collect())
+    }
+
+    fn wave() -> Layer {
+        let c = Param::Constant;
+        Layer::Wave(Wave {
+            name: String::new(),
+            enabled: true,
+            weight: c(1.0),
+            magnitude: c(0.1),
+            frequency: c(8.0),
+            phase: c(0.0),
+            speed: c(4.0),
+            direction_deg: c(0.0),
+            axis: WaveAxis::Normal,
+            falloff: c(1.0),
+        })
     }
 
     fn frames(param: &Param) -> Vec<(i32, f64)> {
@@ -203,5 +260,24 @@ mod tests {
             }
             assert!(param_mut(&mut layer, "nonsense").is_none());
         }
+    }
+
+    #[test]
+    fn layer_keys_retime_together_and_never_pass_a_neighbour() {
+        let mut layer = wave();
+        if let Layer::Wave(w) = &mut layer {
+            w.magnitude = keys(&[(0, 0.0), (10, 1.0), (30, 2.0)]);
+            w.phase = keys(&[(10, 0.5), (20, 0.0)]);
+        }
+        assert_eq!(key_frames(&layer), vec![0, 10, 20, 30]);
+        assert_eq!(retime_range(&layer, 10), Some((1, 19)));
+        assert_eq!(retime_range(&layer, 0), Some((i32::MIN, 9)));
+        assert_eq!(retime_range(&layer, 5), None);
+        assert_eq!(move_keys(&mut layer, 10, 25), 19, "clamped before the key at 20");
+        let Layer::Wave(w) = &layer else { unreachable!() };
+        assert_eq!(frames(&w.magnitude), vec![(0, 0.0), (19, 1.0), (30, 2.0)]);
+        assert_eq!(frames(&w.phase), vec![(19, 0.5), (20, 0.0)]);
+        assert_eq!(move_keys(&mut layer, 5, 7), 5, "no key there: nothing moves");
+        assert_eq!(move_keys(&mut layer, 30, i32::MAX), i32::MAX, "the last key may go anywhere later");
     }
 }

@@ -8,6 +8,7 @@
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use super::app::DrapeApp;
+use super::param_edit::{key_frames, move_keys};
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX};
 
 /// Height of the track (ruler and keys), points.
@@ -213,22 +214,22 @@ impl DrapeApp {
             }
         }
 
-        // The selected layer's parameter keys, as small dots along the top of the keys' row.
-        if let Some(layer) = self.selected_layer.and_then(|i| self.doc.scene().layers.get(i)) {
-            let mut layer = layer.clone();
-            let mut frames: Vec<i32> = Vec::new();
-            for (name, _) in super::param_edit::param_names(&layer) {
-                if let Some(crate::scene::Param::Keys(keys)) = super::param_edit::param_mut(&mut layer, name) {
-                    frames.extend(keys.iter().map(|k| k.frame));
-                }
+        // The selected layer's parameter keys, as dots along the top of the keys' row.
+        let selected_layer = self.selected_layer.filter(|i| *i < self.doc.scene().layers.len());
+        let layer_frames = selected_layer.map_or_else(Vec::new, |i| key_frames(&self.doc.scene().layers[i]));
+        let dot_y = center_y - DIAMOND - 5.0;
+        let dot_under = |pos: Pos2| {
+            // Above the diamonds' tips the dots win; below, the rest-shape keys.
+            if pos.y >= center_y - DIAMOND || (pos.y - dot_y).abs() > 6.0 {
+                return None;
             }
-            frames.sort_unstable();
-            frames.dedup();
-            let color = Color32::from_rgb(90, 200, 255);
-            for frame in frames {
-                let x = track.x(f64::from(frame));
-                painter.circle_filled(Pos2::new(x, center_y - DIAMOND - 4.0), 2.5, color);
-            }
+            layer_frames.iter().copied().find(|f| (pos.x - track.x(f64::from(*f))).abs() <= 5.0)
+        };
+        let color = Color32::from_rgb(90, 200, 255);
+        for frame in &layer_frames {
+            let dragged = self.param_key_drag == Some(*frame);
+            let radius = if dragged { 4.0 } else { 3.0 };
+            painter.circle_filled(Pos2::new(track.x(f64::from(*frame)), dot_y), radius, color);
         }
 
         // Playhead.
@@ -239,7 +240,8 @@ impl DrapeApp {
         // Interaction: a press on a key selects it and a drag retimes it; elsewhere it scrubs.
         if response.drag_started() || response.clicked() || response.secondary_clicked() {
             let origin = ui.input(|i| i.pointer.press_origin()).or(pointer);
-            self.key_drag = origin.and_then(key_under);
+            self.param_key_drag = origin.and_then(dot_under);
+            self.key_drag = if self.param_key_drag.is_some() { None } else { origin.and_then(key_under) };
             if let Some(index) = self.key_drag {
                 self.selected_key = Some(index);
                 self.selection.clear();
@@ -252,14 +254,20 @@ impl DrapeApp {
             && !response.secondary_clicked()
         {
             let frame = track.frame(pos.x).round();
-            match self.key_drag {
-                Some(index) if response.dragged() => self.retime_key(index, frame as i32),
-                Some(_) => {}
-                None => self.set_frame(frame),
+            match (self.key_drag, self.param_key_drag, selected_layer) {
+                (Some(index), _, _) if response.dragged() => self.retime_key(index, frame as i32),
+                (Some(_), _, _) => {}
+                (None, Some(from), Some(layer)) if response.dragged() => {
+                    let to = frame.clamp(track.start, track.end) as i32;
+                    self.retime_layer_keys(layer, from, to);
+                }
+                (None, Some(from), _) => self.set_frame(f64::from(from)),
+                (None, None, _) => self.set_frame(frame),
             }
         }
         if response.drag_stopped() {
             self.key_drag = None;
+            self.param_key_drag = None;
             self.end_gesture();
         }
         if let Some(pos) = response.hover_pos() {
@@ -348,6 +356,20 @@ impl DrapeApp {
         if frame != keys[index].frame {
             self.doc.begin_gesture("Move key");
             self.apply("Move key", |s| s.keys[index].frame = frame);
+        }
+    }
+
+    /// Moves the parameter keys of layer `layer` at frame `from` towards `to`
+    /// (one undo step per drag); the drag follows them to where they landed.
+    fn retime_layer_keys(&mut self, layer: usize, from: i32, to: i32) {
+        let mut moved = self.doc.scene().layers[layer].clone();
+        let landed = move_keys(&mut moved, from, to);
+        if landed != from {
+            self.doc.begin_gesture("Move layer keys");
+            self.apply("Move layer keys", |s| s.layers[layer] = moved);
+            if key_frames(&self.doc.scene().layers[layer]).contains(&landed) {
+                self.param_key_drag = Some(landed);
+            }
         }
     }
 
