@@ -564,3 +564,33 @@ fn keys_and_layers_survive_save_and_reopen() {
     settle(&mut harness);
     assert_eq!(reopened.state().mesh(), harness.state().mesh());
 }
+
+#[test]
+fn follow_keeps_the_travelling_cloth_where_it_was_on_screen() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let centre = |harness: &Harness<'_, DrapeApp>| {
+        let (min, max) = drape::render::camera::bounds(&harness.state().mesh().positions).unwrap();
+        (min + max) * 0.5
+    };
+    let at_start = centre(&harness);
+    let on_screen = harness.state().screen_pos(at_start).unwrap();
+
+    harness.get_by_label("Follow").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(120.0);
+    settle(&mut harness);
+    let at_end = centre(&harness);
+    assert!(at_end.distance(at_start) > 4.0, "the carpet flies {} m", at_end.distance(at_start));
+    let followed = harness.state().screen_pos(at_end).unwrap();
+    assert!(followed.distance(on_screen) < 0.5, "the centre stays at {on_screen:?}, not {followed:?}");
+
+    // Off again: the camera stays, and the cloth moves on screen.
+    harness.get_by_label("Follow").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(0.0);
+    settle(&mut harness);
+    let back = harness.state().screen_pos(centre(&harness)).unwrap();
+    assert!(back.distance(on_screen) > 50.0, "without Follow the carpet leaves the spot: {back:?}");
+}

@@ -82,6 +82,8 @@ pub struct ViewToggles {
     pub onion: bool,
     pub onion_frames: u32,
     pub onion_spacing: u32,
+    /// The camera moves with the cloth's centre, keeping how it looks at it.
+    pub follow: bool,
 }
 
 impl Default for ViewToggles {
@@ -96,6 +98,7 @@ impl Default for ViewToggles {
             onion: false,
             onion_frames: 2,
             onion_spacing: 4,
+            follow: false,
         }
     }
 }
@@ -166,6 +169,8 @@ pub struct DrapeApp {
     pub(super) selected_layer: Option<usize>,
     /// The layer being dragged by its grip in the layer list.
     pub(super) layer_drag: Option<usize>,
+    /// The cloth's centre when the camera last followed it.
+    follow_anchor: Option<glam::Vec3>,
     /// A layer shown alone (the others off in the viewport only; the scene keeps them).
     pub(super) solo_layer: Option<usize>,
     pub(super) key_drag: Option<usize>,
@@ -255,6 +260,7 @@ impl DrapeApp {
             selected_key: None,
             selected_layer: None,
             layer_drag: None,
+            follow_anchor: None,
             solo_layer: None,
             key_drag: None,
             param_key_drag: None,
@@ -596,6 +602,20 @@ impl DrapeApp {
         ctx.request_repaint();
     }
 
+    /// With Follow on, moves the camera's target by as much as the cloth's
+    /// centre moved since the last frame, so orbit and pan offsets are kept.
+    fn follow_cloth(&mut self) {
+        let centre = bounds(&self.mesh.positions).map(|(min, max)| (min + max) * 0.5);
+        match (self.toggles.follow, centre, self.follow_anchor) {
+            (true, Some(centre), Some(anchor)) => {
+                self.camera.target += centre - anchor;
+                self.follow_anchor = Some(centre);
+            }
+            (true, Some(centre), None) => self.follow_anchor = Some(centre),
+            _ => self.follow_anchor = None,
+        }
+    }
+
     fn frame_all(&mut self, aspect: f32) {
         if let Some((min, max)) = bounds(&self.mesh.positions) {
             self.camera.frame_bounds(min, max, aspect);
@@ -740,6 +760,8 @@ impl DrapeApp {
             ui.toggle_value(&mut self.toggles.ground, "Ground");
             ui.toggle_value(&mut self.toggles.onion, "Onion skin")
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
+            ui.toggle_value(&mut self.toggles.follow, "Follow")
+                .on_hover_text("The camera travels with the cloth (F frames it)");
         });
         if self.toggles.onion {
             ui.horizontal(|ui| {
@@ -941,6 +963,7 @@ impl DrapeApp {
         if std::mem::take(&mut self.frame_all_pending) {
             self.frame_all(aspect);
         }
+        self.follow_cloth();
         if let Some((i, j)) = self.hovered
             && let Some(pointer) = response.hover_pos()
         {

@@ -173,27 +173,58 @@ impl DrapeApp {
                 ui.weak("No pin selected.");
             }
             [pin] => {
-                ui.label(format!("Pin ({}, {})", pin.grid.0, pin.grid.1));
+                ui.label(format!("Pin ({}, {}), metres", pin.grid.0, pin.grid.1));
                 let grid = pin.grid;
-                egui::Grid::new("pin position").num_columns(2).show(ui, |ui| {
+                ui.horizontal(|ui| {
                     let mut pos = pin.pos;
                     for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
                         let label = ui.label(axis).id;
-                        let drag = DragValue::new(value).speed(0.005).max_decimals(4).suffix(" m");
-                        let r = ui.add(drag).labelled_by(label);
+                        let r =
+                            ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
                         let new = pos_after(pin.pos, axis, *value);
                         self.field(&r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
-                        ui.end_row();
                     }
                 });
             }
             many => {
-                ui.label(format!("{} pins selected", many.len()));
+                // Their centre, like one pin's position: typing a value moves them all by the change.
+                ui.label(format!("{} pins selected: their centre, metres", many.len()));
+                let count = many.len() as f64;
+                let centre = many.iter().fold((0.0, 0.0, 0.0), |c, p| {
+                    (c.0 + p.pos.0 / count, c.1 + p.pos.1 / count, c.2 + p.pos.2 / count)
+                });
+                ui.horizontal(|ui| {
+                    let mut moved = centre;
+                    for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
+                        let label = ui.label(axis).id;
+                        let r =
+                            ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                        let delta = *value - axis_of(centre, axis);
+                        self.field(&r, "Move pins", |s| {
+                            for pin in many {
+                                let new = pos_after(pin.pos, axis, axis_of(pin.pos, axis) + delta);
+                                edits::move_pin(&mut s.keys[index], pin.grid, new);
+                            }
+                        });
+                    }
+                });
             }
         }
         if !selected.is_empty() && ui.button("Unpin selected").on_hover_text("Delete").clicked() {
             self.delete_selected_pins();
         }
+    }
+}
+
+/// A pin coordinate field's size: fixed, so the fields don't shift as values are typed.
+const FIELD: [f32; 2] = [62.0, 18.0];
+
+/// One axis (`"X"`, `"Y"` or `"Z"`) of `pos`.
+fn axis_of(pos: (f64, f64, f64), axis: &str) -> f64 {
+    match axis {
+        "X" => pos.0,
+        "Y" => pos.1,
+        _ => pos.2,
     }
 }
 

@@ -21,6 +21,9 @@ pub enum GridAction {
 
 /// Drawing sizes in points.
 const MAX_SIDE: f32 = 260.0;
+/// A tall cloth's editor stops here, so the selected pin's fields below it
+/// stay on screen in an 860-point window.
+const MAX_HEIGHT: f32 = 190.0;
 const PIN_RADIUS: f32 = 4.5;
 /// Grid lines closer than this are thinned out, so a 256² grid stays readable.
 const MIN_LINE_GAP: f32 = 6.0;
@@ -92,6 +95,7 @@ impl GridEditor {
         // Clear of the panel's edge, where dragging resizes the panel instead.
         let side = (ui.available_width() - 16.0).clamp(80.0, MAX_SIDE);
         let size = if aspect >= 1.0 { Vec2::new(side, side / aspect) } else { Vec2::new(side * aspect, side) };
+        let size = if size.y > MAX_HEIGHT { size * (MAX_HEIGHT / size.y) } else { size };
         let size = size.max(Vec2::splat(24.0));
         let (outer, response) =
             ui.allocate_exact_size(size + Vec2::splat(2.0 * PIN_RADIUS + 2.0), Sense::click_and_drag());

@@ -275,7 +275,10 @@ impl DrapeApp {
             response.clone().on_hover_text_at_pointer(format!("frame {frame}"));
         }
         if let Some(index) = self.selected_key.filter(|i| *i < keys.len()) {
-            response.context_menu(|ui| self.key_menu(ui, index));
+            // Clicks inside must not close it: its number fields take a click to type into.
+            egui::Popup::context_menu(&response)
+                .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
+                .show(|ui| self.key_menu(ui, index));
         }
     }
 
@@ -287,8 +290,14 @@ impl DrapeApp {
             ui.label("Easing to the next key");
             for (name, ease) in EASES {
                 let current = std::mem::discriminant(&key.ease) == std::mem::discriminant(&ease);
-                if ui.radio(current, name).clicked() && !current {
-                    self.apply("Easing", |s| s.keys[index].ease = ease);
+                if ui.radio(current, name).clicked() {
+                    if !current {
+                        self.apply("Easing", |s| s.keys[index].ease = ease);
+                    }
+                    // Bézier stays open to show its handles.
+                    if !matches!(ease, Ease::Bezier(..)) {
+                        ui.close();
+                    }
                 }
             }
             if let Ease::Bezier(x1, y1, x2, y2) = key.ease {
