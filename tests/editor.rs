@@ -403,6 +403,20 @@ fn the_timeline_scrubs_adds_a_key_and_eases_it() {
     harness.run_ok();
     assert_eq!(harness.state().scene().keys[index].ease, drape::scene::Ease::Linear);
 
+    // The menu's number field takes a click and typing (a click inside must not close the menu).
+    right_click(&mut harness, diamond);
+    let field = harness.get_by_role_and_label(Role::SpinButton, "Re-relax in-betweens").rect().center();
+    click_at(&mut harness, field, Modifiers::NONE);
+    harness.event(Event::Text("12".into()));
+    harness.run_ok();
+    harness.key_press(Key::Enter);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[index].inbetween_relax, 12);
+    harness.key_press(Key::Escape);
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+
     // Duplicate the key from its menu: the playhead has a key, so the copy goes to the next free frame.
     right_click(&mut harness, diamond);
     harness.get_by_label("Duplicate key").click();
