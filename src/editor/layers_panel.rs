@@ -11,7 +11,7 @@ use crate::animate::track::sample;
 use crate::scene::{FollowThrough, Layer, Noise, Param, Sway, Wave, WaveAxis};
 
 /// A new layer of `kind` with gentle defaults that show its effect at once.
-fn new_layer(kind: &str) -> Layer {
+pub(super) fn new_layer(kind: &str) -> Layer {
     let c = Param::Constant;
     match kind {
         "Sway" => Layer::Sway(Sway {

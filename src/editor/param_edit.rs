@@ -151,19 +151,7 @@ mod tests {
     }
 
     fn wave() -> Layer {
-        let c = Param::Constant;
-        Layer::Wave(Wave {
-            name: String::new(),
-            enabled: true,
-            weight: c(1.0),
-            magnitude: c(0.1),
-            frequency: c(8.0),
-            phase: c(0.0),
-            speed: c(4.0),
-            direction_deg: c(0.0),
-            axis: WaveAxis::Normal,
-            falloff: c(1.0),
-        })
+        crate::editor::layers_panel::new_layer("Wave")
     }
 
     fn frames(param: &Param) -> Vec<(i32, f64)> {
