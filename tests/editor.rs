@@ -485,3 +485,42 @@ fn a_wave_is_added_keyed_and_reordered() {
     harness.run_ok();
     assert_eq!(harness.state().scene().layers[index].kind(), "Wave");
 }
+
+#[test]
+fn a_bezier_handle_in_the_timeline_key_menu_changes_the_easing() {
+    use drape::editor::bezier_handles::Square;
+    use drape::scene::Ease;
+
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    let frame = harness.state().scene().keys[0].frame;
+    let diamond = timeline_pos(&harness, f64::from(frame)) + egui::vec2(0.0, 8.0);
+    right_click(&mut harness, diamond);
+    harness.get_by_label("Bézier").click();
+    harness.run_ok();
+    let Ease::Bezier(x1, y1, x2, y2) = harness.state().scene().keys[0].ease else { panic!("Bézier") };
+    let before = harness.state().scene().clone();
+
+    // Choosing closes the timeline's menu: open it again for the handles.
+    right_click(&mut harness, diamond);
+    let square = Square::of(harness.get_by_label("Bézier handles").rect(), [x1, y1, x2, y2]);
+    drag(&mut harness, square.pos(x2, y2), square.pos(0.9, 1.3));
+    let Ease::Bezier(nx1, ny1, nx2, ny2) = harness.state().scene().keys[0].ease else { panic!("Bézier") };
+    assert_eq!((nx1, ny1), (x1, y1), "the first handle stays");
+    assert!((nx2 - 0.9).abs() < 0.02 && (ny2 - 1.3).abs() < 0.02, "the second handle followed: ({nx2}, {ny2})");
+    assert!(harness.query_by_label("Bézier handles").is_some(), "the menu stays open while dragging");
+
+    // Past the square: x stops at 1.
+    let square = Square::of(harness.get_by_label("Bézier handles").rect(), [nx1, ny1, nx2, ny2]);
+    drag(&mut harness, square.pos(nx2, ny2), square.pos(1.5, 1.0));
+    let Ease::Bezier(_, _, x, _) = harness.state().scene().keys[0].ease else { panic!("Bézier") };
+    assert_eq!(x, 1.0);
+
+    harness.key_press(Key::Escape);
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &before, "each drag is one undo step");
+}

@@ -2,6 +2,7 @@
 //! that knows egui; it draws through [`crate::render`] like headless code does.
 
 pub mod app;
+pub mod bezier_handles;
 mod cloth_panel;
 pub mod document;
 pub mod edits;
