@@ -167,6 +167,8 @@ pub struct DrapeApp {
     /// A layer shown alone (the others off in the viewport only; the scene keeps them).
     pub(super) solo_layer: Option<usize>,
     pub(super) key_drag: Option<usize>,
+    /// The Layers panel's curve view: the parameter it shows and a key being dragged.
+    pub(super) curve: super::curve_view::CurveView,
     play_started: Option<(Instant, f64)>,
     pub(super) camera: OrbitCamera,
     ground: Ground,
@@ -252,6 +254,7 @@ impl DrapeApp {
             selected_layer: None,
             solo_layer: None,
             key_drag: None,
+            curve: Default::default(),
             play_started: None,
             camera,
             toggles: ViewToggles::default(),
@@ -327,6 +330,7 @@ impl DrapeApp {
         self.selected_layer = None;
         self.solo_layer = None;
         self.key_drag = None;
+        self.curve = Default::default();
         self.frame = self.doc.scene().timeline.start as f64;
         self.mesh_of = None;
     }

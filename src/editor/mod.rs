@@ -4,6 +4,7 @@
 pub mod app;
 pub mod bezier_handles;
 mod cloth_panel;
+pub mod curve_view;
 pub mod document;
 pub mod edits;
 mod export_window;
