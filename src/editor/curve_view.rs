@@ -246,10 +246,6 @@ impl DrapeApp {
             Some(d) => Plot::new(rect, (f64::from(timeline.start), f64::from(timeline.end)), d.values),
             None => Plot::of(rect, &timeline, &param),
         };
-        let hovered = response.hover_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
-        let selected = self.curve.selected.filter(|s| (s.0, s.1) == (index, name)).map(|s| s.2);
-        self.paint_curve(ui, rect, &plot, &param, [drag.map(|d| d.key).or(hovered), selected]);
-
         // A press on a key grabs it; dragging moves it in value and (whole) frames.
         if response.drag_started() {
             let origin = ui.input(|i| i.pointer.press_origin());
@@ -305,6 +301,18 @@ impl DrapeApp {
             let key = response.interact_pointer_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
             self.curve.selected = key.map(|k| (index, name, k));
         }
+        // Drawn after this frame's edits, so a drag shows where the key is now.
+        let param = param_now(self, index, name);
+        let keys = keys_of(&param).to_vec();
+        let drag = self.curve.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
+        let plot = match drag {
+            Some(d) => Plot::new(rect, plot.frames, d.values),
+            None => Plot::of(rect, &timeline, &param),
+        };
+        let hovered = response.hover_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
+        let hovered = drag.map(|d| d.key).or(hovered);
+        let selected = self.curve.selected.filter(|s| (s.0, s.1) == (index, name)).map(|s| s.2);
+        self.paint_curve(ui, rect, &plot, &param, [hovered, selected]);
         if let Some(pos) = response.hover_pos() {
             let text = match hovered {
                 Some(k) => format!("Key at frame {}: {}", keys[k].frame, label(keys[k].value)),
@@ -339,20 +347,11 @@ impl DrapeApp {
         // The curve's lowest and highest values, as faint lines with their numbers.
         let (lo, hi) =
             samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, v)| (lo.min(*v), hi.max(*v)));
-        let font = egui::FontId::proportional(10.0);
         let levels = if hi - lo > plot.value_per_point() * 12.0 { vec![hi, lo] } else { vec![hi] };
-        for (n, level) in levels.into_iter().enumerate() {
-            let y = plot.y(level);
-            painter.line_segment(
-                [Pos2::new(rect.left(), y), Pos2::new(rect.right(), y)],
-                Stroke::new(1.0, weak.gamma_multiply(0.3)),
-            );
-            let (anchor, at) = if n == 0 {
-                (egui::Align2::LEFT_BOTTOM, Pos2::new(rect.left() + 3.0, y - 1.0))
-            } else {
-                (egui::Align2::LEFT_TOP, Pos2::new(rect.left() + 3.0, y + 1.0))
-            };
-            painter.text(at, anchor, label(level), font.clone(), weak);
+        for level in &levels {
+            let y = plot.y(*level);
+            let faint = Stroke::new(1.0, weak.gamma_multiply(0.3));
+            painter.line_segment([Pos2::new(rect.left(), y), Pos2::new(rect.right(), y)], faint);
         }
 
         let points: Vec<Pos2> = samples.iter().map(|&(f, v)| plot.pos(f, v)).collect();
@@ -363,6 +362,21 @@ impl DrapeApp {
             [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
             Stroke::new(2.0, Color32::from_rgb(230, 60, 50)),
         );
+
+        // The numbers on a backing, over the playhead (often at the left edge).
+        let font = egui::FontId::proportional(10.0);
+        for (n, level) in levels.into_iter().enumerate() {
+            let y = plot.y(level);
+            let (anchor, at) = if n == 0 {
+                (egui::Align2::LEFT_BOTTOM, Pos2::new(rect.left() + 3.0, y - 1.0))
+            } else {
+                (egui::Align2::LEFT_TOP, Pos2::new(rect.left() + 3.0, y + 1.0))
+            };
+            let galley = painter.layout_no_wrap(label(level), font.clone(), weak);
+            let text_rect = anchor.anchor_size(at, galley.size());
+            painter.rect_filled(text_rect.expand(1.0), 2.0, visuals.extreme_bg_color.gamma_multiply(0.85));
+            painter.galley(text_rect.min, galley, weak);
+        }
 
         for (index, key) in keys_of(param).iter().enumerate() {
             let active = highlighted.contains(&Some(index));
