@@ -10,8 +10,8 @@ use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 use crate::animate::ease;
 use crate::scene::Ease;
 
-/// Size of the drawing, points.
-const SIDE: f32 = 150.0;
+/// Size of the drawing, points: taller than wide, for room above and below the unit square.
+const SIZE: Vec2 = Vec2::new(150.0, 200.0);
 /// Room around the unit square for the handles, points.
 const PAD: f32 = 8.0;
 /// Radius of a handle, and how near a press must be to grab it, points.
@@ -21,7 +21,10 @@ const GRAB: f32 = 10.0;
 pub const Y_LIMITS: (f64, f64) = (-1.0, 2.0);
 /// The numbers may go further than a handle is dragged.
 const FIELD_Y_LIMITS: (f64, f64) = (-2.0, 3.0);
-/// Margin of the shown y range around the unit square and the handles.
+/// The y range always shown, so a handle can be dragged past 0 and 1 without
+/// leaving the drawing (the range holds still during a drag).
+const VIEW_Y: (f64, f64) = (-0.4, 1.4);
+/// Margin of the shown y range around handles beyond that.
 const VIEW_MARGIN: f64 = 0.1;
 
 /// What the editor did this frame: a drag began (open an undo gesture), the numbers changed.
@@ -31,13 +34,13 @@ pub struct BezierEdit {
     pub changed: bool,
 }
 
-/// The y range shown: the unit square and both handles, with a margin.
+/// The y range shown: [`VIEW_Y`], widened to both handles with a margin.
 /// Non-finite handles are left out.
 pub fn view_range(y1: f64, y2: f64) -> (f64, f64) {
     let finite = [y1, y2].into_iter().filter(|y| y.is_finite());
-    let lo = finite.clone().fold(0.0, f64::min).max(Y_LIMITS.0);
-    let hi = finite.fold(1.0, f64::max).min(Y_LIMITS.1);
-    (lo - VIEW_MARGIN, hi + VIEW_MARGIN)
+    let lo = finite.clone().fold(f64::INFINITY, f64::min).max(Y_LIMITS.0) - VIEW_MARGIN;
+    let hi = finite.fold(f64::NEG_INFINITY, f64::max).min(Y_LIMITS.1) + VIEW_MARGIN;
+    (lo.min(VIEW_Y.0), hi.max(VIEW_Y.1))
 }
 
 /// A control point dragged to (x, y): x within [0, 1], y within [`Y_LIMITS`]; NaN reads 0.
@@ -100,7 +103,7 @@ struct Drag {
 pub fn edit(ui: &mut egui::Ui, handles: &mut [f64; 4]) -> BezierEdit {
     let mut edit = BezierEdit::default();
     // In a row, so a justified menu does not widen the response past the drawing.
-    let (rect, response) = ui.horizontal(|ui| ui.allocate_exact_size(Vec2::splat(SIDE), Sense::drag())).inner;
+    let (rect, response) = ui.horizontal(|ui| ui.allocate_exact_size(SIZE, Sense::drag())).inner;
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Bézier handles"));
     let id = response.id;
     let mut drag: Option<Drag> = ui.data(|d| d.get_temp(id));
@@ -186,15 +189,16 @@ mod tests {
     use super::*;
 
     fn rect() -> Rect {
-        Rect::from_min_size(Pos2::new(10.0, 20.0), Vec2::splat(SIDE))
+        Rect::from_min_size(Pos2::new(10.0, 20.0), SIZE)
     }
 
     #[test]
     fn the_view_holds_the_unit_square_and_both_handles() {
-        assert_eq!(view_range(0.0, 1.0), (-0.1, 1.1));
+        assert_eq!(view_range(0.0, 1.0), VIEW_Y);
         let (lo, hi) = view_range(-0.6, 1.6);
         assert!((lo + 0.7).abs() < 1e-12 && (hi - 1.7).abs() < 1e-12);
-        assert_eq!(view_range(f64::NAN, f64::INFINITY), (-0.1, 1.1), "non-finite handles are left out");
+        assert_eq!(view_range(0.0, 1.6).0, VIEW_Y.0, "each side widens on its own");
+        assert_eq!(view_range(f64::NAN, f64::INFINITY), VIEW_Y, "non-finite handles are left out");
         assert_eq!(view_range(-50.0, 50.0), (Y_LIMITS.0 - 0.1, Y_LIMITS.1 + 0.1));
     }
 
