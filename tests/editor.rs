@@ -608,3 +608,136 @@ fn follow_keeps_the_travelling_cloth_where_it_was_on_screen() {
     let back = harness.state().screen_pos(centre(&harness)).unwrap();
     assert!(back.distance(on_screen) > 50.0, "without Follow the carpet leaves the spot: {back:?}");
 }
+
+/// The keys of parameter `name` of layer `index`: (frame, value).
+fn param_keys(harness: &Harness<'_, DrapeApp>, index: usize, name: &str) -> Vec<drape::scene::ParamKey> {
+    let mut layer = harness.state().scene().layers[index].clone();
+    match drape::editor::param_edit::param_mut(&mut layer, name) {
+        Some(drape::scene::Param::Keys(keys)) => keys.clone(),
+        other => panic!("{name} keyed, not {other:?}"),
+    }
+}
+
+/// Adds a wave whose magnitude is keyed at frames 0 (0.03) and 48 (0.2); returns its index.
+fn add_keyed_wave(harness: &mut Harness<'_, DrapeApp>) -> usize {
+    let index = harness.state().scene().layers.len();
+    harness.get_by_label("Add layer").click();
+    harness.run_ok();
+    harness.get_by_label("Wave").click();
+    harness.run_ok();
+    harness.get_by_label("Key magnitude").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(48.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "magnitude").set_value_accesskit(0.2);
+    harness.run_ok();
+    settle(harness);
+    index
+}
+
+#[test]
+fn the_curve_view_drags_a_parameter_key_and_eases_it_with_bezier_handles() {
+    use drape::editor::bezier_handles::Square;
+    use drape::editor::curve_view::Plot;
+    use drape::scene::Ease;
+
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    let index = add_keyed_wave(&mut harness);
+    let keyed = param_keys(&harness, index, "magnitude");
+    assert_eq!(keyed.iter().map(|k| (k.frame, k.value)).collect::<Vec<_>>(), [(0, 0.03), (48, 0.2)]);
+
+    // Show the frequency's curve, then the magnitude's (the keyed one, shown by default too).
+    harness.get_by_label("Show the frequency curve").click();
+    harness.run_ok();
+    assert!(harness.query_by_label("Curve of frequency").is_some());
+    harness.get_by_label("Show the magnitude curve").click();
+    harness.run_ok();
+
+    // Drag the key at frame 48 up and to the right: its value and frame follow, in one undo step.
+    let rect = harness.get_by_label("Curve of magnitude").rect();
+    let timeline = harness.state().scene().timeline.clone();
+    let param = drape::scene::Param::Keys(keyed.clone());
+    let plot = Plot::of(rect, &timeline, &param);
+    let key = plot.pos(48.0, 0.2);
+    let to = plot.pos(60.0, 0.2) - egui::vec2(0.0, 25.0);
+    drag(&mut harness, key, to);
+    let moved = param_keys(&harness, index, "magnitude");
+    assert_eq!(moved[0], keyed[0], "the other key stays");
+    assert_eq!(moved[1].frame, 60, "whole frames, where the pointer went");
+    assert!(moved[1].value > 0.25, "the key went up: {}", moved[1].value);
+    assert!(
+        (moved[1].value - plot.value(to.y)).abs() < 0.01,
+        "{} under the pointer at {}",
+        moved[1].value,
+        plot.value(to.y)
+    );
+    assert_eq!(harness.state().document().undo_label(), Some("Move parameter key"));
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(param_keys(&harness, index, "magnitude"), keyed, "one undo takes the whole drag back");
+
+    // Right-click the key: Bézier easing arriving at it, then drag the first handle.
+    settle(&mut harness);
+    right_click(&mut harness, key);
+    harness.get_by_label("Bézier").click();
+    harness.run_ok();
+    let Ease::Bezier(x1, y1, x2, y2) = param_keys(&harness, index, "magnitude")[1].ease else { panic!("Bézier") };
+    let eased = param_keys(&harness, index, "magnitude");
+    harness.key_press(Key::F);
+    harness.run_ok();
+    snapshot(&mut harness, "editor_curve_view");
+    let square = Square::of(harness.get_by_label("Bézier handles").rect(), [x1, y1, x2, y2]);
+    let handle = square.pos(x1, y1);
+    let target = square.pos(0.1, 0.6);
+    drag(&mut harness, handle, target);
+    let Ease::Bezier(nx1, ny1, nx2, ny2) = param_keys(&harness, index, "magnitude")[1].ease else { panic!("Bézier") };
+    assert!((nx1 - 0.1).abs() < 0.02 && (ny1 - 0.6).abs() < 0.02, "the handle followed: ({nx1}, {ny1})");
+    assert_eq!((nx2, ny2), (x2, y2), "the other handle stays");
+    assert_eq!(harness.state().document().undo_label(), Some("Bézier handles"));
+    harness.key_press(Key::Escape);
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(param_keys(&harness, index, "magnitude"), eased, "one undo takes the handle drag back");
+}
+
+#[test]
+fn a_bezier_handle_in_the_timeline_key_menu_changes_the_easing() {
+    use drape::editor::bezier_handles::Square;
+    use drape::scene::Ease;
+
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    let frame = harness.state().scene().keys[0].frame;
+    let diamond = timeline_pos(&harness, f64::from(frame)) + egui::vec2(0.0, 8.0);
+    right_click(&mut harness, diamond);
+    harness.get_by_label("Bézier").click();
+    harness.run_ok();
+    let Ease::Bezier(x1, y1, x2, y2) = harness.state().scene().keys[0].ease else { panic!("Bézier") };
+    let before = harness.state().scene().clone();
+
+    // Choosing closes the timeline's menu: open it again for the handles.
+    right_click(&mut harness, diamond);
+    let square = Square::of(harness.get_by_label("Bézier handles").rect(), [x1, y1, x2, y2]);
+    drag(&mut harness, square.pos(x2, y2), square.pos(0.9, 1.3));
+    let Ease::Bezier(nx1, ny1, nx2, ny2) = harness.state().scene().keys[0].ease else { panic!("Bézier") };
+    assert_eq!((nx1, ny1), (x1, y1), "the first handle stays");
+    assert!((nx2 - 0.9).abs() < 0.02 && (ny2 - 1.3).abs() < 0.02, "the second handle followed: ({nx2}, {ny2})");
+    assert!(harness.query_by_label("Bézier handles").is_some(), "the menu stays open while dragging");
+
+    // Past the square: x stops at 1.
+    let square = Square::of(harness.get_by_label("Bézier handles").rect(), [nx1, ny1, nx2, ny2]);
+    drag(&mut harness, square.pos(nx2, ny2), square.pos(1.5, 1.0));
+    let Ease::Bezier(_, _, x, _) = harness.state().scene().keys[0].ease else { panic!("Bézier") };
+    assert_eq!(x, 1.0);
+
+    harness.key_press(Key::Escape);
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &before, "each drag is one undo step");
+}

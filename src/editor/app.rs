@@ -176,6 +176,8 @@ pub struct DrapeApp {
     pub(super) key_drag: Option<usize>,
     /// The frame of the selected layer's parameter keys being dragged on the timeline.
     pub(super) param_key_drag: Option<i32>,
+    /// The Layers panel's curve view: the parameter it shows and a key being dragged.
+    pub(super) curve: super::curve_view::CurveView,
     play_started: Option<(Instant, f64)>,
     pub(super) camera: OrbitCamera,
     ground: Ground,
@@ -264,6 +266,7 @@ impl DrapeApp {
             solo_layer: None,
             key_drag: None,
             param_key_drag: None,
+            curve: Default::default(),
             play_started: None,
             camera,
             toggles: ViewToggles::default(),
@@ -341,6 +344,7 @@ impl DrapeApp {
         self.solo_layer = None;
         self.key_drag = None;
         self.param_key_drag = None;
+        self.curve = Default::default();
         self.frame = self.doc.scene().timeline.start as f64;
         self.mesh_of = None;
     }

@@ -243,7 +243,7 @@ impl DrapeApp {
             }
         });
         ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
-        egui::Grid::new("layer parameters").num_columns(3).show(ui, |ui| {
+        egui::Grid::new("layer parameters").num_columns(4).show(ui, |ui| {
             for (param, unit) in param_names(layer) {
                 let mut copy = layer.clone();
                 let Some(current) = param_mut(&mut copy, param) else { continue };
@@ -261,6 +261,7 @@ impl DrapeApp {
                 };
                 let toggle = icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key {param}"));
                 let toggle = toggle.on_hover_text(hint);
+                self.curve_button(ui, index, layer, param);
                 ui.end_row();
                 let what = format!("Layer {}", param.replace('_', " "));
                 if response.drag_started() {
@@ -282,6 +283,7 @@ impl DrapeApp {
                 }
             }
         });
+        self.curve_view(ui, index, layer);
         self.layer_vectors(ui, index, layer);
     }
 

@@ -2,7 +2,9 @@
 //! that knows egui; it draws through [`crate::render`] like headless code does.
 
 pub mod app;
+pub mod bezier_handles;
 mod cloth_panel;
+pub mod curve_view;
 pub mod document;
 pub mod edits;
 mod export_window;

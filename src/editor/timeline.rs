@@ -19,7 +19,7 @@ const DIAMOND: f32 = 6.0;
 const MIN_LABEL_GAP: f32 = 44.0;
 
 /// The easing choices of a segment, in menu order.
-const EASES: [(&str, Ease); 9] = [
+pub(super) const EASES: [(&str, Ease); 9] = [
     ("Linear", Ease::Linear),
     ("Step", Ease::Step),
     ("Ease in", Ease::EaseIn),
@@ -302,12 +302,9 @@ impl DrapeApp {
             }
             if let Ease::Bezier(x1, y1, x2, y2) = key.ease {
                 let mut handles = [x1, y1, x2, y2];
-                ui.horizontal(|ui| {
-                    for (n, value) in handles.iter_mut().enumerate() {
-                        let range = if n % 2 == 0 { 0.0..=1.0 } else { -2.0..=3.0 };
-                        ui.add(egui::DragValue::new(value).range(range).speed(0.01).max_decimals(3));
-                    }
-                });
+                if super::bezier_handles::edit(ui, &mut handles).began {
+                    self.doc.begin_gesture("Bézier handles");
+                }
                 if handles != [x1, y1, x2, y2] {
                     let [x1, y1, x2, y2] = handles;
                     self.apply("Bézier handles", |s| s.keys[index].ease = Ease::Bezier(x1, y1, x2, y2));
