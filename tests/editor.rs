@@ -444,22 +444,11 @@ fn a_wave_is_added_keyed_and_reordered() {
     let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
     let layers_before = harness.state().scene().layers.len();
 
-    harness.get_by_label("Add layer").click();
-    harness.run_ok();
-    harness.get_by_label("Wave").click();
-    harness.run_ok();
-    let index = layers_before;
+    // Add a wave, key its magnitude at frame 0, then raise it at frame 48: a ramp.
+    let index = add_keyed_wave(&mut harness);
+    assert_eq!(index, layers_before);
     assert_eq!(harness.state().scene().layers.len(), layers_before + 1);
     assert_eq!(harness.state().scene().layers[index].kind(), "Wave");
-
-    // Key the magnitude at frame 0, then raise it at frame 48: a ramp.
-    harness.get_by_label("Key magnitude").click();
-    harness.run_ok();
-    harness.state_mut().set_frame(48.0);
-    harness.run_ok();
-    harness.get_by_role_and_label(Role::SpinButton, "magnitude").set_value_accesskit(0.2);
-    harness.run_ok();
-    settle(&mut harness);
     let drape::scene::Layer::Wave(wave) = &harness.state().scene().layers[index] else { panic!("a wave") };
     let keys: Vec<_> = match &wave.magnitude {
         drape::scene::Param::Keys(keys) => keys.iter().map(|k| (k.frame, k.value)).collect(),
@@ -551,13 +540,7 @@ fn keys_and_layers_survive_save_and_reopen() {
     harness.get_by_label("Bounce").click();
     harness.run_ok();
     harness.key_press(Key::Escape);
-    harness.get_by_label("Add layer").click();
-    harness.run_ok();
-    harness.get_by_label("Wave").click();
-    harness.run_ok();
-    harness.get_by_label("Key magnitude").click();
-    harness.run_ok();
-    settle(&mut harness);
+    add_keyed_wave(&mut harness);
     let edited = harness.state().scene().clone();
     assert!(edited.keys.iter().any(|k| k.frame == 30 && k.ease == drape::scene::Ease::Bounce));
 
