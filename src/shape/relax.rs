@@ -367,6 +367,8 @@ struct Sweeper {
     velocity: [Split; 3],
     runs: [Vec<Run>; 4],
     border_slots: [Vec<BorderSlots>; 4],
+    /// This colour's steps, interior runs first, then points near an edge;
+    /// one vector's worth of spare room for the last run's throwaway lanes.
     steps: [Vec<f64>; 3],
 }
 
@@ -442,7 +444,7 @@ impl Sweeper {
             velocity: split(),
             runs,
             border_slots,
-            steps: [Vec::with_capacity(most), Vec::with_capacity(most), Vec::with_capacity(most)],
+            steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
         }
     }
 
@@ -549,22 +551,16 @@ impl Sweeper {
             for colour in 0..4 {
                 // Every point of a colour moves from the same positions: its neighbours
                 // are of other colours, or mirror images of each other.
-                for s in &mut self.steps {
-                    s.clear();
-                }
+                let mut filled = 0;
                 for run in &self.runs[colour] {
                     if self.bends {
-                        interior_steps::<true>(&self.position, run, &self.bounds, gravity, &mut self.steps);
+                        interior_steps::<true>(&self.position, run, &self.bounds, gravity, &mut self.steps, filled);
                     } else {
-                        interior_steps::<false>(&self.position, run, &self.bounds, gravity, &mut self.steps);
+                        interior_steps::<false>(&self.position, run, &self.bounds, gravity, &mut self.steps, filled);
                     }
+                    filled += run.len;
                 }
-                for chunk in self.border_slots[colour].chunks(LANES) {
-                    let step = self.border_steps(chunk, gravity);
-                    for (steps, lanes) in self.steps.iter_mut().zip(step) {
-                        steps.extend_from_slice(&lanes[..chunk.len()]);
-                    }
-                }
+                self.border_steps_from(colour, gravity, filled);
                 let mut done = 0;
                 for run in &self.runs[colour] {
                     let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
@@ -620,15 +616,7 @@ impl Sweeper {
     /// sweep's do.
     fn edge_sweep(&mut self) {
         for colour in 0..4 {
-            for s in &mut self.steps {
-                s.clear();
-            }
-            for chunk in self.border_slots[colour].chunks(LANES) {
-                let step = self.border_steps(chunk, 0.0);
-                for (steps, lanes) in self.steps.iter_mut().zip(step) {
-                    steps.extend_from_slice(&lanes[..chunk.len()]);
-                }
-            }
+            self.border_steps_from(colour, 0.0, 0);
             for (k, slots) in self.border_slots[colour].iter().enumerate() {
                 let step = [self.steps[0][k], self.steps[1][k], self.steps[2][k]];
                 if step.iter().all(|d| d.is_finite()) {
@@ -636,6 +624,18 @@ impl Sweeper {
                         axis.data[slots.centre as usize] += d;
                     }
                 }
+            }
+        }
+    }
+
+    /// Steps of the points of `colour` near an edge, into `steps` from `first` on.
+    #[inline(always)]
+    fn border_steps_from(&mut self, colour: usize, gravity: f64, first: usize) {
+        for (c, chunk) in self.border_slots[colour].chunks(LANES).enumerate() {
+            let step = self.border_steps(chunk, gravity);
+            let at = first + c * LANES;
+            for (steps, lanes) in self.steps.iter_mut().zip(step) {
+                steps[at..at + chunk.len()].copy_from_slice(&lanes[..chunk.len()]);
             }
         }
     }
@@ -684,7 +684,8 @@ fn apply(
     max_speed2: f64,
 ) -> f64 {
     let len = run.len;
-    let [sx, sy, sz] = steps.each_ref().map(|s| &s[first..first + len]);
+    let [sx, sy, sz] = steps;
+    let (sx, sy, sz) = (&sx[first..first + len], &sy[first..first + len], &sz[first..first + len]);
     let [px, py, pz] = position;
     let [vx, vy, vz] = velocity;
     let (px, py, pz) = (px.run_mut(run.i, run.j, len), py.run_mut(run.i, run.j, len), pz.run_mut(run.i, run.j, len));
@@ -749,8 +750,8 @@ fn coast(position: &mut [Split; 3], velocity: &[Split; 3], run: &Run) {
     }
 }
 
-/// Steps of the points of one interior run, appended to `steps`: one flat
-/// loop over contiguous slices, so that it vectorises across points.
+/// Steps of the points of one interior run, into `steps` from `first` on: one
+/// flat loop over contiguous slices, so that it vectorises across points.
 #[inline(always)]
 fn interior_steps<const BENDS: bool>(
     position: &[Split; 3],
@@ -758,6 +759,7 @@ fn interior_steps<const BENDS: bool>(
     bounds: &[Bound; NEIGHBOURS],
     gravity: f64,
     steps: &mut [Vec<f64>; 3],
+    first: usize,
 ) {
     // Whole chunks of lanes: spare lanes past the run compute throwaway steps.
     let padded = run.len.next_multiple_of(LANES);
@@ -779,15 +781,9 @@ fn interior_steps<const BENDS: bool>(
             around[axis][n] = &data[at[n]..at[n] + padded];
         }
     }
-    let base = steps[0].len();
-    for s in steps.iter_mut() {
-        s.resize(base + padded, 0.0);
-    }
     let [sx, sy, sz] = steps;
-    run_kernel::<BENDS>(centre, &around, bounds, gravity, &mut sx[base..], &mut sy[base..], &mut sz[base..]);
-    for s in steps.iter_mut() {
-        s.truncate(base + run.len);
-    }
+    let out = first..first + padded;
+    run_kernel::<BENDS>(centre, &around, bounds, gravity, &mut sx[out.clone()], &mut sy[out.clone()], &mut sz[out]);
 }
 
 /// The loop of [`interior_steps`], [`LANES`] points at a time; the outputs are
