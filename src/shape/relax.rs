@@ -879,20 +879,38 @@ fn add<const L: usize>(a: Pull<L>, b: Pull<L>) -> Pull<L> {
 }
 
 /// One constraint on `L` points side by side.
+///
+/// The division is skipped when the constraint holds on every lane (then f is
+/// exactly 0 anyway): shear and bending bounds are mostly slack, and the
+/// division is the costliest operation of a sweep.
 #[inline(always)]
 fn constraint<const L: usize>(p: &[[f64; L]; 3], q: &[[f64; L]; 3], present: &[f64; L], b: &Bound) -> Pull<L> {
+    let mut d = [[0.0; L]; 3];
+    let (mut l2, mut r2) = ([0.0; L], [0.0; L]);
+    let mut holds = true;
+    for lane in 0..L {
+        for axis in 0..3 {
+            d[axis][lane] = q[axis][lane] - p[axis][lane];
+        }
+        let [dx, dy, dz] = [d[0][lane], d[1][lane], d[2][lane]];
+        l2[lane] = dx * dx + dy * dy + dz * dz;
+        let r = if l2[lane] < b.min2 { b.min2 } else { l2[lane] };
+        r2[lane] = if r > b.max2 { b.max2 } else { r };
+        holds &= l2[lane] == r2[lane];
+    }
+    let mut f = [0.0; L];
+    if !holds {
+        for lane in 0..L {
+            // MIN_POSITIVE only matters for l = r = 0 (0, not NaN).
+            f[lane] = (l2[lane] - r2[lane]) / (l2[lane] + r2[lane] + f64::MIN_POSITIVE);
+        }
+    }
     let mut out = [[0.0; L]; 4];
     for lane in 0..L {
-        let (dx, dy, dz) = (q[0][lane] - p[0][lane], q[1][lane] - p[1][lane], q[2][lane] - p[2][lane]);
-        let l2 = dx * dx + dy * dy + dz * dz;
-        let r2 = if l2 < b.min2 { b.min2 } else { l2 };
-        let r2 = if r2 > b.max2 { b.max2 } else { r2 };
-        // MIN_POSITIVE only matters for l = r = 0 (0, not NaN).
-        let f = (l2 - r2) / (l2 + r2 + f64::MIN_POSITIVE);
-        out[0][lane] = dx * f;
-        out[1][lane] = dy * f;
-        out[2][lane] = dz * f;
-        out[3][lane] = if l2 == r2 { 0.0 } else { present[lane] };
+        for axis in 0..3 {
+            out[axis][lane] = d[axis][lane] * f[lane];
+        }
+        out[3][lane] = if l2[lane] == r2[lane] { 0.0 } else { present[lane] };
     }
     out
 }
