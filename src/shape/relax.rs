@@ -663,14 +663,14 @@ impl Sweeper {
         let mut p = [[0.0; LANES]; 3];
         let mut q = [[[0.0; LANES]; 3]; NEIGHBOURS];
         for (p, axis) in p.iter_mut().zip(&self.position) {
-            for lane in 0..LANES {
-                p[lane] = axis.data[chunk.centre[lane] as usize];
+            for (p, &at) in p.iter_mut().zip(&chunk.centre) {
+                *p = axis.data[at as usize];
             }
         }
-        for n in 0..NEIGHBOURS {
-            for (q, axis) in q[n].iter_mut().zip(&self.position) {
-                for lane in 0..LANES {
-                    q[lane] = axis.data[chunk.around[n][lane] as usize];
+        for (q, around) in q.iter_mut().zip(&chunk.around) {
+            for (q, axis) in q.iter_mut().zip(&self.position) {
+                for (q, &at) in q.iter_mut().zip(around) {
+                    *q = axis.data[at as usize];
                 }
             }
         }
