@@ -15,6 +15,8 @@
 //!    point; p's height is the highest candidate's, x/z the candidates' blend
 //!    weighted by p's barycentric coordinates. On T's edges all three
 //!    candidates coincide with the edge catenary, so the surface is continuous.
+//!    Points on one line through a vertex share its catenary when their edge
+//!    fractions agree bit for bit; it is then solved once (same output).
 //! 5. Points outside the hull, and every point when the pins are collinear or a
 //!    single pin, hang down from the nearest part of the hull by their material
 //!    distance × elasticity (see [`drape_direction`] for the exact rule).
@@ -24,6 +26,7 @@
 //! axis, which changes no crossing, collinearity or containment.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::{DVec2, DVec3};
 
@@ -419,9 +422,81 @@ impl<'a> EdgeLookup<'a> {
 
     /// Point at arc fraction `t` of the way from pin `from` to pin `to`.
     fn point(&self, from: usize, to: usize, t: f64) -> DVec3 {
-        let (key, t) = if from < to { ((from, to), t) } else { ((to, from), 1.0 - t) };
-        let edge = &self.kept[self.by_pins[&key]];
-        edge.catenary.point_at_arc_fraction(t)
+        self.directed(from, to).point(t)
+    }
+
+    /// The kept catenary from pin `from` to pin `to`.
+    fn directed(&self, from: usize, to: usize) -> Directed<'a> {
+        let key = if from < to { (from, to) } else { (to, from) };
+        Directed { catenary: &self.kept[self.by_pins[&key]].catenary, reversed: from > to }
+    }
+}
+
+/// A kept catenary walked from one of its pins to the other.
+#[derive(Clone, Copy)]
+struct Directed<'a> {
+    catenary: &'a Catenary,
+    reversed: bool,
+}
+
+impl Directed<'_> {
+    /// Point at arc fraction `t` of the way.
+    fn point(&self, t: f64) -> DVec3 {
+        self.catenary.point_at_arc_fraction(if self.reversed { 1.0 - t } else { t })
+    }
+}
+
+/// Catenaries from the vertices of one triangle, by vertex and by the fraction
+/// along the opposite edge they end at (as bits). Grid points on one line
+/// through a vertex mostly share that fraction bit for bit, and then the
+/// catenary: found once, a third of the solves are saved on the benchmark grid.
+#[derive(Default)]
+struct Fans {
+    /// Per vertex: fraction bits → index into `catenaries`. Small entries: with
+    /// whole catenaries in the table, moving them cost what the solves saved.
+    by_fraction: [HashMap<u64, u32, BuildHasherDefault<BitsHasher>>; 3],
+    catenaries: Vec<Catenary>,
+}
+
+impl Fans {
+    /// Empties them for a triangle of about `points` grid points.
+    fn clear(&mut self, points: usize) {
+        for map in &mut self.by_fraction {
+            map.clear();
+            map.reserve(points);
+        }
+        self.catenaries.clear();
+    }
+
+    /// The catenary from vertex `v` ending at fraction `t`, from `solve` the first time.
+    fn get(&mut self, v: usize, t: f64, solve: impl FnOnce() -> Catenary) -> &Catenary {
+        let next = self.catenaries.len() as u32;
+        let k = *self.by_fraction[v].entry(t.to_bits()).or_insert(next);
+        if k == next {
+            self.catenaries.push(solve());
+        }
+        &self.catenaries[k as usize]
+    }
+}
+
+/// A multiplicative hash for [`Fans`]' keys, which are whole `f64` bit
+/// patterns: cheaper than the default SipHash for one-word keys.
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl Hasher for BitsHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0 ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(29);
     }
 }
 
@@ -451,8 +526,20 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
     if let PinLayout::Hull { triangles, .. } = &network.layout {
         let lookup = EdgeLookup::new(&network.kept);
         let points: Vec<(i64, i64)> = pins.iter().map(grid_i64).collect();
+        // Kept across triangles: allocating them afresh cost page faults.
+        let mut fans = Fans::default();
         for tri in triangles {
-            place_triangle(grid, network, &lookup, &points, *tri, elasticity, &mut positions, &mut placement);
+            place_triangle(
+                grid,
+                network,
+                &lookup,
+                &points,
+                *tri,
+                &mut fans,
+                elasticity,
+                &mut positions,
+                &mut placement,
+            );
         }
     }
 
@@ -494,6 +581,7 @@ fn place_triangle(
     lookup: &EdgeLookup,
     points: &[(i64, i64)],
     tri: [usize; 3],
+    fans: &mut Fans,
     elasticity: f64,
     positions: &mut [DVec3],
     placement: &mut [Option<Placement>],
@@ -504,6 +592,9 @@ fn place_triangle(
     let (min_i, max_i) = (corners.iter().map(|c| c.0).min().unwrap(), corners.iter().map(|c| c.0).max().unwrap());
     let (min_j, max_j) = (corners.iter().map(|c| c.1).min().unwrap(), corners.iter().map(|c| c.1).max().unwrap());
     let material = tri.map(|k| grid.material(pins[k].grid.0, pins[k].grid.1));
+    let opposite = [0, 1, 2].map(|v| lookup.directed(tri[(v + 1) % 3], tri[(v + 2) % 3]));
+    // About the triangle's grid points, an upper bound on its rays.
+    fans.clear(area2.unsigned_abs() as usize / 2);
     for j in min_j..=max_j {
         for i in min_i..=max_i {
             let k = grid.index(i as usize, j as usize);
@@ -520,7 +611,7 @@ fn place_triangle(
                 continue;
             }
             let lambda = w.map(|x| x as f64 / area2 as f64);
-            positions[k] = interior_point(lookup, pins, tri, material, lambda, elasticity);
+            positions[k] = interior_point(&opposite, fans, pins, tri, material, lambda, elasticity);
             placement[k] = Some(Placement::Interior);
         }
     }
@@ -529,7 +620,8 @@ fn place_triangle(
 /// The paper's placement of a point with barycentric coordinates `lambda` in
 /// triangle `tri`: one catenary per vertex towards the opposite edge.
 fn interior_point(
-    lookup: &EdgeLookup,
+    opposite: &[Directed; 3],
+    fans: &mut Fans,
     pins: &[PinPoint],
     tri: [usize; 3],
     material: [DVec2; 3],
@@ -546,10 +638,12 @@ fn interior_point(
         } else {
             // The line from vertex v through p meets edge b–c at fraction t from b.
             let t = lambda[c] / rest;
-            let on_edge = lookup.point(tri[b], tri[c], t);
-            let edge_material = material[b].lerp(material[c], t);
-            let length = material[v].distance(edge_material) * elasticity;
-            Catenary::new(pins[tri[v]].pos, on_edge, length).point_at_arc_fraction(rest)
+            let catenary = fans.get(v, t, || {
+                let edge_material = material[b].lerp(material[c], t);
+                let length = material[v].distance(edge_material) * elasticity;
+                Catenary::new(pins[tri[v]].pos, opposite[v].point(t), length)
+            });
+            catenary.point_at_arc_fraction(rest)
         };
         best_y = best_y.max(candidate.y);
         xz += lambda[v] * DVec2::new(candidate.x, candidate.z);

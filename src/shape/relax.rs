@@ -339,13 +339,24 @@ impl Split {
     }
 }
 
-/// Where a point near an edge and its neighbours sit in a [`Split`], found
-/// once: an absent neighbour is the point itself, masked out by `present`.
+/// Up to [`LANES`] points near an edge, computed side by side, and where they
+/// and their neighbours sit in a [`Split`], found once and laid out lane by
+/// lane: an absent neighbour is the point itself, masked out by `present`;
+/// spare lanes repeat the last point. (Gathered from per-point slots and
+/// flags instead, the lanes cost a tenth of a 64² build.)
 #[derive(Clone, Copy)]
-struct BorderSlots {
-    centre: u32,
-    around: [u32; NEIGHBOURS],
-    present: [bool; NEIGHBOURS],
+struct BorderChunk {
+    len: usize,
+    centre: [u32; LANES],
+    around: [[u32; LANES]; NEIGHBOURS],
+    present: [Lanes; NEIGHBOURS],
+}
+
+impl BorderChunk {
+    /// Slots of the chunk's points, in order.
+    fn centres(&self) -> impl Iterator<Item = usize> + '_ {
+        self.centre[..self.len].iter().map(|&at| at as usize)
+    }
 }
 
 /// `len` interior free points of one colour: (i, j), (i + 2, j), …
@@ -357,7 +368,7 @@ struct Run {
 }
 
 /// The free points of one grid split by colour into runs of interior points
-/// (every neighbour present) and single points near an edge.
+/// (every neighbour present) and chunks of points near an edge.
 struct Sweeper {
     cols: usize,
     rows: usize,
@@ -366,7 +377,7 @@ struct Sweeper {
     position: [Split; 3],
     velocity: [Split; 3],
     runs: [Vec<Run>; 4],
-    border_slots: [Vec<BorderSlots>; 4],
+    border: [Vec<BorderChunk>; 4],
     /// This colour's steps, interior runs first, then points near an edge;
     /// one vector's worth of spare room for the last run's throwaway lanes.
     steps: [Vec<f64>; 3],
@@ -417,23 +428,28 @@ impl Sweeper {
         let most = (0..4).map(|c| runs[c].iter().map(|r| r.len).sum::<usize>() + border[c].len()).max().unwrap_or(0);
         let split = || [Split::new(cols, rows), Split::new(cols, rows), Split::new(cols, rows)];
         let layout = Split { half: cols.div_ceil(2), len: cols.div_ceil(2) * rows + LANES, data: Vec::new() };
-        let border_slots = border.each_ref().map(|points| {
-            let slots = points.iter().map(|&(i, j)| {
-                let mut slots = BorderSlots {
-                    centre: layout.slot(i, j) as u32,
-                    around: [0; NEIGHBOURS],
-                    present: [false; NEIGHBOURS],
+        let border = border.each_ref().map(|points| {
+            let chunks = points.chunks(LANES).map(|points| {
+                let mut chunk = BorderChunk {
+                    len: points.len(),
+                    centre: [0; LANES],
+                    around: [[0; LANES]; NEIGHBOURS],
+                    present: [[0.0; LANES]; NEIGHBOURS],
                 };
-                for (n, &(di, dj)) in STEPS.iter().enumerate() {
-                    let (ni, nj) = (i.wrapping_add_signed(di), j.wrapping_add_signed(dj));
-                    let inside = ni < cols && nj < rows;
-                    let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
-                    slots.around[n] = layout.slot(qi, qj) as u32;
-                    slots.present[n] = inside;
+                for lane in 0..LANES {
+                    let (i, j) = points[lane.min(points.len() - 1)];
+                    chunk.centre[lane] = layout.slot(i, j) as u32;
+                    for (n, &(di, dj)) in STEPS.iter().enumerate() {
+                        let (ni, nj) = (i.wrapping_add_signed(di), j.wrapping_add_signed(dj));
+                        let inside = ni < cols && nj < rows;
+                        let (qi, qj) = if inside { (ni, nj) } else { (i, j) };
+                        chunk.around[n][lane] = layout.slot(qi, qj) as u32;
+                        chunk.present[n][lane] = if inside { 1.0 } else { 0.0 };
+                    }
                 }
-                slots
+                chunk
             });
-            slots.collect::<Vec<_>>()
+            chunks.collect::<Vec<_>>()
         });
         Sweeper {
             cols,
@@ -443,7 +459,7 @@ impl Sweeper {
             position: split(),
             velocity: split(),
             runs,
-            border_slots,
+            border,
             steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
         }
     }
@@ -539,8 +555,7 @@ impl Sweeper {
                 for run in &self.runs[colour] {
                     coast(&mut self.position, &self.velocity, run);
                 }
-                for slots in &self.border_slots[colour] {
-                    let at = slots.centre as usize;
+                for at in self.border[colour].iter().flat_map(BorderChunk::centres) {
                     for (p, v) in self.position.iter_mut().zip(&self.velocity) {
                         p.data[at] += v.data[at] * MOMENTUM;
                     }
@@ -571,8 +586,8 @@ impl Sweeper {
                 let [px, py, pz] = &mut self.position;
                 let [vx, vy, vz] = &mut self.velocity;
                 let [sx, sy, sz] = &self.steps;
-                for (k, slots) in self.border_slots[colour].iter().enumerate() {
-                    let (at, t) = (slots.centre as usize, done + k);
+                for (k, at) in self.border[colour].iter().flat_map(BorderChunk::centres).enumerate() {
+                    let t = done + k;
                     let step2 = move_point(
                         [&mut px.data[at], &mut py.data[at], &mut pz.data[at]],
                         [&mut vx.data[at], &mut vy.data[at], &mut vz.data[at]],
@@ -613,15 +628,17 @@ impl Sweeper {
     /// on it), and the whole grid would keep sweeping for it: on 256² the
     /// finest level ran into its 200-sweep cap without this and now converges
     /// in 86 sweeps. Its moves do not count towards convergence; the next full
-    /// sweep's do.
+    /// sweep's do. Inlined so that it is compiled for the vector unit of the
+    /// sweeps that call it (not inlined it ran scalar: 5% of a 64² build).
+    #[inline(always)]
     fn edge_sweep(&mut self) {
         for colour in 0..4 {
             self.border_steps_from(colour, 0.0, 0);
-            for (k, slots) in self.border_slots[colour].iter().enumerate() {
+            for (k, at) in self.border[colour].iter().flat_map(BorderChunk::centres).enumerate() {
                 let step = [self.steps[0][k], self.steps[1][k], self.steps[2][k]];
                 if step.iter().all(|d| d.is_finite()) {
                     for (axis, d) in self.position.iter_mut().zip(step) {
-                        axis.data[slots.centre as usize] += d;
+                        axis.data[at] += d;
                     }
                 }
             }
@@ -631,34 +648,33 @@ impl Sweeper {
     /// Steps of the points of `colour` near an edge, into `steps` from `first` on.
     #[inline(always)]
     fn border_steps_from(&mut self, colour: usize, gravity: f64, first: usize) {
-        for (c, chunk) in self.border_slots[colour].chunks(LANES).enumerate() {
+        for (c, chunk) in self.border[colour].iter().enumerate() {
             let step = self.border_steps(chunk, gravity);
             let at = first + c * LANES;
             for (steps, lanes) in self.steps.iter_mut().zip(step) {
-                steps[at..at + chunk.len()].copy_from_slice(&lanes[..chunk.len()]);
+                steps[at..at + chunk.len].copy_from_slice(&lanes[..chunk.len]);
             }
         }
     }
 
-    /// Steps of up to [`LANES`] points near an edge, side by side: absent neighbours
-    /// are the point itself, masked out; spare lanes repeat the last point.
+    /// Steps of the points of `chunk`, side by side.
     #[inline(always)]
-    fn border_steps(&self, points: &[BorderSlots], gravity: f64) -> [Lanes; 3] {
+    fn border_steps(&self, chunk: &BorderChunk, gravity: f64) -> [Lanes; 3] {
         let mut p = [[0.0; LANES]; 3];
         let mut q = [[[0.0; LANES]; 3]; NEIGHBOURS];
-        let mut present = [[0.0; LANES]; NEIGHBOURS];
-        for lane in 0..LANES {
-            let slots = &points[lane.min(points.len() - 1)];
-            for (p, axis) in p.iter_mut().zip(&self.position) {
-                p[lane] = axis.data[slots.centre as usize];
-            }
-            for n in 0..NEIGHBOURS {
-                for (q, axis) in q[n].iter_mut().zip(&self.position) {
-                    q[lane] = axis.data[slots.around[n] as usize];
-                }
-                present[n][lane] = if slots.present[n] { 1.0 } else { 0.0 };
+        for (p, axis) in p.iter_mut().zip(&self.position) {
+            for (p, &at) in p.iter_mut().zip(&chunk.centre) {
+                *p = axis.data[at as usize];
             }
         }
+        for (q, around) in q.iter_mut().zip(&chunk.around) {
+            for (q, axis) in q.iter_mut().zip(&self.position) {
+                for (q, &at) in q.iter_mut().zip(around) {
+                    *q = axis.data[at as usize];
+                }
+            }
+        }
+        let present = &chunk.present;
         if self.bends {
             point_steps::<true, LANES>(&p, &|n| q[n], &|n| present[n], &self.bounds, gravity)
         } else {
