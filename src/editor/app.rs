@@ -396,14 +396,16 @@ impl DrapeApp {
         self.shaper.is_busy() || *self.doc.scene() != self.shown
     }
 
-    /// Blocks until the document's shapes are relaxed and shown (tests and scripts).
+    /// Blocks until the document's shapes are relaxed and shown and the worker is idle (tests and scripts).
     pub fn wait_for_shapes(&mut self, timeout: Duration) -> bool {
         let deadline = Instant::now() + timeout;
         loop {
             self.sync_shapes();
             if *self.doc.scene() == self.shown {
                 self.refresh_mesh();
-                return true;
+                // The worker clears its status (the spinner) just after sending its last
+                // shape; wait for that too, so the next frames are quiet.
+                return self.shaper.wait_idle(deadline.saturating_duration_since(Instant::now()));
             }
             if Instant::now() > deadline {
                 return false;
