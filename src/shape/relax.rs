@@ -383,8 +383,21 @@ struct Run {
     len: usize,
 }
 
+/// A run of points near the top or bottom edge whose neighbours along the
+/// row all exist: the neighbours above or below it that do not are missing
+/// for every point of the run alike, so it is computed like an interior run,
+/// with those neighbours read as the points themselves and masked out by
+/// `present` (gathered into chunks instead, these points had cost three times
+/// an interior one).
+#[derive(Clone, Copy)]
+struct EdgeRun {
+    run: Run,
+    present: [f64; NEIGHBOURS],
+}
+
 /// The free points of one grid split by colour into runs of interior points
-/// (every neighbour present) and chunks of points near an edge.
+/// (every neighbour present), runs along the top and bottom edges, and chunks
+/// of the other points near an edge.
 struct Sweeper {
     cols: usize,
     rows: usize,
@@ -393,8 +406,9 @@ struct Sweeper {
     position: [Split; 3],
     velocity: [Split; 3],
     runs: [Vec<Run>; 4],
+    edge_runs: [Vec<EdgeRun>; 4],
     border: [Vec<BorderChunk>; 4],
-    /// This colour's steps, interior runs first, then points near an edge;
+    /// This colour's steps: interior runs first, then edge runs, then chunks;
     /// one vector's worth of spare room for the last run's throwaway lanes.
     steps: [Vec<f64>; 3],
 }
@@ -424,8 +438,9 @@ impl Sweeper {
                     continue;
                 }
                 let colour = i.min(cols - 1 - i) % 2 + 2 * (j.min(rows - 1 - j) % 2);
-                let inside = i >= reach && i + reach < cols && j >= reach && j + reach < rows;
-                if !inside {
+                // Rows near the top and bottom edges make runs too (edge runs, below).
+                let in_row = i >= reach && i + reach < cols;
+                if !in_row {
                     border[colour].push((i, j));
                     continue;
                 }
@@ -441,7 +456,24 @@ impl Sweeper {
                 runs[colour].extend(run);
             }
         }
-        let most = (0..4).map(|c| runs[c].iter().map(|r| r.len).sum::<usize>() + border[c].len()).max().unwrap_or(0);
+        let near_edge = |run: &Run| run.j < reach || run.j + reach >= rows;
+        let edge_runs = runs.each_ref().map(|runs| {
+            let edge = runs.iter().filter(|run| near_edge(run)).map(|&run| EdgeRun {
+                run,
+                present: STEPS.map(|(_, dj)| if run.j.wrapping_add_signed(dj) < rows { 1.0 } else { 0.0 }),
+            });
+            edge.collect::<Vec<_>>()
+        });
+        for runs in &mut runs {
+            runs.retain(|run| !near_edge(run));
+        }
+        let most = (0..4)
+            .map(|c| {
+                let in_runs = runs[c].iter().chain(edge_runs[c].iter().map(|e| &e.run)).map(|r| r.len).sum::<usize>();
+                in_runs + border[c].len()
+            })
+            .max()
+            .unwrap_or(0);
         let split = || [Split::new(cols, rows), Split::new(cols, rows), Split::new(cols, rows)];
         let layout = Split { half: cols.div_ceil(2), len: cols.div_ceil(2) * rows + LANES, data: Vec::new() };
         let border = border.each_ref().map(|points| {
@@ -475,6 +507,7 @@ impl Sweeper {
             position: split(),
             velocity: split(),
             runs,
+            edge_runs,
             border,
             steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
         }
@@ -568,7 +601,7 @@ impl Sweeper {
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
             for colour in 0..4 {
-                for run in &self.runs[colour] {
+                for run in self.runs[colour].iter().chain(self.edge_runs[colour].iter().map(|e| &e.run)) {
                     coast(&mut self.position, &self.velocity, run);
                 }
                 for at in self.border[colour].iter().flat_map(BorderChunk::centres) {
@@ -583,19 +616,22 @@ impl Sweeper {
                 // Every point of a colour moves from the same positions: its neighbours
                 // are of other colours, or mirror images of each other.
                 let mut filled = 0;
-                for run in &self.runs[colour] {
-                    if self.bends {
-                        interior_steps::<true>(&self.position, run, &self.bounds, gravity, &mut self.steps, filled);
-                    } else {
-                        interior_steps::<false>(&self.position, run, &self.bounds, gravity, &mut self.steps, filled);
-                    }
+                for r in 0..self.runs[colour].len() {
+                    let run = self.runs[colour][r];
+                    self.run_steps(&run, &[1.0; NEIGHBOURS], gravity, filled);
                     filled += run.len;
                 }
+                filled = self.edge_run_steps_from(colour, gravity, filled);
                 self.border_steps_from(colour, gravity, filled);
                 let mut done = 0;
                 for run in &self.runs[colour] {
                     let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
                     max_step2 = max_step2.max(step2);
+                    done += run.len;
+                }
+                for EdgeRun { run, .. } in &self.edge_runs[colour] {
+                    let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
+                    max_edge2 = max_edge2.max(step2);
                     done += run.len;
                 }
                 // Points near an edge one by one, straight from their slots.
@@ -649,8 +685,26 @@ impl Sweeper {
     #[inline(always)]
     fn edge_sweep(&mut self) {
         for colour in 0..4 {
-            self.border_steps_from(colour, 0.0, 0);
+            let filled = self.edge_run_steps_from(colour, 0.0, 0);
+            self.border_steps_from(colour, 0.0, filled);
+            let mut done = 0;
+            for EdgeRun { run, .. } in &self.edge_runs[colour] {
+                for axis in 0..3 {
+                    let p = self.position[axis].run_mut(run.i, run.j, run.len);
+                    let d = &self.steps[axis][done..done + run.len];
+                    for t in 0..run.len {
+                        // The same test as below, axis by axis: a point moves on all
+                        // three axes or on none.
+                        let finite = (0..3).all(|a| self.steps[a][done + t].is_finite());
+                        if finite {
+                            p[t] += d[t];
+                        }
+                    }
+                }
+                done += run.len;
+            }
             for (k, at) in self.border[colour].iter().flat_map(BorderChunk::centres).enumerate() {
+                let k = done + k;
                 let step = [self.steps[0][k], self.steps[1][k], self.steps[2][k]];
                 if step.iter().all(|d| d.is_finite()) {
                     for (axis, d) in self.position.iter_mut().zip(step) {
@@ -659,6 +713,30 @@ impl Sweeper {
                 }
             }
         }
+    }
+
+    /// Steps of the points of one run, into `steps` from `first` on; neighbours
+    /// with `present` 0 are read as the points themselves.
+    #[inline(always)]
+    fn run_steps(&mut self, run: &Run, present: &[f64; NEIGHBOURS], gravity: f64, first: usize) {
+        if self.bends {
+            run_steps::<true>(&self.position, run, present, &self.bounds, gravity, &mut self.steps, first);
+        } else {
+            run_steps::<false>(&self.position, run, present, &self.bounds, gravity, &mut self.steps, first);
+        }
+    }
+
+    /// Steps of the edge runs of `colour`, into `steps` from `first` on; returns
+    /// where they end.
+    #[inline(always)]
+    fn edge_run_steps_from(&mut self, colour: usize, gravity: f64, first: usize) -> usize {
+        let mut filled = first;
+        for e in 0..self.edge_runs[colour].len() {
+            let EdgeRun { run, present } = self.edge_runs[colour][e];
+            self.run_steps(&run, &present, gravity, filled);
+            filled += run.len;
+        }
+        filled
     }
 
     /// Steps of the points of `colour` near an edge, into `steps` from `first` on.
@@ -793,12 +871,14 @@ fn coast(position: &mut [Split; 3], velocity: &[Split; 3], run: &Run) {
     }
 }
 
-/// Steps of the points of one interior run, into `steps` from `first` on: one
-/// flat loop over contiguous slices, so that it vectorises across points.
+/// Steps of the points of one run, into `steps` from `first` on: one flat
+/// loop over contiguous slices, so that it vectorises across points.
+/// Neighbours with `present` 0 are read as the points themselves.
 #[inline(always)]
-fn interior_steps<const BENDS: bool>(
+fn run_steps<const BENDS: bool>(
     position: &[Split; 3],
     run: &Run,
+    present: &[f64; NEIGHBOURS],
     bounds: &[Bound; NEIGHBOURS],
     gravity: f64,
     steps: &mut [Vec<f64>; 3],
@@ -809,7 +889,7 @@ fn interior_steps<const BENDS: bool>(
     // Without bending the second neighbours are never read (they may lie past the edge).
     let mut at = [0; NEIGHBOURS];
     for (n, at) in at.iter_mut().enumerate() {
-        let (di, dj) = if n < 8 || BENDS { STEPS[n] } else { (0, 0) };
+        let (di, dj) = if (n < 8 || BENDS) && present[n] != 0.0 { STEPS[n] } else { (0, 0) };
         *at = position[0].slot(run.i.wrapping_add_signed(di), run.j.wrapping_add_signed(dj));
     }
     // Plain loops rather than `array::map`, whose closures were not inlined:
@@ -826,27 +906,27 @@ fn interior_steps<const BENDS: bool>(
     }
     let [sx, sy, sz] = steps;
     let out = first..first + padded;
-    run_kernel::<BENDS>(centre, &around, bounds, gravity, &mut sx[out.clone()], &mut sy[out.clone()], &mut sz[out]);
+    let out = [&mut sx[out.clone()], &mut sy[out.clone()], &mut sz[out]];
+    run_kernel::<BENDS>(centre, &around, present, bounds, gravity, out);
 }
 
-/// The loop of [`interior_steps`], [`LANES`] points at a time; the outputs are
-/// separate `&mut` parameters so the compiler knows they alias no input.
+/// The loop of [`run_steps`], [`LANES`] points at a time; the outputs are
+/// separate `&mut` slices so the compiler knows they alias no input.
 #[inline(always)]
 fn run_kernel<const BENDS: bool>(
     centre: [&[f64]; 3],
     around: &[[&[f64]; NEIGHBOURS]; 3],
+    present: &[f64; NEIGHBOURS],
     bounds: &[Bound; NEIGHBOURS],
     gravity: f64,
-    sx: &mut [f64],
-    sy: &mut [f64],
-    sz: &mut [f64],
+    [sx, sy, sz]: [&mut [f64]; 3],
 ) {
     let mut t = 0;
     while t + LANES <= centre[0].len() {
         let load = |s: &[f64]| -> Lanes { *<&Lanes>::try_from(&s[t..t + LANES]).expect("whole lanes") };
         let q = |n: usize| [load(around[0][n]), load(around[1][n]), load(around[2][n])];
         let p = [load(centre[0]), load(centre[1]), load(centre[2])];
-        let step = point_steps::<BENDS, LANES>(&p, &q, &|_| [1.0; LANES], bounds, gravity);
+        let step = point_steps::<BENDS, LANES>(&p, &q, &|n| [present[n]; LANES], bounds, gravity);
         sx[t..t + LANES].copy_from_slice(&step[0]);
         sy[t..t + LANES].copy_from_slice(&step[1]);
         sz[t..t + LANES].copy_from_slice(&step[2]);
