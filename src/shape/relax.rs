@@ -794,22 +794,29 @@ fn apply(
     max_speed2: f64,
 ) -> f64 {
     let len = run.len;
+    // Whole vectors, the last one partly past the run: its spare lanes are
+    // computed and then written back as they were (the slots exist: every run
+    // reads a vector's worth past its end). A scalar tail had been three in
+    // eight points of a 64² sweep.
+    let padded = len.next_multiple_of(LANES);
     let [sx, sy, sz] = steps;
-    let (sx, sy, sz) = (&sx[first..first + len], &sy[first..first + len], &sz[first..first + len]);
+    let (sx, sy, sz) = (&sx[first..first + padded], &sy[first..first + padded], &sz[first..first + padded]);
     let [px, py, pz] = position;
     let [vx, vy, vz] = velocity;
-    let (px, py, pz) = (px.run_mut(run.i, run.j, len), py.run_mut(run.i, run.j, len), pz.run_mut(run.i, run.j, len));
-    let (vx, vy, vz) = (vx.run_mut(run.i, run.j, len), vy.run_mut(run.i, run.j, len), vz.run_mut(run.i, run.j, len));
-    // Whole vectors of points at a time, with a running maximum per lane, so that the loop
-    // vectorises; the steps are finite and non-negative, so the maximum does
-    // not depend on the order.
+    let (i, j) = (run.i, run.j);
+    let (px, py, pz) = (px.run_mut(i, j, padded), py.run_mut(i, j, padded), pz.run_mut(i, j, padded));
+    let (vx, vy, vz) = (vx.run_mut(i, j, padded), vy.run_mut(i, j, padded), vz.run_mut(i, j, padded));
+    // A running maximum per lane, so that the loop vectorises; the steps are
+    // finite and non-negative, so the maximum does not depend on the order.
     let mut lane_max = [0.0f64; LANES];
     let mut t = 0;
-    while t + LANES <= len {
+    while t < len {
+        let live = len - t;
         // Copied in and out as whole vectors: through per-lane references the
         // loop stayed scalar (perf: a quarter of a sweep at 64²).
         let load = |s: &[f64]| -> Lanes { *<&Lanes>::try_from(&s[t..t + LANES]).expect("whole lanes") };
-        let (mut p, mut v) = ([load(px), load(py), load(pz)], [load(vx), load(vy), load(vz)]);
+        let (old_p, old_v) = ([load(px), load(py), load(pz)], [load(vx), load(vy), load(vz)]);
+        let (mut p, mut v) = (old_p, old_v);
         let d = [load(sx), load(sy), load(sz)];
         for lane in 0..LANES {
             let [p0, p1, p2] = &mut p;
@@ -820,7 +827,14 @@ fn apply(
                 [d[0][lane], d[1][lane], d[2][lane]],
                 max_speed2,
             );
-            lane_max[lane] = if step2 > lane_max[lane] { step2 } else { lane_max[lane] };
+            let counts = lane < live && step2 > lane_max[lane];
+            lane_max[lane] = if counts { step2 } else { lane_max[lane] };
+        }
+        for axis in 0..3 {
+            for lane in 0..LANES {
+                p[axis][lane] = if lane < live { p[axis][lane] } else { old_p[axis][lane] };
+                v[axis][lane] = if lane < live { v[axis][lane] } else { old_v[axis][lane] };
+            }
         }
         for (out, lanes) in [&mut *px, &mut *py, &mut *pz].into_iter().zip(p) {
             out[t..t + LANES].copy_from_slice(&lanes);
@@ -829,16 +843,6 @@ fn apply(
             out[t..t + LANES].copy_from_slice(&lanes);
         }
         t += LANES;
-    }
-    while t < len {
-        let step2 = move_point(
-            [&mut px[t], &mut py[t], &mut pz[t]],
-            [&mut vx[t], &mut vy[t], &mut vz[t]],
-            [sx[t], sy[t], sz[t]],
-            max_speed2,
-        );
-        lane_max[0] = if step2 > lane_max[0] { step2 } else { lane_max[0] };
-        t += 1;
     }
     lane_max.into_iter().fold(0.0, f64::max)
 }
