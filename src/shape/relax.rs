@@ -687,30 +687,21 @@ impl Sweeper {
         for colour in 0..4 {
             let filled = self.edge_run_steps_from(colour, 0.0, 0);
             self.border_steps_from(colour, 0.0, filled);
+            let [px, py, pz] = &mut self.position;
+            let [sx, sy, sz] = &self.steps;
             let mut done = 0;
             for EdgeRun { run, .. } in &self.edge_runs[colour] {
-                for axis in 0..3 {
-                    let p = self.position[axis].run_mut(run.i, run.j, run.len);
-                    let d = &self.steps[axis][done..done + run.len];
-                    for t in 0..run.len {
-                        // The same test as below, axis by axis: a point moves on all
-                        // three axes or on none.
-                        let finite = (0..3).all(|a| self.steps[a][done + t].is_finite());
-                        if finite {
-                            p[t] += d[t];
-                        }
-                    }
+                let (i, j, len) = (run.i, run.j, run.len);
+                let (px, py, pz) = (px.run_mut(i, j, len), py.run_mut(i, j, len), pz.run_mut(i, j, len));
+                for t in 0..len {
+                    let k = done + t;
+                    nudge([&mut px[t], &mut py[t], &mut pz[t]], [sx[k], sy[k], sz[k]]);
                 }
-                done += run.len;
+                done += len;
             }
             for (k, at) in self.border[colour].iter().flat_map(BorderChunk::centres).enumerate() {
                 let k = done + k;
-                let step = [self.steps[0][k], self.steps[1][k], self.steps[2][k]];
-                if step.iter().all(|d| d.is_finite()) {
-                    for (axis, d) in self.position.iter_mut().zip(step) {
-                        axis.data[at] += d;
-                    }
-                }
+                nudge([&mut px.data[at], &mut py.data[at], &mut pz.data[at]], [sx[k], sy[k], sz[k]]);
             }
         }
     }
@@ -845,6 +836,17 @@ fn apply(
         t += LANES;
     }
     lane_max.into_iter().fold(0.0, f64::max)
+}
+
+/// Moves a point by `step` without touching its velocity (the edge sweep);
+/// a non-finite step is skipped.
+#[inline(always)]
+fn nudge(p: [&mut f64; 3], step: [f64; 3]) {
+    if step.iter().all(|d| d.is_finite()) {
+        for (p, d) in p.into_iter().zip(step) {
+            *p += d;
+        }
+    }
 }
 
 /// [`apply`] for one point; returns its squared step (0 if not finite).
