@@ -205,19 +205,13 @@ fn check(path: &Path) -> Result<()> {
         let error = mean_structural_error(&rest.relaxed, cloth.cols(), cloth.rows(), rest.rest_u_m(), rest.rest_v_m());
         let report = rest.relax_report;
         say!(
-            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}; relaxed in {} sweep{} ({}), mean edge error {:.2}%",
+            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}; {}, mean edge error {:.2}%",
             key.frame,
             key.pins.len(),
             if key.pins.len() == 1 { "" } else { "s" },
             key.elasticity,
             key.stiffness,
-            report.iterations,
-            if report.iterations == 1 { "" } else { "s" },
-            if report.converged {
-                "converged".to_string()
-            } else {
-                format!("stopped at the cap, last move {:.1e}", report.last_move)
-            },
+            report.verdict(),
             error * 100.0
         );
         for warning in stretched_pin_warnings(&scene, key) {

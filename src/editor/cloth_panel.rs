@@ -124,8 +124,8 @@ impl DrapeApp {
             ui.end_row();
         });
         if let Some(report) = self.shown_relax_report() {
-            let verdict = if report.converged { "converged" } else { "stopped at the cap" };
-            ui.weak(format!("Relaxed: {} sweeps, {verdict}", report.iterations));
+            let verdict = format!("Rest shape {}", report.verdict());
+            if report.converged { ui.weak(verdict) } else { ui.colored_label(ui.visuals().warn_fg_color, verdict) };
         }
     }
 

@@ -91,7 +91,32 @@ pub struct RelaxReport {
     /// Largest move the constraints asked for in the last sweep, relative to
     /// the smaller rest spacing.
     pub last_move: f64,
+    /// The same in metres.
+    pub last_move_m: f64,
     pub converged: bool,
+}
+
+impl RelaxReport {
+    /// The outcome in a user's words, with what to do when the cap stopped it:
+    /// "settled in 135 sweeps (last sweep moved points at most 0.00012 mm)".
+    pub fn verdict(&self) -> String {
+        let sweeps = format!("{} sweep{}", self.iterations, if self.iterations == 1 { "" } else { "s" });
+        let moved = format_small_mm(self.last_move_m * 1e3);
+        if self.converged {
+            format!("settled in {sweeps} (last sweep moved points at most {moved})")
+        } else {
+            format!("NOT settled: stopped by the cap of {sweeps} with points still moving {moved} a sweep; raise Iterations")
+        }
+    }
+}
+
+/// A small length in millimetres with two significant digits ("0.0012 mm").
+fn format_small_mm(mm: f64) -> String {
+    if !mm.is_finite() {
+        return "an unknown distance".to_string();
+    }
+    let digits = if mm >= 10.0 { 0 } else { (1.0 - mm.max(1e-12).log10().floor()) as usize };
+    format!("{mm:.digits$} mm")
 }
 
 /// Downward pull per settling sweep, relative to the rest spacing.
@@ -650,7 +675,8 @@ impl Sweeper {
                 }
             }
             report.iterations = iteration + 1;
-            report.last_move = max_step2.max(max_edge2).sqrt() / min_rest;
+            report.last_move_m = max_step2.max(max_edge2).sqrt();
+            report.last_move = report.last_move_m / min_rest;
             let progress = RelaxProgress {
                 cols: self.cols,
                 rows: self.rows,
@@ -1095,6 +1121,19 @@ mod tests {
         pinned[(rows / 2) * cols + cols / 3] = true;
         let params = RelaxParams { rest_u_m: 0.1, rest_v_m: 0.1, stiffness: 0.6, max_iterations: 40, tolerance: 0.0 };
         (positions, pinned, params)
+    }
+
+    #[test]
+    fn the_verdict_says_whether_it_settled_and_by_how_much() {
+        let settled = RelaxReport { iterations: 135, last_move: 1e-6, last_move_m: 1.2e-7, converged: true };
+        assert_eq!(settled.verdict(), "settled in 135 sweeps (last sweep moved points at most 0.00012 mm)");
+        let capped = RelaxReport { iterations: 1, last_move: 0.1, last_move_m: 3.71e-5, converged: false };
+        assert_eq!(
+            capped.verdict(),
+            "NOT settled: stopped by the cap of 1 sweep with points still moving 0.037 mm a sweep; raise Iterations"
+        );
+        assert_eq!(format_small_mm(f64::NAN), "an unknown distance");
+        assert_eq!(format_small_mm(25.4), "25 mm");
     }
 
     #[test]
