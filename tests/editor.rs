@@ -724,3 +724,41 @@ fn a_bezier_handle_in_the_timeline_key_menu_changes_the_easing() {
     harness.run_ok();
     assert_eq!(harness.state().scene(), &before, "each drag is one undo step");
 }
+
+#[test]
+fn an_editor_left_alone_autosaves_on_time() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let scene = scene::load(&carpet).unwrap();
+    let (config, state) = (workspace.path("config"), workspace.path("state"));
+    let recovery_file = state.join("recovery.ron");
+    let interval = Duration::from_secs(3);
+    let mut harness = Harness::builder().with_size(SIZE).wgpu().build_eframe(move |cc| {
+        DrapeApp::new(scene, Some(carpet), cc.wgpu_render_state.as_ref())
+            .with_file_dirs(Some(config), Some(state))
+            .with_autosave_interval(interval)
+    });
+    settle(&mut harness);
+
+    // One edit, then no more input.
+    harness.get_by_role_and_label(Role::Slider, "Elasticity").set_value_accesskit(1.3);
+    let edited = std::time::Instant::now();
+    harness.run_ok();
+    settle(&mut harness);
+    assert!(!recovery_file.exists(), "nothing is written before the interval is up");
+    // egui draws only on input or when asked: the app asks to be woken when
+    // autosave is due, and a frame drawn then (with no input) writes the file.
+    let wake_after = |harness: &Harness<'_, DrapeApp>| {
+        harness.output().viewport_output.values().map(|v| v.repaint_delay).min().expect("a viewport")
+    };
+    while !recovery_file.exists() {
+        let wait = wake_after(&harness);
+        assert!(wait <= interval, "asked to be woken after {wait:?}, more than the autosave interval");
+        assert!(edited.elapsed() < interval * 3, "no autosave {:?} after the edit", edited.elapsed());
+        std::thread::sleep(wait);
+        harness.step();
+    }
+    assert!(edited.elapsed() >= interval, "written only once the interval was up");
+    let recovered = scene::load(&recovery_file).expect("the recovery file holds a scene");
+    assert_eq!(recovered.keys[0].elasticity, 1.3, "with the edit");
+}

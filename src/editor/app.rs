@@ -1046,7 +1046,7 @@ impl eframe::App for DrapeApp {
         if self.is_relaxing() {
             ctx.request_repaint_after(Duration::from_millis(50));
         }
-        self.autosave();
+        self.autosave(&ctx);
         self.frames_drawn += 1;
         if self.quit_after_frames.is_some_and(|n| self.frames_drawn >= n) {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);

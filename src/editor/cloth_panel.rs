@@ -125,7 +125,11 @@ impl DrapeApp {
         });
         if let Some(report) = self.shown_relax_report() {
             let verdict = format!("Rest shape {}", report.verdict());
-            if report.converged { ui.weak(verdict) } else { ui.colored_label(ui.visuals().warn_fg_color, verdict) };
+            if report.converged {
+                ui.weak(verdict)
+            } else {
+                ui.colored_label(ui.visuals().warn_fg_color, verdict)
+            };
         }
     }
 

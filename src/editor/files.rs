@@ -374,9 +374,24 @@ impl DrapeApp {
     }
 
     /// Writes the recovery file when the scene has unsaved changes and the clock says so.
-    pub(super) fn autosave(&mut self) {
+    /// Autosaves every `interval` while there are unsaved changes instead of
+    /// every [`DEFAULT_AUTOSAVE_INTERVAL`] (tests).
+    pub fn with_autosave_interval(mut self, interval: std::time::Duration) -> Self {
+        self.files.autosave.interval = interval;
+        self
+    }
+
+    /// Writes the recovery file when it is due, and while the scene has
+    /// unsaved changes asks for a frame when the next one is due: egui draws
+    /// only on input, and an editor left alone must still autosave on time.
+    pub(super) fn autosave(&mut self, ctx: &egui::Context) {
         let dirty = self.doc.is_dirty();
-        if !self.files.autosave.due(Instant::now(), dirty) {
+        let now = Instant::now();
+        let due = self.files.autosave.due(now, dirty);
+        if dirty && self.files.recovery.is_some() {
+            ctx.request_repaint_after(self.files.autosave.time_until_due(now));
+        }
+        if !due {
             return;
         }
         if let Some(recovery) = &self.files.recovery

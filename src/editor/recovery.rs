@@ -168,11 +168,14 @@ impl RecoveredScene {
     }
 }
 
-/// `just now`, `1 minute ago`, `5 hours ago`, `3 days ago`.
+/// `just now`, `40 seconds ago`, `1 minute ago`, `5 hours ago`, `3 days ago`:
+/// seconds too, since autosave runs every 30 s and "just now" would hide
+/// that the file is older than the last edit.
 fn describe_age(age: Duration) -> String {
     let secs = age.as_secs();
     let (count, unit) = match secs {
-        0..60 => return "just now".to_owned(),
+        0..2 => return "just now".to_owned(),
+        2..60 => (secs, "second"),
         60..3_600 => (secs / 60, "minute"),
         3_600..86_400 => (secs / 3_600, "hour"),
         _ => (secs / 86_400, "day"),
@@ -318,7 +321,8 @@ mod tests {
         let saved_at = SystemTime::UNIX_EPOCH + Duration::from_secs(1_000_000);
         let recovered = RecoveredScene { scene: tent(), original: Some("/s/tent.ron".into()), saved_at };
         let after = |secs| saved_at + Duration::from_secs(secs);
-        assert_eq!(recovered.describe(after(5)), "Unsaved changes to tent.ron from just now");
+        assert_eq!(recovered.describe(after(1)), "Unsaved changes to tent.ron from just now");
+        assert_eq!(recovered.describe(after(40)), "Unsaved changes to tent.ron from 40 seconds ago");
         assert_eq!(recovered.describe(after(60)), "Unsaved changes to tent.ron from 1 minute ago");
         assert_eq!(recovered.describe(after(12 * 60 + 30)), "Unsaved changes to tent.ron from 12 minutes ago");
         assert_eq!(recovered.describe(after(2 * 3_600)), "Unsaved changes to tent.ron from 2 hours ago");

@@ -105,7 +105,9 @@ impl RelaxReport {
         if self.converged {
             format!("settled in {sweeps} (last sweep moved points at most {moved})")
         } else {
-            format!("NOT settled: stopped by the cap of {sweeps} with points still moving {moved} a sweep; raise Iterations")
+            format!(
+                "NOT settled: stopped by the cap of {sweeps} with points still moving {moved} a sweep; raise Iterations"
+            )
         }
     }
 }
