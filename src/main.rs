@@ -154,12 +154,22 @@ fn main() -> ExitCode {
     }
 }
 
+/// Opens the editor on `path` (the magic carpet without one). A scene that
+/// cannot be opened is reported in the window — over a new, untitled scene —
+/// as well as on stderr: started from a file manager, nobody reads stderr.
 fn open_editor(path: Option<PathBuf>, quit_after_frames: Option<u64>) -> Result<()> {
-    let scene = match &path {
-        Some(path) => scene::load(path)?,
-        None => scene::parse(drape::editor::DEFAULT_SCENE, "magic_carpet.ron")?,
+    let (scene, path, problem) = match path {
+        Some(path) => match scene::load(&path) {
+            Ok(scene) => (scene, Some(path), None),
+            Err(error) => {
+                eprintln!("error: {error}");
+                (drape::editor::files::new_scene(), None, Some(format!("Could not open the scene:\n{error}")))
+            }
+        },
+        None => (scene::parse(drape::editor::DEFAULT_SCENE, "magic_carpet.ron")?, None, None),
     };
-    drape::editor::run(scene, path, quit_after_frames).map_err(|e| anyhow!("the editor window could not run: {e}"))
+    drape::editor::run(scene, path, quit_after_frames, problem)
+        .map_err(|e| anyhow!("the editor window could not run: {e}"))
 }
 
 /// Mesa's Vulkan driver probes for a Wayland display when the device opens,

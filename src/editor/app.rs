@@ -1074,7 +1074,14 @@ fn soloed(scene: &Scene, solo: Option<usize>) -> std::borrow::Cow<'_, Scene> {
 /// Opens the editor window on `scene` (the built-in magic carpet when `None`);
 /// returns when the window closes. With `quit_after_frames`, it closes itself
 /// after drawing that many frames.
-pub fn run(scene: Scene, path: Option<PathBuf>, quit_after_frames: Option<u64>) -> eframe::Result {
+/// Runs the editor window on `scene`; `problem`, if any, is shown in the
+/// file-error dialog from the first frame (a scene that could not be opened).
+pub fn run(
+    scene: Scene,
+    path: Option<PathBuf>,
+    quit_after_frames: Option<u64>,
+    problem: Option<String>,
+) -> eframe::Result {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default().with_inner_size([1400.0, 860.0]).with_title("Drape"),
         renderer: eframe::Renderer::Wgpu,
@@ -1090,6 +1097,9 @@ pub fn run(scene: Scene, path: Option<PathBuf>, quit_after_frames: Option<u64>) 
             }
             app.remember_opened();
             app.offer_recovery();
+            if let Some(problem) = problem {
+                app.show_file_error(problem);
+            }
             Ok(Box::new(app))
         }),
     )

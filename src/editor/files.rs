@@ -302,7 +302,7 @@ impl DrapeApp {
     }
 
     /// Shows a file problem (load, save, export) until the user dismisses it.
-    pub(super) fn show_file_error(&mut self, message: String) {
+    pub fn show_file_error(&mut self, message: String) {
         self.files.error = Some(message);
     }
 
