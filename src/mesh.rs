@@ -298,8 +298,9 @@ mod tests {
     #[test]
     fn vertex_order_and_uvs() {
         let mesh = Mesh::from_grid(3, 2, &curtain(3, 2));
-        assert_eq!(mesh.positions[1 * 3 + 2], Vec3::new(2.0, -1.0, 0.0));
-        assert_eq!(mesh.uvs[1 * 3 + 2], Vec2::new(1.0, 1.0));
+        let (row, col) = (1, 2);
+        assert_eq!(mesh.positions[row * 3 + col], Vec3::new(2.0, -1.0, 0.0));
+        assert_eq!(mesh.uvs[row * 3 + col], Vec2::new(1.0, 1.0));
         assert_eq!(mesh.uvs[1], Vec2::new(0.5, 0.0));
         assert!(mesh.indices.iter().all(|&i| (i as usize) < 6));
     }
@@ -344,9 +345,9 @@ mod tests {
 
     #[test]
     fn collapsed_grid_gets_finite_normals() {
-        let mesh = Mesh::from_grid(3, 3, &vec![DVec3::ZERO; 9]);
+        let mesh = Mesh::from_grid(3, 3, &[DVec3::ZERO; 9]);
         assert!(mesh.normals.iter().all(|n| *n == Vec3::Y));
-        let nan = Mesh::from_grid(2, 2, &vec![DVec3::NAN; 4]);
+        let nan = Mesh::from_grid(2, 2, &[DVec3::NAN; 4]);
         assert!(nan.normals.iter().all(|n| n.is_finite()));
         let huge = Mesh::from_grid(
             3,

@@ -140,10 +140,10 @@ fn sway_moves_every_vertex_by_equation_2() {
         let ratio = pin_distance_ratio(&s.cloth, &s.keys[0].pins);
         let osc = if frequency > 0.0 { (std::f64::consts::TAU * frequency * t + 0.3).sin() } else { 1.0 };
         let dir = DVec3::new(1.0, 0.5, 2.0).normalize();
-        for k in 0..mesh.positions.len() {
-            let a = f64::from(ratio[k]).powf(falloff);
+        for (k, ((after, before), ratio)) in mesh.positions.iter().zip(&base.positions).zip(&ratio).enumerate() {
+            let a = f64::from(*ratio).powf(falloff);
             let expected = dir * (a * 0.1 * 1.5 * osc);
-            let moved = (mesh.positions[k] - base.positions[k]).as_dvec3();
+            let moved = (*after - *before).as_dvec3();
             assert!((moved - expected).length() < 1e-5, "vertex {k}: moved {moved}, expected {expected}");
         }
     }

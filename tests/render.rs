@@ -56,6 +56,7 @@ fn delta_e(a: [u8; 4], b: [u8; 4]) -> f32 {
 ///   what rasterisers legitimately disagree on (sample positions, the last bit
 ///   of interpolation, MSAA resolve). Moving the cloth by one pixel changes far more.
 /// - The mean ΔE over the picture stays under 1: no global tint or exposure shift.
+///
 /// llvmpipe through GL and through Vulkan (lavapipe) agree to within 1/255 on
 /// every pixel here; the slack is for other Mesa and LLVM versions.
 const DIFFERING_DELTA_E: f32 = 8.0;

@@ -21,7 +21,7 @@ use super::grid_editor::GridEditor;
 use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
 use super::shaper::Shaper;
-use super::viewport::{self, ViewportFrame};
+use super::viewport::{self, OnionGhost, ViewportFrame};
 use super::viewport_input::{AxisLock, PinDrag};
 use crate::animate::{Evaluator, frame_time_secs};
 use crate::mesh::Mesh;
@@ -151,9 +151,9 @@ pub struct DrapeApp {
     /// The shapes last asked of the worker, so a request is made once per change.
     requested: Option<(Cloth, Vec<Key>)>,
     pub(super) mesh: Arc<Mesh>,
-    /// Onion-skin ghosts and what they show: (frame, frames, spacing, shown version).
-    ghosts: Arc<Vec<(Arc<Mesh>, [f32; 3], f32)>>,
-    ghosts_of: Option<(f64, u32, u32, u64, Option<usize>)>,
+    /// Onion-skin ghosts and what they show.
+    ghosts: Arc<Vec<OnionGhost>>,
+    ghosts_of: Option<GhostsOf>,
     /// Counts changes of `shown`.
     shown_version: u64,
     /// What `mesh` shows: (frame, stage, solo layer); `None` when it must be rebuilt.
@@ -560,7 +560,13 @@ impl DrapeApp {
             self.ghosts_of = None;
             return;
         }
-        let wanted = (self.frame, toggles.onion_frames, toggles.onion_spacing, self.shown_version, self.solo_layer);
+        let wanted = GhostsOf {
+            frame: self.frame,
+            frames: toggles.onion_frames,
+            spacing: toggles.onion_spacing,
+            shown_version: self.shown_version,
+            solo: self.solo_layer,
+        };
         if self.ghosts_of == Some(wanted) {
             return;
         }
@@ -575,7 +581,7 @@ impl DrapeApp {
                     continue;
                 }
                 let mesh = self.evaluator.evaluate(&shown, frame_time_secs(&timeline, frame));
-                ghosts.push((Arc::new(mesh), tint, opacity));
+                ghosts.push(OnionGhost { mesh: Arc::new(mesh), tint, opacity });
             }
         }
         self.ghosts = Arc::new(ghosts);
@@ -1059,6 +1065,17 @@ impl eframe::App for DrapeApp {
     fn on_exit(&mut self) {
         self.clean_exit();
     }
+}
+
+/// What the onion-skin ghosts were made for: the playhead, how many frames
+/// how far apart, the shown scene's version and the soloed layer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GhostsOf {
+    frame: f64,
+    frames: u32,
+    spacing: u32,
+    shown_version: u64,
+    solo: Option<usize>,
 }
 
 /// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).

@@ -29,14 +29,23 @@ pub fn install(render_state: &egui_wgpu::RenderState) {
     render_state.renderer.write().callback_resources.insert(resources);
 }
 
+/// An onion-skin ghost the viewport owns: [`Ghost`] with its mesh kept alive.
+#[derive(Clone, Debug)]
+pub struct OnionGhost {
+    pub mesh: Arc<Mesh>,
+    /// Linear RGB.
+    pub tint: [f32; 3],
+    pub opacity: f32,
+}
+
 /// One frame of the viewport.
 pub struct ViewportFrame {
     pub mesh: Arc<Mesh>,
     pub camera: OrbitCamera,
     pub options: RenderOptions,
     pub overlay: Arc<Overlay>,
-    /// Onion-skin ghosts: mesh, linear RGB tint, opacity.
-    pub ghosts: Arc<Vec<(Arc<Mesh>, [f32; 3], f32)>>,
+    /// Onion-skin ghosts.
+    pub ghosts: Arc<Vec<OnionGhost>>,
     /// The viewport's size in physical pixels.
     pub size_px: (u32, u32),
 }
@@ -57,7 +66,7 @@ impl CallbackTrait for ViewportFrame {
             resources.compositor.set_source(device, &resources.target);
         }
         let ghosts: Vec<Ghost> =
-            self.ghosts.iter().map(|(mesh, tint, opacity)| Ghost { mesh, tint: *tint, opacity: *opacity }).collect();
+            self.ghosts.iter().map(|g| Ghost { mesh: &g.mesh, tint: g.tint, opacity: g.opacity }).collect();
         let input = FrameInput {
             mesh: &self.mesh,
             camera: &self.camera,

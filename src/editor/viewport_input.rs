@@ -31,13 +31,16 @@ impl AxisLock {
     }
 }
 
+/// A pin being dragged: its grid point and its position when the drag began.
+pub type MovingPin = ((u32, u32), (f64, f64, f64));
+
 /// A drag of one or more pins, from where they were when it began.
 pub struct PinDrag {
     /// The pin under the mouse and its start position.
     pub grabbed: (u32, u32),
     pub anchor: Vec3,
     /// Every moving pin with its start position.
-    pub pins: Vec<((u32, u32), (f64, f64, f64))>,
+    pub pins: Vec<MovingPin>,
     pub lock: Option<AxisLock>,
     /// Key index the pins belong to.
     pub key: usize,

@@ -26,14 +26,14 @@ pub fn half_size(image: &RgbaImage) -> RgbaImage {
             let mut sum = [0.0f32; 4];
             for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                 let p = image.pixel((2 * x + dx).min(image.width - 1), (2 * y + dy).min(image.height - 1));
-                for c in 0..3 {
-                    sum[c] += srgb_to_linear(p[c]);
+                for (sum, &channel) in sum.iter_mut().zip(&p[..3]) {
+                    *sum += srgb_to_linear(channel);
                 }
                 sum[3] += p[3] as f32 / 255.0;
             }
             let at = ((y * w + x) * 4) as usize;
-            for c in 0..3 {
-                out.pixels[at + c] = linear_to_srgb(sum[c] / 4.0);
+            for (pixel, sum) in out.pixels[at..at + 3].iter_mut().zip(&sum[..3]) {
+                *pixel = linear_to_srgb(sum / 4.0);
             }
             out.pixels[at + 3] = (sum[3] / 4.0 * 255.0).round() as u8;
         }
