@@ -400,6 +400,30 @@ fn a_failed_rename_keeps_the_target_and_removes_the_temporary_file() {
     assert_eq!(entries(dir.path()), ["taken.ron"]);
 }
 
+/// Scene files over 64 MiB are refused with the file's name, without
+/// reading them whole: a sparse file by its size, an endless device as soon
+/// as it passes the limit.
+#[test]
+fn files_too_large_for_a_scene_are_refused_promptly() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let huge = dir.path().join("huge.ron");
+    fs::File::create(&huge).unwrap().set_len(scene::MAX_SCENE_FILE_BYTES + 1).unwrap();
+    let error = scene::load(&huge).unwrap_err();
+    assert!(matches!(error, SceneError::TooLarge { .. }), "{error}");
+    assert_eq!(error.to_string(), format!("{} is too large for a scene file: over 64 MiB", huge.display()));
+    // A file exactly at a limit is read whole; one byte more is refused.
+    let small = dir.path().join("small.ron");
+    fs::write(&small, "0123456789").unwrap();
+    assert_eq!(scene::read_capped(&small, 10).unwrap(), b"0123456789");
+    assert!(matches!(scene::read_capped(&small, 9), Err(SceneError::TooLarge { limit_bytes: 9, .. })));
+    if Path::new("/dev/zero").exists() {
+        let started = std::time::Instant::now();
+        let error = scene::load(Path::new("/dev/zero")).unwrap_err();
+        assert_eq!(error.to_string(), "/dev/zero is too large for a scene file: over 64 MiB");
+        assert!(started.elapsed().as_secs_f64() < 10.0, "took {:?}", started.elapsed());
+    }
+}
+
 // ---- Property tests -------------------------------------------------------
 
 /// Characters that make up RON, to reach deeper into the parser than random Unicode.

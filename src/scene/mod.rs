@@ -1,7 +1,8 @@
 //! The scene document: serde types, RON load/save, validation and errors.
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
-//! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`].
+//! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`]
+//!   (files up to [`MAX_SCENE_FILE_BYTES`]).
 //! - [`to_ron_string`], [`save`]: [`Scene`] → pretty RON; `save` is atomic.
 //! - [`Scene::validate`]: the rules serde cannot express, every limit a named
 //!   constant (e.g. [`MAX_GRID_POINTS`]); each [`Issue`] names its value's path.
@@ -18,7 +19,7 @@ mod validate;
 
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
-pub use io::{load, parse, parse_bytes, save};
+pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
 pub use locate::{TextPosition, locate};
 pub use param::{Param, ParamKey};
 pub use types::*;
