@@ -125,6 +125,11 @@ const MALFORMED: &[(&str, &str)] = &[
          before it starts at frame 100: end must not be before start",
     ),
     (
+        "timeline_too_long.ron",
+        "tests/data/malformed/timeline_too_long.ron:14:42: timeline end 2 147 483 647 is out of range: \
+         it must be within ±100 000 frames",
+    ),
+    (
         "keys_out_of_order.ron",
         "tests/data/malformed/keys_out_of_order.ron:6:17: key at frame 10 comes after \
          the key at frame 20: keys must be in increasing frame order",

@@ -21,6 +21,10 @@ pub const MIN_GRID_SIDE: u32 = 2;
 pub const MAX_GRID_SIDE: u32 = 1024;
 /// Most grid points in total (512 × 512), which keeps relaxation interactive.
 pub const MAX_GRID_POINTS: u64 = 512 * 512;
+/// The timeline's start and end lie within ±this many frames (the editor's
+/// fields stop there too): enough for over an hour at 24 fps, and frame
+/// counts and durations stay far from overflowing.
+pub const MAX_TIMELINE_FRAME: i32 = 100_000;
 /// Highest frame rate, in frames per second.
 pub const MAX_FPS: f64 = 1000.0;
 /// Largest absolute pin coordinate along any axis, in metres.
@@ -83,6 +87,12 @@ pub(crate) fn group_thousands(n: u64) -> String {
         out.push(c);
     }
     out
+}
+
+/// `-2147483647` → `-2 147 483 647`.
+fn group_thousands_signed(n: i64) -> String {
+    let sign = if n < 0 { "-" } else { "" };
+    format!("{sign}{}", group_thousands(n.unsigned_abs()))
 }
 
 fn fmt_vec3(v: (f64, f64, f64)) -> String {
@@ -200,7 +210,22 @@ impl Checker {
                 format!("fps {} is out of range: it must be greater than 0 and at most {MAX_FPS}", timeline.fps),
             );
         }
-        if timeline.start > timeline.end {
+        let mut within = true;
+        for (path, what, frame) in [("timeline.start", "start", timeline.start), ("timeline.end", "end", timeline.end)]
+        {
+            if !(-MAX_TIMELINE_FRAME..=MAX_TIMELINE_FRAME).contains(&frame) {
+                within = false;
+                self.push(
+                    path,
+                    format!(
+                        "timeline {what} {} is out of range: it must be within ±{} frames",
+                        group_thousands_signed(frame.into()),
+                        group_thousands(MAX_TIMELINE_FRAME as u64)
+                    ),
+                );
+            }
+        }
+        if within && timeline.start > timeline.end {
             self.push(
                 "timeline.end",
                 format!(
