@@ -8,6 +8,7 @@
 use std::collections::HashSet;
 use std::fmt;
 
+use super::display::readable_number;
 use super::param::Param;
 use super::types::{Ease, FollowThrough, Key, Layer, Noise, Pin, Scene, Sway, View, Wave, WaveAxis};
 
@@ -96,7 +97,7 @@ fn group_thousands_signed(n: i64) -> String {
 }
 
 fn fmt_vec3(v: (f64, f64, f64)) -> String {
-    format!("({}, {}, {})", v.0, v.1, v.2)
+    format!("({}, {}, {})", readable_number(v.0), readable_number(v.1), readable_number(v.2))
 }
 
 #[derive(Default)]
@@ -112,7 +113,7 @@ impl Checker {
     /// Reports a non-finite number; returns whether it was finite.
     fn finite(&mut self, path: &str, what: &str, v: f64) -> bool {
         if !v.is_finite() {
-            self.push(path, format!("{what} must be a finite number, not {v}"));
+            self.push(path, format!("{what} must be a finite number, not {}", readable_number(v)));
         }
         v.is_finite()
     }
@@ -153,7 +154,10 @@ impl Checker {
             if self.finite(path, what, v) && !(min..=max).contains(&v) {
                 self.push(
                     path,
-                    format!("{what} {v}{unit} is out of range: it must be between {min}{unit} and {max}{unit}"),
+                    format!(
+                        "{what} {}{unit} is out of range: it must be between {min}{unit} and {max}{unit}",
+                        readable_number(v)
+                    ),
                 );
             }
         }
@@ -167,9 +171,12 @@ impl Checker {
                 continue;
             }
             if v <= 0.0 {
-                self.push(path, format!("{what} must be greater than 0 m (it is {v} m)"));
+                self.push(path, format!("{what} must be greater than 0 m (it is {} m)", readable_number(v)));
             } else if v > MAX_CLOTH_SIZE_M {
-                self.push(path, format!("{what} {v} m is larger than the limit of {MAX_CLOTH_SIZE_M} m"));
+                self.push(
+                    path,
+                    format!("{what} {} m is larger than the limit of {MAX_CLOTH_SIZE_M} m", readable_number(v)),
+                );
             }
         }
 
@@ -207,7 +214,10 @@ impl Checker {
         if self.finite("timeline.fps", "fps", timeline.fps) && !(timeline.fps > 0.0 && timeline.fps <= MAX_FPS) {
             self.push(
                 "timeline.fps",
-                format!("fps {} is out of range: it must be greater than 0 and at most {MAX_FPS}", timeline.fps),
+                format!(
+                    "fps {} is out of range: it must be greater than 0 and at most {MAX_FPS}",
+                    readable_number(timeline.fps)
+                ),
             );
         }
         let mut within = true;
@@ -284,7 +294,7 @@ impl Checker {
                 e_path,
                 format!(
                     "elasticity {} in {at} is out of range: it must be between {MIN_ELASTICITY} (the fabric's own length) and {MAX_ELASTICITY}",
-                    key.elasticity
+                    readable_number(key.elasticity)
                 ),
             );
         }
@@ -296,7 +306,7 @@ impl Checker {
                 s_path,
                 format!(
                     "stiffness {} in {at} is out of range: it must be between {MIN_STIFFNESS} (limp) and {MAX_STIFFNESS} (stiff)",
-                    key.stiffness
+                    readable_number(key.stiffness)
                 ),
             );
         }
@@ -318,7 +328,8 @@ impl Checker {
             self.push(
                 t_path,
                 format!(
-                    "relax tolerance {tolerance} in {at} is out of range: it must be greater than 0 and at most {MAX_RELAX_TOLERANCE}"
+                    "relax tolerance {} in {at} is out of range: it must be greater than 0 and at most {MAX_RELAX_TOLERANCE}",
+                    readable_number(tolerance)
                 ),
             );
         }
@@ -371,11 +382,17 @@ impl Checker {
         for (index, (name, v)) in [("x1", x1), ("y1", y1), ("x2", x2), ("y2", y2)].into_iter().enumerate() {
             let element = format!("{path}[{index}]");
             if !v.is_finite() {
-                self.push(element, format!("{what}: Bezier {name} must be a finite number, not {v}"));
+                self.push(
+                    element,
+                    format!("{what}: Bezier {name} must be a finite number, not {}", readable_number(v)),
+                );
             } else if (name == "x1" || name == "x2") && !(0.0..=1.0).contains(&v) {
                 self.push(
                     element,
-                    format!("{what}: Bezier {name} = {v} is out of range: x1 and x2 must be between 0 and 1"),
+                    format!(
+                        "{what}: Bezier {name} = {} is out of range: x1 and x2 must be between 0 and 1",
+                        readable_number(v)
+                    ),
                 );
             }
         }
@@ -404,11 +421,11 @@ impl Checker {
                 }
                 Range::Any => None,
                 Range::Within(lo, hi, why) if !(lo..=hi).contains(&v) => {
-                    Some(format!("{what} is {v}: it must be between {lo} and {hi}{why}"))
+                    Some(format!("{what} is {}: it must be between {lo} and {hi}{why}", readable_number(v)))
                 }
                 Range::Within(..) => None,
                 Range::Positive(hi) if !(v > 0.0 && v <= hi) => {
-                    let shown = if v.abs() > hi { format!("{v:e}") } else { format!("{v}") };
+                    let shown = if v.abs() > hi { format!("{v:e}") } else { readable_number(v) };
                     Some(format!("{what} is {shown}: it must be greater than 0 and at most {hi:e}"))
                 }
                 Range::Positive(_) => None,
