@@ -122,6 +122,10 @@ fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
 
 fn main() -> ExitCode {
     quiet_wayland_probe();
+    // Temporary files and staging directories go with the process on Ctrl+C or SIGTERM.
+    if let Err(error) = drape::atomic_file::remove_temporaries_on_signals() {
+        eprintln!("warning: cannot handle Ctrl+C, temporary files may be left behind on interrupt: {error}");
+    }
     let cli = Cli::parse();
     let Some(command) = cli.command else {
         return match open_editor(cli.scene, cli.quit_after_frames) {

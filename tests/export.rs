@@ -788,7 +788,7 @@ fn frames_outside_the_timeline_are_refused_with_both_ranges() {
     let error = export_animation(&scene, 100..=130, &output, AnimationFormat::Pc2, &mut |_, _| true).unwrap_err();
     assert_eq!(
         error.to_string(),
-        "frames 100..130 reach outside the scene's timeline 0..120: export frames within it (or lengthen the timeline)"
+        "frames 100..130 reach outside the scene's timeline 0..120: choose frames within it (or lengthen the timeline)"
     );
     let error = export_animation(&scene, 121..=121, &output, AnimationFormat::Mdd, &mut |_, _| true).unwrap_err();
     assert!(error.to_string().starts_with("frame 121 is outside the scene's timeline 0..120"), "{error}");

@@ -405,6 +405,23 @@ fn a_failed_rename_keeps_the_target_and_removes_the_temporary_file() {
     assert_eq!(entries(dir.path()), ["taken.ron"]);
 }
 
+/// Saving through a symlink replaces the file it points to; the link stays.
+#[cfg(unix)]
+#[test]
+fn saving_through_a_symlink_keeps_the_link_and_replaces_its_target() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    fs::create_dir(dir.path().join("shots")).unwrap();
+    let target = dir.path().join("shots/curtain.ron");
+    fs::write(&target, "old").unwrap();
+    let link = dir.path().join("curtain.ron");
+    std::os::unix::fs::symlink("shots/curtain.ron", &link).unwrap();
+    scene::save(&reference(), &link).unwrap_or_else(|e| panic!("{e}"));
+    assert!(fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+    assert_eq!(scene::load(&target).unwrap_or_else(|e| panic!("{e}")), reference());
+    assert_eq!(entries(dir.path()), ["curtain.ron", "shots"]);
+    assert_eq!(entries(&dir.path().join("shots")), ["curtain.ron"]);
+}
+
 /// Scene files over 64 MiB are refused with the file's name, without
 /// reading them whole: a sparse file by its size, an endless device as soon
 /// as it passes the limit.

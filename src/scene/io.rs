@@ -79,7 +79,8 @@ pub fn read_capped(path: &Path, limit_bytes: u64) -> Result<Vec<u8>, SceneError>
 /// `path` (on Unix the directory is then synced, best effort). On any failure
 /// the previous file at `path` is left as it was and the temporary file is
 /// removed. An existing file's permissions carry over. A symlink at `path` is
-/// replaced by a regular file.
+/// followed: the file it points to is replaced and the link stays (see
+/// [`write_atomically`]).
 pub fn save(scene: &Scene, path: &Path) -> Result<(), SceneError> {
     let text = to_ron_string(scene);
     write_atomically(path, |w| w.write_all(text.as_bytes()))
