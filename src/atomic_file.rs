@@ -1,65 +1,344 @@
-//! Atomic file writes: readers see the finished new file or the old one, never
-//! a partial one. Used by scene saves and every exporter.
+//! Safe file writes: readers see the finished new file or the old one, never
+//! a partial one, and nothing Drape leaves behind outlives it. Used by scene
+//! saves, every exporter and the renderer.
+//!
+//! - [`write_atomically`] writes one file through a temporary file beside it
+//!   that is renamed over the target when complete. A symlink is followed and
+//!   its target replaced (the link stays a link); a device or FIFO is written
+//!   straight into, never replaced.
+//! - [`StagedFiles`] writes a set of files (a frame sequence) into a hidden
+//!   staging directory and moves them into place together.
+//! - Temporary files and staging directories are registered while they exist:
+//!   [`remove_temporaries_on_signals`] removes them on SIGINT, SIGTERM or
+//!   SIGHUP before the process exits, and the first write into a directory
+//!   removes those a Drape process that is no longer running left there
+//!   (killed with SIGKILL, or a crash).
+//!
+//! Temporary names: `.NAME.drape-PID-N.tmp` for files and
+//! `.NAME.drape-PID-N.staging` for directories, PID being the writing
+//! process and N a counter.
 
+use std::collections::HashSet;
 use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
-/// Streams `write` into a temporary file beside `path`, fsyncs it and renames
-/// it over `path` (keeping an existing file's permissions). On any error the
-/// temporary file is removed and an existing `path` is left untouched.
+/// Most symlinks followed from an output path to the file it names (Linux's own limit).
+const MAX_SYMLINK_HOPS: usize = 40;
+
+/// Streams `write` into `path` so that a reader never sees a partial file.
+///
+/// - A regular file, or no file yet: `write` goes into a temporary file beside
+///   it, which is fsynced and renamed over `path`, keeping an existing file's
+///   permissions. On any error (or a panic in `write`) the temporary file is
+///   removed and an existing `path` is left untouched.
+/// - A symlink: followed (through any number of links, up to 40) and the file
+///   it points to is replaced as above; the link stays as it was. A dangling
+///   link gets its target created.
+/// - A character or block device or a FIFO (`/dev/null`, a named pipe): `write`
+///   streams straight into it; it is never replaced. Opening a FIFO waits
+///   for a reader, as any program writing to it would.
+/// - A directory or a socket: an error, and nothing is written.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
+    let target = match destination(path)? {
+        Destination::Special => return stream_into(path, write),
+        Destination::File(target) => target,
     };
-    let Some(file_name) = path.file_name() else {
+    let dir = parent_dir(&target);
+    let Some(file_name) = target.file_name() else {
         return Err(io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"));
     };
-    let (temp_path, file) = create_temp_file(dir, &file_name.to_string_lossy())?;
-    let written = fill_and_rename(file, &temp_path, path, write);
-    if written.is_err() {
-        let _ = fs::remove_file(&temp_path);
-    }
-    written?;
-    sync_dir(dir);
-    Ok(())
-}
-
-fn fill_and_rename(
-    file: File,
-    temp_path: &Path,
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> io::Result<()> {
+    let (temp, file) = Temporary::create_file(dir, &file_name.to_string_lossy())?;
     let mut writer = BufWriter::new(file);
     write(&mut writer)?;
     let file = writer.into_inner().map_err(|e| e.into_error())?;
-    if let Ok(existing) = fs::metadata(path) {
+    if let Ok(existing) = fs::metadata(&target) {
         file.set_permissions(existing.permissions())?;
     }
     file.sync_all()?;
     drop(file);
-    fs::rename(temp_path, path)
+    temp.rename_to(&target)?;
+    sync_dir(dir);
+    Ok(())
 }
 
-/// Creates `.NAME.PID-N.tmp` in `dir`, never reusing an existing file.
-fn create_temp_file(dir: &Path, name: &str) -> io::Result<(PathBuf, File)> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let mut attempts = 0;
-    loop {
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let temp_path = dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()));
-        match File::options().write(true).create_new(true).open(&temp_path) {
-            Ok(file) => return Ok((temp_path, file)),
-            Err(error) if error.kind() == io::ErrorKind::AlreadyExists && attempts < 100 => attempts += 1,
-            Err(error) => return Err(error),
+/// What an output path leads to.
+enum Destination {
+    /// A device or a FIFO: written into, never replaced.
+    Special,
+    /// The regular file to replace (or create): the path itself, or where its symlinks lead.
+    File(PathBuf),
+}
+
+fn destination(path: &Path) -> io::Result<Destination> {
+    match fs::metadata(path) {
+        Ok(meta) if meta.is_file() => Ok(Destination::File(follow_symlinks(path)?)),
+        Ok(meta) if meta.is_dir() => Err(io::Error::new(io::ErrorKind::IsADirectory, "Is a directory")),
+        Ok(meta) => {
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::FileTypeExt as _;
+                if meta.file_type().is_socket() {
+                    return Err(io::Error::new(
+                        io::ErrorKind::InvalidInput,
+                        "it is a socket: Drape writes to files, devices and FIFOs only",
+                    ));
+                }
+            }
+            let _ = meta;
+            Ok(Destination::Special)
+        }
+        // No file, or a symlink whose target does not exist yet.
+        Err(error) if error.kind() == io::ErrorKind::NotFound => Ok(Destination::File(follow_symlinks(path)?)),
+        Err(error) => Err(error),
+    }
+}
+
+/// Where `path` leads through its symlinks (the last component's; the
+/// directories on the way resolve by themselves). `path` itself when it is
+/// not a symlink.
+fn follow_symlinks(path: &Path) -> io::Result<PathBuf> {
+    let mut current = path.to_path_buf();
+    for _ in 0..MAX_SYMLINK_HOPS {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let target = fs::read_link(&current)?;
+                current = if target.is_absolute() { target } else { parent_dir(&current).join(target) };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(io::Error::new(io::ErrorKind::InvalidInput, "too many levels of symbolic links"))
+}
+
+/// Writes into a device or FIFO as it is: no temporary file, no rename, no sync.
+fn stream_into(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
+    let file = File::options().write(true).open(path)?;
+    let mut writer = BufWriter::new(file);
+    write(&mut writer)?;
+    writer.flush()
+}
+
+/// The directory `path` is in (`.` for a bare file name).
+fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    }
+}
+
+/// Files written into a hidden staging directory inside the target directory
+/// and moved into place together by [`StagedFiles::commit`]: until then the
+/// target directory holds its old files only. Dropping it uncommitted (an
+/// error, a cancel) removes the staging directory and everything in it; so
+/// does SIGINT/SIGTERM once [`remove_temporaries_on_signals`] is installed,
+/// and a signal during the commit waits for the commit to finish.
+pub struct StagedFiles {
+    target_dir: PathBuf,
+    staging: Temporary,
+    names: Vec<String>,
+}
+
+impl StagedFiles {
+    /// Creates the staging directory `.NAME.drape-PID-N.staging` in
+    /// `target_dir`, which must exist.
+    pub fn new(target_dir: &Path, name: &str) -> io::Result<StagedFiles> {
+        let staging = Temporary::create_dir(target_dir, name)?;
+        Ok(StagedFiles { target_dir: target_dir.to_path_buf(), staging, names: Vec::new() })
+    }
+
+    /// The staging directory (hidden, inside the target directory).
+    pub fn staging_dir(&self) -> &Path {
+        &self.staging.path
+    }
+
+    /// Writes the file `file_name` into the staging directory (fsynced).
+    pub fn write(&mut self, file_name: &str, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
+        let file = {
+            // Created under the lock, so that a signal's clean-up, once it
+            // holds the lock, empties the staging directory for good.
+            let _registry = registry();
+            File::options().write(true).create_new(true).open(self.staging.path.join(file_name))?
+        };
+        self.names.push(file_name.to_owned());
+        let mut writer = BufWriter::new(file);
+        write(&mut writer)?;
+        writer.into_inner().map_err(|e| e.into_error())?.sync_all()
+    }
+
+    /// Moves every written file into the target directory (replacing files
+    /// of the same names) and removes the staging directory. Returns the
+    /// final paths in the order the files were written. A signal arriving
+    /// meanwhile is handled once every file is in place.
+    pub fn commit(self) -> io::Result<Vec<PathBuf>> {
+        let hold_signals = registry();
+        let mut moved = Vec::with_capacity(self.names.len());
+        let mut renamed = Ok(());
+        for name in &self.names {
+            let target = self.target_dir.join(name);
+            renamed = fs::rename(self.staging.path.join(name), &target);
+            if renamed.is_err() {
+                break;
+            }
+            moved.push(target);
+        }
+        drop(hold_signals);
+        sync_dir(&self.target_dir);
+        // Removes the staging directory, emptied unless a rename failed.
+        drop(self);
+        renamed.map(|()| moved)
+    }
+}
+
+// ------------------------------------------------------------ temporaries
+
+/// Temporary files and staging directories that exist now, to be removed if
+/// a signal ends the process. Holding the lock defers that removal.
+static REGISTRY: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Directories already swept of dead processes' temporaries by this process.
+static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
+
+fn registry() -> MutexGuard<'static, Vec<PathBuf>> {
+    REGISTRY.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A temporary file or staging directory that is removed when dropped,
+/// unless renamed into place first.
+struct Temporary {
+    path: PathBuf,
+    is_dir: bool,
+    renamed: bool,
+}
+
+impl Temporary {
+    /// Creates `.NAME.drape-PID-N.tmp` in `dir`, never reusing an existing file.
+    fn create_file(dir: &Path, name: &str) -> io::Result<(Temporary, File)> {
+        let mut file = None;
+        let temp = Temporary::create(dir, name, "tmp", false, |path| {
+            file = Some(File::options().write(true).create_new(true).open(path)?);
+            Ok(())
+        })?;
+        Ok((temp, file.expect("created with the temporary")))
+    }
+
+    /// Creates the directory `.NAME.drape-PID-N.staging` in `dir`.
+    fn create_dir(dir: &Path, name: &str) -> io::Result<Temporary> {
+        Temporary::create(dir, name, "staging", true, |path| fs::create_dir(path))
+    }
+
+    fn create(
+        dir: &Path,
+        name: &str,
+        suffix: &str,
+        is_dir: bool,
+        mut make: impl FnMut(&Path) -> io::Result<()>,
+    ) -> io::Result<Temporary> {
+        static COUNTER: AtomicU64 = AtomicU64::new(0);
+        remove_stale_temporaries(dir);
+        let pid = std::process::id();
+        let mut attempts = 0;
+        loop {
+            let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+            let path = dir.join(format!(".{name}.drape-{pid}-{n}.{suffix}"));
+            // Created and registered under the lock, so a signal's clean-up
+            // sees every temporary that exists.
+            let mut registry = registry();
+            match make(&path) {
+                Ok(()) => {
+                    registry.push(path.clone());
+                    return Ok(Temporary { path, is_dir, renamed: false });
+                }
+                Err(error) if error.kind() == io::ErrorKind::AlreadyExists && attempts < 100 => attempts += 1,
+                Err(error) => return Err(error),
+            }
+        }
+    }
+
+    /// Renames the temporary file over `target`.
+    fn rename_to(mut self, target: &Path) -> io::Result<()> {
+        let mut registry = registry();
+        fs::rename(&self.path, target)?;
+        self.renamed = true;
+        registry.retain(|p| *p != self.path);
+        Ok(())
+    }
+}
+
+impl Drop for Temporary {
+    fn drop(&mut self) {
+        if self.renamed {
+            return;
+        }
+        let mut registry = registry();
+        remove_path(&self.path, self.is_dir);
+        registry.retain(|p| *p != self.path);
+    }
+}
+
+fn remove_path(path: &Path, is_dir: bool) {
+    let _ = if is_dir { fs::remove_dir_all(path) } else { fs::remove_file(path) };
+}
+
+/// The writing process's id in a temporary's name, and whether it names a
+/// directory: `.NAME.drape-PID-N.tmp` (a file) or `.NAME.drape-PID-N.staging`.
+fn temporary_owner(file_name: &str) -> Option<(u32, bool)> {
+    let (rest, is_dir) = match file_name.strip_suffix(".tmp") {
+        Some(rest) => (rest, false),
+        None => (file_name.strip_suffix(".staging")?, true),
+    };
+    if !rest.starts_with('.') {
+        return None;
+    }
+    let (_, ids) = rest.rsplit_once(".drape-")?;
+    let (pid, n) = ids.split_once('-')?;
+    n.parse::<u64>().ok()?;
+    Some((pid.parse().ok()?, is_dir))
+}
+
+/// Removes from `dir` the temporaries of Drape processes that no longer run.
+/// Once per directory per process, best effort (unreadable directories and
+/// files that cannot be removed are left).
+fn remove_stale_temporaries(dir: &Path) {
+    {
+        let mut swept = SWEPT.lock().unwrap_or_else(PoisonError::into_inner);
+        if !swept.get_or_insert_with(HashSet::new).insert(dir.to_path_buf()) {
+            return;
+        }
+    }
+    let Ok(entries) = fs::read_dir(dir) else { return };
+    let own_pid = std::process::id();
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some((pid, is_dir)) = name.to_str().and_then(temporary_owner) else { continue };
+        let Ok(file_type) = entry.file_type() else { continue };
+        if pid != own_pid && file_type.is_dir() == is_dir && !file_type.is_symlink() && !process_is_running(pid) {
+            remove_path(&entry.path(), is_dir);
         }
     }
 }
 
-/// Makes the rename durable. Best effort: some file systems cannot sync a
+/// Whether a process with this id exists (on other systems than Unix: assumed so).
+fn process_is_running(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        let Ok(pid) = libc::pid_t::try_from(pid) else { return true };
+        if pid <= 0 {
+            return true;
+        }
+        // SAFETY: signal 0 only checks that the process exists and may be signalled.
+        let alive = unsafe { libc::kill(pid, 0) } == 0;
+        alive || io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
+}
+
+/// Makes a rename durable. Best effort: some file systems cannot sync a
 /// directory, and the new file is already in place by now.
 fn sync_dir(dir: &Path) {
     #[cfg(unix)]
@@ -68,6 +347,102 @@ fn sync_dir(dir: &Path) {
     }
     #[cfg(not(unix))]
     let _ = dir;
+}
+
+// ---------------------------------------------------------------- signals
+
+/// On SIGINT, SIGTERM and SIGHUP: removes every temporary file and staging
+/// directory that exists (waiting for a [`StagedFiles::commit`] under way to
+/// finish), then ends the process with status 128 + the signal's number (130
+/// for Ctrl+C, 143 for SIGTERM). A signal that was ignored when this is
+/// called (`nohup`) stays ignored. Call once, early; later calls do nothing.
+/// Does nothing on systems other than Unix.
+pub fn remove_temporaries_on_signals() -> io::Result<()> {
+    #[cfg(unix)]
+    return signals::install();
+    #[cfg(not(unix))]
+    Ok(())
+}
+
+#[cfg(unix)]
+mod signals {
+    use std::io;
+    use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+
+    /// The pipe's write end, for the signal handler.
+    static WAKE_FD: AtomicI32 = AtomicI32::new(-1);
+    static INSTALLED: AtomicBool = AtomicBool::new(false);
+
+    /// Only writes the signal's number into the pipe (async-signal-safe);
+    /// the clean-up runs on an ordinary thread.
+    extern "C" fn on_signal(signal: libc::c_int) {
+        let byte = signal as u8;
+        // SAFETY: write(2) is async-signal-safe; the fd stays open for the process's life.
+        unsafe { libc::write(WAKE_FD.load(Ordering::Relaxed), (&raw const byte).cast(), 1) };
+    }
+
+    pub(super) fn install() -> io::Result<()> {
+        if INSTALLED.swap(true, Ordering::SeqCst) {
+            return Ok(());
+        }
+        let mut fds = [0 as libc::c_int; 2];
+        // SAFETY: `fds` has room for the two descriptors.
+        if unsafe { libc::pipe(fds.as_mut_ptr()) } != 0 {
+            return Err(io::Error::last_os_error());
+        }
+        let [read_fd, write_fd] = fds;
+        // SAFETY: fcntl on descriptors just created; a full pipe must not block the handler.
+        unsafe {
+            libc::fcntl(read_fd, libc::F_SETFD, libc::FD_CLOEXEC);
+            libc::fcntl(write_fd, libc::F_SETFD, libc::FD_CLOEXEC);
+            libc::fcntl(write_fd, libc::F_SETFL, libc::fcntl(write_fd, libc::F_GETFL) | libc::O_NONBLOCK);
+        }
+        WAKE_FD.store(write_fd, Ordering::Relaxed);
+        std::thread::Builder::new().name("drape-signals".into()).spawn(move || wait_and_clean_up(read_fd))?;
+        for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+            // SAFETY: plain sigaction calls with zeroed, then filled, structures.
+            unsafe {
+                let mut current: libc::sigaction = std::mem::zeroed();
+                if libc::sigaction(signal, std::ptr::null(), &mut current) != 0 {
+                    return Err(io::Error::last_os_error());
+                }
+                if current.sa_sigaction == libc::SIG_IGN {
+                    continue;
+                }
+                let mut action: libc::sigaction = std::mem::zeroed();
+                action.sa_sigaction = on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
+                action.sa_flags = libc::SA_RESTART;
+                libc::sigemptyset(&mut action.sa_mask);
+                if libc::sigaction(signal, &action, std::ptr::null_mut()) != 0 {
+                    return Err(io::Error::last_os_error());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn wait_and_clean_up(read_fd: libc::c_int) {
+        let mut byte = 0u8;
+        loop {
+            // SAFETY: reads one byte into `byte`.
+            let read = unsafe { libc::read(read_fd, (&raw mut byte).cast(), 1) };
+            if read == 1 {
+                break;
+            }
+            if read < 0 && io::Error::last_os_error().kind() == io::ErrorKind::Interrupted {
+                continue;
+            }
+            return;
+        }
+        // Held until the process ends: nothing new is created meanwhile.
+        let registry = super::registry();
+        for path in registry.iter() {
+            let _ = std::fs::remove_file(path).or_else(|_| std::fs::remove_dir_all(path));
+        }
+        // SAFETY: _exit ends the process at once, without running other threads' code
+        // (a render in progress, atexit handlers) that could hang.
+        unsafe { libc::_exit(128 + libc::c_int::from(byte)) }
+    }
 }
 
 /// The OS's description of an I/O error without the `(os error N)` suffix,
@@ -84,6 +459,13 @@ pub fn io_reason(error: &io::Error) -> String {
 mod tests {
     use super::*;
 
+    fn names_in(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> =
+            fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        names
+    }
+
     #[test]
     fn failed_write_keeps_old_file_and_removes_temp() {
         let dir = tempfile::tempdir().unwrap();
@@ -95,9 +477,10 @@ mod tests {
         });
         assert_eq!(err.unwrap_err().to_string(), "disk full");
         assert_eq!(fs::read_to_string(&path).unwrap(), "old");
-        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1, "temp file removed");
+        assert_eq!(names_in(dir.path()), ["out.txt"], "temp file removed");
         write_atomically(&path, |w| w.write_all(b"new")).unwrap();
         assert_eq!(fs::read_to_string(&path).unwrap(), "new");
+        assert!(!registry().iter().any(|p| p.starts_with(dir.path())), "nothing left registered");
     }
 
     #[test]
@@ -105,5 +488,90 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("no/such/dir/out.txt");
         assert_eq!(write_atomically(&path, |w| w.write_all(b"x")).unwrap_err().kind(), io::ErrorKind::NotFound);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn symlinks_are_followed_and_stay_links() {
+        let dir = tempfile::tempdir().unwrap();
+        fs::create_dir(dir.path().join("real")).unwrap();
+        let target = dir.path().join("real/scene.ron");
+        fs::write(&target, "old").unwrap();
+        // A relative link to a relative link.
+        std::os::unix::fs::symlink("real/scene.ron", dir.path().join("inner")).unwrap();
+        std::os::unix::fs::symlink("inner", dir.path().join("outer")).unwrap();
+        write_atomically(&dir.path().join("outer"), |w| w.write_all(b"new")).unwrap();
+        assert_eq!(fs::read_to_string(&target).unwrap(), "new");
+        for link in ["inner", "outer"] {
+            assert!(fs::symlink_metadata(dir.path().join(link)).unwrap().file_type().is_symlink(), "{link}");
+        }
+        assert_eq!(names_in(&dir.path().join("real")), ["scene.ron"]);
+        // A dangling link gets its target.
+        std::os::unix::fs::symlink("real/new.ron", dir.path().join("dangling")).unwrap();
+        write_atomically(&dir.path().join("dangling"), |w| w.write_all(b"made")).unwrap();
+        assert_eq!(fs::read_to_string(dir.path().join("real/new.ron")).unwrap(), "made");
+        // A loop is an error.
+        std::os::unix::fs::symlink("loop_b", dir.path().join("loop_a")).unwrap();
+        std::os::unix::fs::symlink("loop_a", dir.path().join("loop_b")).unwrap();
+        assert!(write_atomically(&dir.path().join("loop_a"), |w| w.write_all(b"x")).is_err());
+    }
+
+    #[test]
+    fn temporary_names_are_recognised() {
+        assert_eq!(temporary_owner(".carpet.usda.drape-4242-7.tmp"), Some((4242, false)));
+        assert_eq!(temporary_owner(".magic_carpet.drape-17-0.staging"), Some((17, true)));
+        assert_eq!(temporary_owner(".a.b.drape-1-2.drape-3-4.tmp"), Some((3, false)));
+        for other in ["carpet.usda.drape-1-2.tmp", ".x.1-2.tmp", ".x.drape-1.tmp", ".x.drape-a-2.tmp", ".x.drape-1-2"] {
+            assert_eq!(temporary_owner(other), None, "{other}");
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn temporaries_of_dead_processes_are_removed_on_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        // A process that has ended: its id is free (until reused, which a
+        // fresh id this soon after is not).
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let live = std::process::id();
+        let parent = std::os::unix::process::parent_id();
+        fs::write(dir.path().join(format!(".out.txt.drape-{dead}-0.tmp")), "stale").unwrap();
+        fs::create_dir(dir.path().join(format!(".seq.drape-{dead}-3.staging"))).unwrap();
+        fs::write(dir.path().join(format!(".seq.drape-{dead}-3.staging/seq_0001.obj")), "stale").unwrap();
+        fs::write(dir.path().join(format!(".other.drape-{parent}-0.tmp")), "in use").unwrap();
+        fs::write(dir.path().join(format!(".own.drape-{live}-99999.tmp")), "ours").unwrap();
+        fs::write(dir.path().join(format!(".not-ours.{dead}-0.tmp")), "someone else's").unwrap();
+        write_atomically(&dir.path().join("out.txt"), |w| w.write_all(b"x")).unwrap();
+        assert_eq!(
+            names_in(dir.path()),
+            [
+                format!(".not-ours.{dead}-0.tmp"),
+                format!(".other.drape-{parent}-0.tmp"),
+                format!(".own.drape-{live}-99999.tmp"),
+                "out.txt".to_string()
+            ]
+        );
+    }
+
+    #[test]
+    fn staged_files_appear_together_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        fs::write(dir.path().join("f_1.txt"), "old 1").unwrap();
+        let mut staged = StagedFiles::new(dir.path(), "f").unwrap();
+        staged.write("f_1.txt", |w| w.write_all(b"new 1")).unwrap();
+        staged.write("f_2.txt", |w| w.write_all(b"new 2")).unwrap();
+        assert_eq!(fs::read_to_string(dir.path().join("f_1.txt")).unwrap(), "old 1");
+        drop(staged);
+        assert_eq!(names_in(dir.path()), ["f_1.txt"], "abandoned: staging removed, old file kept");
+
+        let mut staged = StagedFiles::new(dir.path(), "f").unwrap();
+        staged.write("f_1.txt", |w| w.write_all(b"new 1")).unwrap();
+        staged.write("f_2.txt", |w| w.write_all(b"new 2")).unwrap();
+        let files = staged.commit().unwrap();
+        assert_eq!(files, [dir.path().join("f_1.txt"), dir.path().join("f_2.txt")]);
+        assert_eq!(names_in(dir.path()), ["f_1.txt", "f_2.txt"]);
+        assert_eq!(fs::read_to_string(dir.path().join("f_1.txt")).unwrap(), "new 1");
     }
 }

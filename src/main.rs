@@ -9,7 +9,7 @@ use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
 use drape::export::animation::padded_frame;
 use drape::render::headless::SceneOverlays;
-use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis};
+use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, shown_name};
 use drape::shape::relax::mean_structural_error;
 
 /// `println!` that ends the program quietly when stdout is closed (`drape
@@ -122,6 +122,10 @@ fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
 
 fn main() -> ExitCode {
     quiet_wayland_probe();
+    // Temporary files and staging directories go with the process on Ctrl+C or SIGTERM.
+    if let Err(error) = drape::atomic_file::remove_temporaries_on_signals() {
+        eprintln!("warning: cannot handle Ctrl+C, temporary files may be left behind on interrupt: {error}");
+    }
     let cli = Cli::parse();
     let Some(command) = cli.command else {
         return match open_editor(cli.scene, cli.quit_after_frames) {
@@ -187,12 +191,12 @@ fn quiet_wayland_probe() {
 fn check(path: &Path) -> Result<()> {
     let scene = scene::load(path)?;
     let cloth = &scene.cloth;
-    let name = if scene.name.is_empty() { "(unnamed)" } else { &scene.name };
+    let name = if scene.name.is_empty() { "(unnamed)".to_string() } else { shown_name(&scene.name) };
     say!("{}: {name} — valid", path.display());
     say!(
         "  cloth     {} × {} m, grid {} × {} ({} points, spacing {:.4} × {:.4} m)",
-        cloth.width_m(),
-        cloth.height_m(),
+        readable_number(cloth.width_m()),
+        readable_number(cloth.height_m()),
         cloth.cols(),
         cloth.rows(),
         cloth.cols() * cloth.rows(),
@@ -204,8 +208,8 @@ fn check(path: &Path) -> Result<()> {
         "  timeline  frames {}..{} at {} fps ({:.2} s)",
         tl.start,
         tl.end,
-        tl.fps,
-        (tl.end - tl.start) as f64 / tl.fps
+        readable_number(tl.fps),
+        (f64::from(tl.end) - f64::from(tl.start)) / tl.fps
     );
     say!("  keys      {}", scene.keys.len());
     let mut evaluator = Evaluator::new();
@@ -219,8 +223,8 @@ fn check(path: &Path) -> Result<()> {
             key.frame,
             key.pins.len(),
             if key.pins.len() == 1 { "" } else { "s" },
-            key.elasticity,
-            key.stiffness,
+            readable_number(key.elasticity),
+            readable_number(key.stiffness),
             report.verdict(),
             error * 100.0
         );
@@ -267,17 +271,17 @@ fn segment_summary(scene: &Scene, from: usize, shapes: &[std::sync::Arc<drape::a
 /// A parameter with its unit, as `0.2 m` or `0 → 0.05 m (frames 0..48, 2 keys)`.
 fn describe_param(param: &Param, unit: &str) -> String {
     match param {
-        Param::Constant(v) => format!("{v}{unit}"),
+        Param::Constant(v) => format!("{}{unit}", readable_number(*v)),
         Param::Keys(keys) => match (keys.first(), keys.last()) {
             (Some(first), Some(last)) if keys.len() > 1 => format!(
                 "{} → {}{unit} (frames {}..{}, {} keys)",
-                first.value,
-                last.value,
+                readable_number(first.value),
+                readable_number(last.value),
                 first.frame,
                 last.frame,
                 keys.len()
             ),
-            (Some(only), _) => format!("{}{unit}", only.value),
+            (Some(only), _) => format!("{}{unit}", readable_number(only.value)),
             _ => "no keys".to_string(),
         },
     }
@@ -285,7 +289,8 @@ fn describe_param(param: &Param, unit: &str) -> String {
 
 fn layer_parameters(layer: &Layer) -> String {
     let p = describe_param;
-    let v = |d: (f64, f64, f64)| format!("({}, {}, {})", d.0, d.1, d.2);
+    let v =
+        |d: (f64, f64, f64)| format!("({}, {}, {})", readable_number(d.0), readable_number(d.1), readable_number(d.2));
     let weight = p(layer.weight(), "");
     let specific = match layer {
         Layer::Sway(s) => format!(

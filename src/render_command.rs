@@ -1,13 +1,14 @@
 //! `drape render`: pictures of a scene as a PNG, a numbered PNG sequence or an animated GIF.
 
 use std::io::{self, IsTerminal};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::mpsc;
 use std::time::Instant;
 
 use anyhow::{Context as _, Result, anyhow, bail};
+use drape::atomic_file::StagedFiles;
 use drape::atomic_file::io_reason;
-use drape::export::{GifWriter, write_atomically, write_png};
+use drape::export::{GifWriter, check_frames, check_sequence_dir, ensure_sequence_dir, write_atomically, write_png};
 use drape::render::headless::{SceneOverlays, SceneRenderer};
 use drape::render::{GpuContext, RgbaImage};
 use drape::scene::{self, Scene};
@@ -75,6 +76,14 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         // A GIF without --frames shows the whole timeline.
         (None, _, _) => FrameRange { first: start, last: scene.timeline.end },
     };
+    // The frames and the directory `drape export` would accept, refused with its messages.
+    check_frames(&scene, range.first, range.last)?;
+    if kind == Output::Sequence {
+        if output.is_file() {
+            bail!("{} is a file: --frames writes a numbered sequence into a directory", output.display());
+        }
+        check_sequence_dir(output)?;
+    }
 
     let context = GpuContext::headless()?;
     let adapter = context.describe();
@@ -112,6 +121,10 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
 
 /// Renders on this thread while a second thread encodes and writes the PNGs;
 /// at most two finished frames wait between them, so memory stays bounded.
+/// The frames are staged in a hidden directory inside `dir` and moved into
+/// place together once all are written, like an OBJ sequence: an error or an
+/// interrupt leaves the directory as it was, never old and new frames mixed.
+/// `dir` is created when missing, but not its parents (as `drape export`).
 fn render_sequence(
     renderer: &mut SceneRenderer,
     scene: &Scene,
@@ -119,21 +132,35 @@ fn render_sequence(
     dir: &Path,
     range: FrameRange,
 ) -> Result<()> {
-    if dir.is_file() {
-        bail!("{} is a file: --frames writes a numbered sequence into a directory", dir.display());
+    let created_dir = ensure_sequence_dir(dir)?;
+    let rendered = render_staged(renderer, scene, path, dir, range);
+    if rendered.is_err() && created_dir {
+        let _ = std::fs::remove_dir(dir);
     }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| anyhow!("cannot create the directory {}: {}", dir.display(), io_reason(&e)))?;
+    rendered
+}
+
+fn render_staged(
+    renderer: &mut SceneRenderer,
+    scene: &Scene,
+    path: &Path,
+    dir: &Path,
+    range: FrameRange,
+) -> Result<()> {
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
+    let mut staged =
+        StagedFiles::new(dir, &stem).map_err(|e| anyhow!("cannot write into {}: {}", dir.display(), io_reason(&e)))?;
     let width = frame_number_width(range);
     let progress = progress_bar(range);
-    let (sender, receiver) = mpsc::sync_channel::<(PathBuf, RgbaImage)>(2);
-    let writer = std::thread::spawn(move || -> Result<()> {
-        for (file, image) in receiver {
-            write_atomically(&file, |w| write_png(&image, w))
-                .map_err(|e| anyhow!("cannot write {}: {}", file.display(), io_reason(&e)))?;
+    let (sender, receiver) = mpsc::sync_channel::<(String, RgbaImage)>(2);
+    let target_dir = dir.to_path_buf();
+    let writer = std::thread::spawn(move || -> Result<StagedFiles> {
+        for (file_name, image) in receiver {
+            staged
+                .write(&file_name, |w| write_png(&image, w))
+                .map_err(|e| anyhow!("cannot write {}: {}", target_dir.join(&file_name).display(), io_reason(&e)))?;
         }
-        Ok(())
+        Ok(staged)
     });
     let mut rendered = Ok(());
     for frame in range.first..=range.last {
@@ -144,9 +171,9 @@ fn render_sequence(
                 break;
             }
         };
-        let file = dir.join(format!("{stem}_{}.png", padded_frame(frame, width)));
+        let file_name = format!("{stem}_{}.png", padded_frame(frame, width));
         // A send fails only when the writer stopped on an error, which join reports.
-        if sender.send((file, image)).is_err() {
+        if sender.send((file_name, image)).is_err() {
             break;
         }
         progress.inc(1);
@@ -154,7 +181,9 @@ fn render_sequence(
     drop(sender);
     let written = writer.join().map_err(|_| anyhow!("the PNG writer thread panicked"))?;
     progress.finish_and_clear();
-    rendered.and(written).context("rendering the sequence stopped")
+    let staged = rendered.and(written).context("rendering the sequence stopped")?;
+    staged.commit().map_err(|e| anyhow!("cannot move the frames into {}: {}", dir.display(), io_reason(&e)))?;
+    Ok(())
 }
 
 fn progress_bar(range: FrameRange) -> indicatif::ProgressBar {

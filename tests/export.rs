@@ -405,6 +405,12 @@ fn khronos_gltf_validator_reports_no_errors() {
     let output = dir.path().join("still.glb");
     export(&flag().0, 7..=7, &output);
     files.push(output);
+    // A name with line breaks and a NUL is escaped in the JSON.
+    for extension in ["glb", "gltf"] {
+        let output = dir.path().join(format!("hostile.{extension}"));
+        export(&hostile_flag(), 0..=3, &output);
+        files.push(output);
+    }
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/tools/validate_gltf.cjs");
     let run = Command::new("node").arg(script).arg(&validator).args(&files).output().unwrap();
     let report = String::from_utf8_lossy(&run.stdout);
@@ -599,22 +605,24 @@ fn pixar_usd_opens_and_validates_the_stage() {
         );
     };
     let dir = tempfile::tempdir().unwrap();
-    let (scene, frames) = carpet();
-    let output = dir.path().join("carpet.usda");
-    export(&scene, frames.clone(), &output);
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/tools/check_usd.py");
-    let run = Command::new(python)
-        .arg(script)
-        .arg(&output)
-        .arg(frames.start().to_string())
-        .arg(frames.end().to_string())
-        .arg((scene.cloth.cols() * scene.cloth.rows()).to_string())
-        .arg(scene.timeline.fps.to_string())
-        .output()
-        .unwrap();
-    let report = String::from_utf8_lossy(&run.stdout);
-    println!("{report}");
-    assert!(run.status.success(), "USD found problems:\n{report}{}", String::from_utf8_lossy(&run.stderr));
+    // The carpet, and the flag under a name with line breaks and a NUL.
+    for (scene, frames) in [carpet(), (hostile_flag(), 40..=44)] {
+        let output = dir.path().join("cloth.usda");
+        export(&scene, frames.clone(), &output);
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/tools/check_usd.py");
+        let run = Command::new(&python)
+            .arg(script)
+            .arg(&output)
+            .arg(frames.start().to_string())
+            .arg(frames.end().to_string())
+            .arg((scene.cloth.cols() * scene.cloth.rows()).to_string())
+            .arg(scene.timeline.fps.to_string())
+            .output()
+            .unwrap();
+        let report = String::from_utf8_lossy(&run.stdout);
+        println!("{report}");
+        assert!(run.status.success(), "USD found problems:\n{report}{}", String::from_utf8_lossy(&run.stderr));
+    }
 }
 
 // ------------------------------------------------------------ OBJ sequences
@@ -659,6 +667,67 @@ fn other_stages_export_the_key_in_effect() {
     let options = ExportOptions { stage: ExportStage::Approx, layers: false, ..ExportOptions::default() };
     let error = export_animation_with(&scene, 0..=1, &output, AnimationFormat::Pc2, &options, &mut |_, _| true);
     assert!(matches!(error, Err(ExportError::LayersWithoutAnimation { .. })));
+}
+
+// ------------------------------------------------------------ scene names
+
+/// A scene name that tries to add a vertex and a face to every OBJ written
+/// with it, with a NUL, a carriage return, a line separator and a trailing
+/// backslash (a line continuation to some OBJ readers) for good measure.
+const HOSTILE_NAME: &str = "Cur\nv 1e30 1e30 1e30\nf 1 2 3\r\nvt\u{0}0 0\u{2028}vn 0 0 1 \\";
+
+/// The flag renamed [`HOSTILE_NAME`].
+fn hostile_flag() -> Scene {
+    Scene { name: HOSTILE_NAME.to_string(), ..flag().0 }
+}
+
+/// Every file that carries the scene's name keeps it as a name: OBJs (one
+/// frame, a sequence, a cache's base mesh) have exactly the grid's vertices
+/// and triangles and a two-line header, glTF reads the name back unchanged,
+/// USD has a plain prim name and every point.
+#[test]
+fn scene_names_never_add_geometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = hostile_flag();
+    let (points, triangles) = (scene.cloth.cols() * scene.cloth.rows(), reference(&scene, 40).triangle_count());
+    let check_obj = |path: &Path, frame: i32| {
+        let bytes = fs::read(path).unwrap();
+        assert!(!bytes.contains(&0), "{}: a NUL was written", path.display());
+        let text = String::from_utf8(bytes).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].starts_with("# Drape cloth: "), "{}", lines[0]);
+        assert_eq!(lines[1], "o Cur v 1e30 1e30 1e30 f 1 2 3  vt 0 0 vn 0 0 1", "{}", path.display());
+        let count = |prefix: &str| lines.iter().filter(|l| l.starts_with(prefix)).count();
+        assert_eq!((count("v "), count("vt "), count("vn "), count("f ")), (points, points, points, triangles));
+        assert_eq!(lines.len(), 2 + 3 * points + triangles, "{}: no other lines", path.display());
+        let (positions, _, _) = read_obj(path);
+        assert_points_match(
+            &format!("{} frame {frame}", path.display()),
+            &positions,
+            &reference(&scene, frame).positions,
+            0.0,
+        );
+    };
+    export(&scene, 40..=41, &dir.path().join("seq.obj"));
+    check_obj(&dir.path().join("seq_0040.obj"), 40);
+    check_obj(&dir.path().join("seq_0041.obj"), 41);
+    for extension in ["pc2", "mdd"] {
+        export(&scene, 40..=42, &dir.path().join(format!("cache.{extension}")));
+        check_obj(&dir.path().join("cache.obj"), 40);
+    }
+    for extension in ["glb", "gltf"] {
+        let output = dir.path().join(format!("named.{extension}"));
+        export(&scene, 40..=42, &output);
+        check_gltf(&scene, 40..=42, &output);
+    }
+    let output = dir.path().join("named.usda");
+    export(&scene, 40..=42, &output);
+    let text = fs::read_to_string(&output).unwrap();
+    assert!(!text.contains('\0') && !text.contains('\r') && !text.contains('\u{2028}'));
+    assert!(text.contains("defaultPrim = \"Cur_v_1e30_1e30_1e30_f_1_2_3__vt_0_0_vn_0_0_1__\""), "{text:.400}");
+    let usda = read_usda(&text);
+    assert_eq!(usda.points.len(), 3);
+    assert_points_match("USD frame 40", &usda.points[0].1, &reference(&scene, 40).positions, TOLERANCE_M);
 }
 
 // ------------------------------------------------- progress, cancel, errors
@@ -719,7 +788,7 @@ fn frames_outside_the_timeline_are_refused_with_both_ranges() {
     let error = export_animation(&scene, 100..=130, &output, AnimationFormat::Pc2, &mut |_, _| true).unwrap_err();
     assert_eq!(
         error.to_string(),
-        "frames 100..130 reach outside the scene's timeline 0..120: export frames within it (or lengthen the timeline)"
+        "frames 100..130 reach outside the scene's timeline 0..120: choose frames within it (or lengthen the timeline)"
     );
     let error = export_animation(&scene, 121..=121, &output, AnimationFormat::Mdd, &mut |_, _| true).unwrap_err();
     assert!(error.to_string().starts_with("frame 121 is outside the scene's timeline 0..120"), "{error}");

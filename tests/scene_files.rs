@@ -125,6 +125,11 @@ const MALFORMED: &[(&str, &str)] = &[
          before it starts at frame 100: end must not be before start",
     ),
     (
+        "timeline_too_long.ron",
+        "tests/data/malformed/timeline_too_long.ron:14:42: timeline end 2 147 483 647 is out of range: \
+         it must be within ±100 000 frames",
+    ),
+    (
         "keys_out_of_order.ron",
         "tests/data/malformed/keys_out_of_order.ron:6:17: key at frame 10 comes after \
          the key at frame 20: keys must be in increasing frame order",
@@ -398,6 +403,47 @@ fn a_failed_rename_keeps_the_target_and_removes_the_temporary_file() {
     assert!(error.to_string().starts_with(&format!("cannot write {}: ", target.display())));
     assert_eq!(fs::read_to_string(target.join("inside")).unwrap(), "keep me");
     assert_eq!(entries(dir.path()), ["taken.ron"]);
+}
+
+/// Saving through a symlink replaces the file it points to; the link stays.
+#[cfg(unix)]
+#[test]
+fn saving_through_a_symlink_keeps_the_link_and_replaces_its_target() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    fs::create_dir(dir.path().join("shots")).unwrap();
+    let target = dir.path().join("shots/curtain.ron");
+    fs::write(&target, "old").unwrap();
+    let link = dir.path().join("curtain.ron");
+    std::os::unix::fs::symlink("shots/curtain.ron", &link).unwrap();
+    scene::save(&reference(), &link).unwrap_or_else(|e| panic!("{e}"));
+    assert!(fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+    assert_eq!(scene::load(&target).unwrap_or_else(|e| panic!("{e}")), reference());
+    assert_eq!(entries(dir.path()), ["curtain.ron", "shots"]);
+    assert_eq!(entries(&dir.path().join("shots")), ["curtain.ron"]);
+}
+
+/// Scene files over 64 MiB are refused with the file's name, without
+/// reading them whole: a sparse file by its size, an endless device as soon
+/// as it passes the limit.
+#[test]
+fn files_too_large_for_a_scene_are_refused_promptly() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let huge = dir.path().join("huge.ron");
+    fs::File::create(&huge).unwrap().set_len(scene::MAX_SCENE_FILE_BYTES + 1).unwrap();
+    let error = scene::load(&huge).unwrap_err();
+    assert!(matches!(error, SceneError::TooLarge { .. }), "{error}");
+    assert_eq!(error.to_string(), format!("{} is too large for a scene file: over 64 MiB", huge.display()));
+    // A file exactly at a limit is read whole; one byte more is refused.
+    let small = dir.path().join("small.ron");
+    fs::write(&small, "0123456789").unwrap();
+    assert_eq!(scene::read_capped(&small, 10).unwrap(), b"0123456789");
+    assert!(matches!(scene::read_capped(&small, 9), Err(SceneError::TooLarge { limit_bytes: 9, .. })));
+    if Path::new("/dev/zero").exists() {
+        let started = std::time::Instant::now();
+        let error = scene::load(Path::new("/dev/zero")).unwrap_err();
+        assert_eq!(error.to_string(), "/dev/zero is too large for a scene file: over 64 MiB");
+        assert!(started.elapsed().as_secs_f64() < 10.0, "took {:?}", started.elapsed());
+    }
 }
 
 // ---- Property tests -------------------------------------------------------

@@ -9,7 +9,7 @@ use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use super::app::DrapeApp;
 use super::param_edit::{key_frames, move_keys};
-use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX};
+use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
 
 /// Height of the track (ruler and keys), points.
 const TRACK_HEIGHT: f32 = 34.0;
@@ -102,10 +102,10 @@ impl DrapeApp {
             self.timeline_field(&r, "Frame rate", |s| s.timeline.fps = fps);
             let (mut start, mut end) = (timeline.start, timeline.end);
             let label = ui.label("Start").id;
-            let r = ui.add(egui::DragValue::new(&mut start).range(-100_000..=end)).labelled_by(label);
+            let r = ui.add(egui::DragValue::new(&mut start).range(-MAX_TIMELINE_FRAME..=end)).labelled_by(label);
             self.timeline_field(&r, "Timeline start", |s| s.timeline.start = start);
             let label = ui.label("End").id;
-            let r = ui.add(egui::DragValue::new(&mut end).range(start..=100_000)).labelled_by(label);
+            let r = ui.add(egui::DragValue::new(&mut end).range(start..=MAX_TIMELINE_FRAME)).labelled_by(label);
             self.timeline_field(&r, "Timeline end", |s| s.timeline.end = end);
             ui.separator();
             if ui.button("Add key").on_hover_text("K: a rest-shape key here, from the current pose").clicked() {

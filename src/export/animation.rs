@@ -27,7 +27,7 @@ use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
 use crate::animate::{EvaluateOptions, Evaluator, frame_time_secs};
-use crate::atomic_file::{io_reason, write_atomically};
+use crate::atomic_file::{StagedFiles, io_reason, write_atomically};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 
@@ -150,7 +150,7 @@ pub struct ExportSummary {
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
     #[error(
-        "{} outside the scene's timeline {start}..{end}: export frames within it (or lengthen the timeline)",
+        "{} outside the scene's timeline {start}..{end}: choose frames within it (or lengthen the timeline)",
         if first == last { format!("frame {first} is") } else { format!("frames {first}..{last} reach") }
     )]
     FramesOutsideTimeline { first: i32, last: i32, start: i32, end: i32 },
@@ -479,7 +479,8 @@ pub(crate) fn write_around(
 }
 
 /// One OBJ per frame, written into a hidden staging directory beside the
-/// final files and moved into place once every frame is written.
+/// final files ([`StagedFiles`]) and moved into place once every frame is
+/// written: an error, a cancel or an interrupt leaves the directory as it was.
 fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> Result<Vec<PathBuf>, ExportError> {
     let named_files = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"));
     // A directory this export made is removed again if the export fails.
@@ -496,49 +497,49 @@ fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> 
         if output.is_file() {
             return Err(ExportError::NotADirectory { path: output.to_path_buf() });
         }
-        if let Some(parent) = output.parent().filter(|p| !p.as_os_str().is_empty())
-            && !parent.is_dir()
-        {
-            return Err(ExportError::MissingDirectory { path: output.to_path_buf(), dir: parent.to_path_buf() });
-        }
-        if !output.is_dir() {
-            fs::create_dir(output).map_err(|e| ExportError::write(output, e))?;
-            created_dir = true;
-        }
+        created_dir = ensure_sequence_dir(output)?;
         let name = options.sequence_name.clone().unwrap_or_else(|| file_stem_for(&job.source.scene.name));
         (output.to_path_buf(), name)
     };
-    let staging = dir.join(format!(".{name}.export-{}", std::process::id()));
-    if let Err(error) = fs::create_dir(&staging) {
+    let object_name = job.name_or("cloth").to_string();
+    let frames = job.frames();
+    let written = StagedFiles::new(&dir, &name).and_then(|mut staged| {
+        job.for_each_frame(|_, frame, mesh| {
+            staged.write(&sequence_file_name(&name, frame, frames.clone()), |w| write_obj(mesh, &object_name, w))
+        })?;
+        staged.commit()
+    });
+    written.map_err(|error| {
         if created_dir {
             let _ = fs::remove_dir(&dir);
         }
-        return Err(ExportError::write(&staging, error));
+        ExportError::write(&dir, error)
+    })
+}
+
+/// Checks that the directory `dir` a sequence is written into exists or
+/// can be made: its parent must exist ([`ExportError::MissingDirectory`]
+/// otherwise); Drape makes one directory, never a chain of them.
+pub fn check_sequence_dir(dir: &Path) -> Result<(), ExportError> {
+    if !dir.is_dir()
+        && let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty())
+        && !parent.is_dir()
+    {
+        return Err(ExportError::MissingDirectory { path: dir.to_path_buf(), dir: parent.to_path_buf() });
     }
-    let object_name = job.name_or("cloth").to_string();
-    let frames = job.frames();
-    let written = job.for_each_frame(|_, frame, mesh| {
-        let file = staging.join(sequence_file_name(&name, frame, frames.clone()));
-        write_atomically(&file, |w| write_obj(mesh, &object_name, w))
-    });
-    let mut files = Vec::new();
-    let moved = written.and_then(|()| {
-        for frame in frames.clone() {
-            let file_name = sequence_file_name(&name, frame, frames.clone());
-            let target = dir.join(&file_name);
-            fs::rename(staging.join(&file_name), &target)?;
-            files.push(target);
-        }
-        Ok(())
-    });
-    let _ = fs::remove_dir_all(&staging);
-    if let Err(error) = moved {
-        if created_dir && files.is_empty() {
-            let _ = fs::remove_dir(&dir);
-        }
-        return Err(ExportError::write(&dir, error));
+    Ok(())
+}
+
+/// Makes sure the directory `dir` a sequence is written into exists: it is
+/// created when missing, if [`check_sequence_dir`] allows. Returns whether
+/// it was created, so that a failed export can remove it again.
+pub fn ensure_sequence_dir(dir: &Path) -> Result<bool, ExportError> {
+    check_sequence_dir(dir)?;
+    if dir.is_dir() {
+        return Ok(false);
     }
-    Ok(files)
+    fs::create_dir(dir).map_err(|e| ExportError::write(dir, e))?;
+    Ok(true)
 }
 
 /// Writes `value` as f32 little-endian.

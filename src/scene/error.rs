@@ -33,6 +33,9 @@ pub enum SceneError {
         #[source]
         source: io::Error,
     },
+    /// The file is larger than any scene Drape reads; nothing beyond the limit was read.
+    #[error("{} is too large for a scene file: over {} MiB", .path.display(), .limit_bytes / (1024 * 1024))]
+    TooLarge { path: PathBuf, limit_bytes: u64 },
     /// The file could not be written; the previous file, if any, is untouched.
     #[error("cannot write {}: {}", .path.display(), io_reason(.source))]
     Write {
@@ -56,6 +59,9 @@ impl SceneError {
         match self {
             SceneError::Invalid { message, .. } => message.clone(),
             SceneError::Read { source, .. } | SceneError::Write { source, .. } => io_reason(source),
+            SceneError::TooLarge { limit_bytes, .. } => {
+                format!("too large for a scene file: over {} MiB", limit_bytes / (1024 * 1024))
+            }
         }
     }
 

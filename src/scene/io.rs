@@ -1,6 +1,7 @@
 //! Reading and writing scene files: parse + validate, load, atomic save.
 
 use std::fs;
+use std::io::Read as _;
 use std::path::Path;
 
 use super::error::SceneError;
@@ -41,11 +42,36 @@ pub fn parse_bytes(bytes: &[u8], file_label: &str) -> Result<Scene, SceneError> 
     parse(text, file_label)
 }
 
+/// Largest scene file [`load`] reads, in bytes (64 MiB; the largest example
+/// scene is a few kilobytes).
+pub const MAX_SCENE_FILE_BYTES: u64 = 64 * 1024 * 1024;
+
 /// Reads, parses and validates the scene file at `path`. Messages name the
-/// file as `path` displays (`scenes/tent.ron:14:17: …`).
+/// file as `path` displays (`scenes/tent.ron:14:17: …`). A file larger than
+/// [`MAX_SCENE_FILE_BYTES`] is refused without reading it whole, whatever it
+/// is (`/dev/zero` included).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = fs::read(path).map_err(|source| SceneError::Read { path: path.to_owned(), source })?;
+    let bytes = read_capped(path, MAX_SCENE_FILE_BYTES)?;
     parse_bytes(&bytes, &path.display().to_string())
+}
+
+/// The bytes of the file at `path`, or [`SceneError::TooLarge`] as soon as it
+/// holds more than `limit_bytes`.
+pub fn read_capped(path: &Path, limit_bytes: u64) -> Result<Vec<u8>, SceneError> {
+    let read_error = |source| SceneError::Read { path: path.to_owned(), source };
+    let too_large = || SceneError::TooLarge { path: path.to_owned(), limit_bytes };
+    let file = fs::File::open(path).map_err(read_error)?;
+    // The size a regular file declares; devices and pipes declare none and are counted as read.
+    let declared = file.metadata().map(|m| if m.is_file() { m.len() } else { 0 }).unwrap_or(0);
+    if declared > limit_bytes {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::with_capacity(declared as usize);
+    file.take(limit_bytes + 1).read_to_end(&mut bytes).map_err(read_error)?;
+    if bytes.len() as u64 > limit_bytes {
+        return Err(too_large());
+    }
+    Ok(bytes)
 }
 
 /// Writes the scene to `path` atomically: the text goes to a new temporary file
@@ -53,7 +79,8 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// `path` (on Unix the directory is then synced, best effort). On any failure
 /// the previous file at `path` is left as it was and the temporary file is
 /// removed. An existing file's permissions carry over. A symlink at `path` is
-/// replaced by a regular file.
+/// followed: the file it points to is replaced and the link stays (see
+/// [`write_atomically`]).
 pub fn save(scene: &Scene, path: &Path) -> Result<(), SceneError> {
     let text = to_ron_string(scene);
     write_atomically(path, |w| w.write_all(text.as_bytes()))

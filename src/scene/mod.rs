@@ -1,13 +1,16 @@
 //! The scene document: serde types, RON load/save, validation and errors.
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
-//! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`].
+//! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`]
+//!   (files up to [`MAX_SCENE_FILE_BYTES`]).
 //! - [`to_ron_string`], [`save`]: [`Scene`] → pretty RON; `save` is atomic.
 //! - [`Scene::validate`]: the rules serde cannot express, every limit a named
 //!   constant (e.g. [`MAX_GRID_POINTS`]); each [`Issue`] names its value's path.
 //! - [`SceneError`]: `FILE:LINE:COL: message` in the user's terms.
+//! - [`readable_number`], [`shown_name`]: numbers and names as messages show them.
 //! - [`locate`]: where a value path such as `keys[0].pins[2].grid` starts in the text.
 
+mod display;
 mod error;
 mod format;
 mod io;
@@ -16,9 +19,10 @@ mod param;
 mod types;
 mod validate;
 
+pub use display::{MAX_SHOWN_NAME_CHARS, readable_number, shown_name, truncated_name};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
-pub use io::{load, parse, parse_bytes, save};
+pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
 pub use locate::{TextPosition, locate};
 pub use param::{Param, ParamKey};
 pub use types::*;

@@ -267,10 +267,16 @@ impl Layer {
         }
     }
 
-    /// The label used in messages: `Wave layer "ripple"`, or `Wave layer 2` when unnamed.
+    /// The label used in messages: `Wave layer "ripple"`, or `Wave layer 2`
+    /// when unnamed; a long name is cut with `…` ([`super::truncated_name`]),
+    /// control characters are escaped.
     pub fn label(&self, index: usize) -> String {
         let (kind, name) = (self.kind(), self.name());
-        if name.is_empty() { format!("{kind} layer {}", index + 1) } else { format!("{kind} layer {name:?}") }
+        if name.is_empty() {
+            format!("{kind} layer {}", index + 1)
+        } else {
+            format!("{kind} layer {:?}", super::truncated_name(name))
+        }
     }
 }
 

@@ -8,6 +8,7 @@
 use std::collections::HashSet;
 use std::fmt;
 
+use super::display::readable_number;
 use super::param::Param;
 use super::types::{Ease, FollowThrough, Key, Layer, Noise, Pin, Scene, Sway, View, Wave, WaveAxis};
 
@@ -21,6 +22,10 @@ pub const MIN_GRID_SIDE: u32 = 2;
 pub const MAX_GRID_SIDE: u32 = 1024;
 /// Most grid points in total (512 × 512), which keeps relaxation interactive.
 pub const MAX_GRID_POINTS: u64 = 512 * 512;
+/// The timeline's start and end lie within ±this many frames (the editor's
+/// fields stop there too): enough for over an hour at 24 fps, and frame
+/// counts and durations stay far from overflowing.
+pub const MAX_TIMELINE_FRAME: i32 = 100_000;
 /// Highest frame rate, in frames per second.
 pub const MAX_FPS: f64 = 1000.0;
 /// Largest absolute pin coordinate along any axis, in metres.
@@ -85,8 +90,14 @@ pub(crate) fn group_thousands(n: u64) -> String {
     out
 }
 
+/// `-2147483647` → `-2 147 483 647`.
+fn group_thousands_signed(n: i64) -> String {
+    let sign = if n < 0 { "-" } else { "" };
+    format!("{sign}{}", group_thousands(n.unsigned_abs()))
+}
+
 fn fmt_vec3(v: (f64, f64, f64)) -> String {
-    format!("({}, {}, {})", v.0, v.1, v.2)
+    format!("({}, {}, {})", readable_number(v.0), readable_number(v.1), readable_number(v.2))
 }
 
 #[derive(Default)]
@@ -102,7 +113,7 @@ impl Checker {
     /// Reports a non-finite number; returns whether it was finite.
     fn finite(&mut self, path: &str, what: &str, v: f64) -> bool {
         if !v.is_finite() {
-            self.push(path, format!("{what} must be a finite number, not {v}"));
+            self.push(path, format!("{what} must be a finite number, not {}", readable_number(v)));
         }
         v.is_finite()
     }
@@ -143,7 +154,10 @@ impl Checker {
             if self.finite(path, what, v) && !(min..=max).contains(&v) {
                 self.push(
                     path,
-                    format!("{what} {v}{unit} is out of range: it must be between {min}{unit} and {max}{unit}"),
+                    format!(
+                        "{what} {}{unit} is out of range: it must be between {min}{unit} and {max}{unit}",
+                        readable_number(v)
+                    ),
                 );
             }
         }
@@ -157,9 +171,12 @@ impl Checker {
                 continue;
             }
             if v <= 0.0 {
-                self.push(path, format!("{what} must be greater than 0 m (it is {v} m)"));
+                self.push(path, format!("{what} must be greater than 0 m (it is {} m)", readable_number(v)));
             } else if v > MAX_CLOTH_SIZE_M {
-                self.push(path, format!("{what} {v} m is larger than the limit of {MAX_CLOTH_SIZE_M} m"));
+                self.push(
+                    path,
+                    format!("{what} {} m is larger than the limit of {MAX_CLOTH_SIZE_M} m", readable_number(v)),
+                );
             }
         }
 
@@ -197,10 +214,28 @@ impl Checker {
         if self.finite("timeline.fps", "fps", timeline.fps) && !(timeline.fps > 0.0 && timeline.fps <= MAX_FPS) {
             self.push(
                 "timeline.fps",
-                format!("fps {} is out of range: it must be greater than 0 and at most {MAX_FPS}", timeline.fps),
+                format!(
+                    "fps {} is out of range: it must be greater than 0 and at most {MAX_FPS}",
+                    readable_number(timeline.fps)
+                ),
             );
         }
-        if timeline.start > timeline.end {
+        let mut within = true;
+        for (path, what, frame) in [("timeline.start", "start", timeline.start), ("timeline.end", "end", timeline.end)]
+        {
+            if !(-MAX_TIMELINE_FRAME..=MAX_TIMELINE_FRAME).contains(&frame) {
+                within = false;
+                self.push(
+                    path,
+                    format!(
+                        "timeline {what} {} is out of range: it must be within ±{} frames",
+                        group_thousands_signed(frame.into()),
+                        group_thousands(MAX_TIMELINE_FRAME as u64)
+                    ),
+                );
+            }
+        }
+        if within && timeline.start > timeline.end {
             self.push(
                 "timeline.end",
                 format!(
@@ -259,7 +294,7 @@ impl Checker {
                 e_path,
                 format!(
                     "elasticity {} in {at} is out of range: it must be between {MIN_ELASTICITY} (the fabric's own length) and {MAX_ELASTICITY}",
-                    key.elasticity
+                    readable_number(key.elasticity)
                 ),
             );
         }
@@ -271,7 +306,7 @@ impl Checker {
                 s_path,
                 format!(
                     "stiffness {} in {at} is out of range: it must be between {MIN_STIFFNESS} (limp) and {MAX_STIFFNESS} (stiff)",
-                    key.stiffness
+                    readable_number(key.stiffness)
                 ),
             );
         }
@@ -293,7 +328,8 @@ impl Checker {
             self.push(
                 t_path,
                 format!(
-                    "relax tolerance {tolerance} in {at} is out of range: it must be greater than 0 and at most {MAX_RELAX_TOLERANCE}"
+                    "relax tolerance {} in {at} is out of range: it must be greater than 0 and at most {MAX_RELAX_TOLERANCE}",
+                    readable_number(tolerance)
                 ),
             );
         }
@@ -346,11 +382,17 @@ impl Checker {
         for (index, (name, v)) in [("x1", x1), ("y1", y1), ("x2", x2), ("y2", y2)].into_iter().enumerate() {
             let element = format!("{path}[{index}]");
             if !v.is_finite() {
-                self.push(element, format!("{what}: Bezier {name} must be a finite number, not {v}"));
+                self.push(
+                    element,
+                    format!("{what}: Bezier {name} must be a finite number, not {}", readable_number(v)),
+                );
             } else if (name == "x1" || name == "x2") && !(0.0..=1.0).contains(&v) {
                 self.push(
                     element,
-                    format!("{what}: Bezier {name} = {v} is out of range: x1 and x2 must be between 0 and 1"),
+                    format!(
+                        "{what}: Bezier {name} = {} is out of range: x1 and x2 must be between 0 and 1",
+                        readable_number(v)
+                    ),
                 );
             }
         }
@@ -379,11 +421,11 @@ impl Checker {
                 }
                 Range::Any => None,
                 Range::Within(lo, hi, why) if !(lo..=hi).contains(&v) => {
-                    Some(format!("{what} is {v}: it must be between {lo} and {hi}{why}"))
+                    Some(format!("{what} is {}: it must be between {lo} and {hi}{why}", readable_number(v)))
                 }
                 Range::Within(..) => None,
                 Range::Positive(hi) if !(v > 0.0 && v <= hi) => {
-                    let shown = if v.abs() > hi { format!("{v:e}") } else { format!("{v}") };
+                    let shown = if v.abs() > hi { format!("{v:e}") } else { readable_number(v) };
                     Some(format!("{what} is {shown}: it must be greater than 0 and at most {hi:e}"))
                 }
                 Range::Positive(_) => None,

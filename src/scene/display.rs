@@ -1,0 +1,71 @@
+//! Numbers and names as messages and summaries show them: never hundreds of
+//! digits, never a name that fills the screen or moves the terminal's cursor.
+
+/// Longest name, in characters, that messages and summaries show whole.
+pub const MAX_SHOWN_NAME_CHARS: usize = 60;
+
+/// `v` in its shortest exact form (`0.25`, `-3`, `1000`), or in scientific
+/// form when that would run long: from 1e12 up, or below 1e-6 (`1e308`,
+/// `2.5e-9`). Infinities and NaN read `inf`, `-inf`, `NaN`.
+pub fn readable_number(v: f64) -> String {
+    let magnitude = v.abs();
+    if v.is_finite() && v != 0.0 && !(1e-6..1e12).contains(&magnitude) { format!("{v:e}") } else { format!("{v}") }
+}
+
+/// A name (a scene's, a layer's) to print on one line: control characters
+/// (line breaks, tabs, terminal escapes) written as escapes (`\n`, `\u{1b}`),
+/// and cut as [`truncated_name`] cuts it.
+pub fn shown_name(name: &str) -> String {
+    let mut shown = String::new();
+    for c in truncated_name(name).chars() {
+        if c.is_control() {
+            shown.extend(c.escape_debug());
+        } else {
+            shown.push(c);
+        }
+    }
+    shown
+}
+
+/// `name` itself, or when longer than [`MAX_SHOWN_NAME_CHARS`] characters
+/// its first ones and `…`, [`MAX_SHOWN_NAME_CHARS`] in all.
+pub fn truncated_name(name: &str) -> std::borrow::Cow<'_, str> {
+    match name.char_indices().nth(MAX_SHOWN_NAME_CHARS) {
+        None => name.into(),
+        Some(_) => {
+            let (cut, _) = name.char_indices().nth(MAX_SHOWN_NAME_CHARS - 1).expect("longer than the cut");
+            format!("{}…", &name[..cut]).into()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_stay_short() {
+        assert_eq!(readable_number(0.25), "0.25");
+        assert_eq!(readable_number(-3.0), "-3");
+        assert_eq!(readable_number(0.0), "0");
+        assert_eq!(readable_number(1e-5), "0.00001");
+        assert_eq!(readable_number(999_999_999_999.0), "999999999999");
+        assert_eq!(readable_number(1e308), "1e308");
+        assert_eq!(readable_number(-f64::MAX), "-1.7976931348623157e308");
+        assert_eq!(readable_number(2.5e-9), "2.5e-9");
+        assert_eq!(readable_number(f64::NEG_INFINITY), "-inf");
+        assert_eq!(readable_number(f64::NAN), "NaN");
+    }
+
+    #[test]
+    fn names_stay_short_and_on_one_line() {
+        assert_eq!(shown_name("Magic carpet"), "Magic carpet");
+        assert_eq!(shown_name("a\nb\u{1b}[2J"), "a\\nb\\u{1b}[2J");
+        let exact = "x".repeat(MAX_SHOWN_NAME_CHARS);
+        assert_eq!(shown_name(&exact), exact);
+        let long = "é".repeat(5_000_000);
+        let shown = shown_name(&long);
+        assert_eq!(shown.chars().count(), MAX_SHOWN_NAME_CHARS);
+        assert!(shown.ends_with("é…"), "{shown}");
+    }
+}

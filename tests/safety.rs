@@ -1,0 +1,397 @@
+//! "Nothing blown up, nothing lost": the `drape` binary writing to special
+//! files and symlinks, interrupted by signals or killed, leaving no temporary
+//! file behind; hostile scene files (a name that injects OBJ lines, an endless
+//! timeline, an endless file); and the CLI's subcommands refusing the same
+//! things with the same messages.
+
+#![cfg(unix)]
+
+use std::fs;
+use std::os::unix::fs::FileTypeExt as _;
+use std::os::unix::process::ExitStatusExt as _;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use drape::scene::{self, Scene};
+
+/// The `drape` binary Cargo built, or `$DRAPE_BIN` when set (a copy kept
+/// aside where several checkouts share one target directory and overwrite
+/// each other's `target/release/drape`).
+fn drape() -> Command {
+    let binary = std::env::var_os("DRAPE_BIN").unwrap_or_else(|| env!("CARGO_BIN_EXE_drape").into());
+    let mut command = Command::new(binary);
+    command.current_dir(env!("CARGO_MANIFEST_DIR"));
+    command
+}
+
+fn run(args: &[&str]) -> Output {
+    drape().args(args).output().expect("drape runs")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+}
+
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> =
+        fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+/// The curtain (33 × 25 points, 32 × 24 × 2 triangles).
+const CURTAIN_POINTS: usize = 33 * 25;
+const CURTAIN_TRIANGLES: usize = 32 * 24 * 2;
+
+/// The `v` and `f` lines of an OBJ.
+fn obj_counts(text: &str) -> (usize, usize) {
+    let count = |prefix: &str| text.lines().filter(|l| l.starts_with(prefix)).count();
+    (count("v "), count("f "))
+}
+
+fn is_root() -> bool {
+    // SAFETY: geteuid has no preconditions.
+    unsafe { libc::geteuid() == 0 }
+}
+
+// ------------------------------------------------------------ special files
+
+/// Exports the curtain's OBJ into the FIFO `fifo` while `cat` reads it;
+/// returns what `cat` read.
+fn export_through_fifo(fifo: &Path) -> String {
+    let mut reader = Command::new("cat").arg(fifo).stdout(Stdio::piped()).spawn().unwrap();
+    let export = run(&["export", "scenes/curtain.ron", "-o", fifo.to_str().unwrap(), "--format", "obj"]);
+    let still_fifo = fs::symlink_metadata(fifo).is_ok_and(|m| m.file_type().is_fifo());
+    if !export.status.success() || !still_fifo {
+        // `cat` would wait for a writer forever.
+        let _ = reader.kill();
+        let _ = reader.wait();
+        assert!(still_fifo, "the FIFO was replaced by a {:?}", fs::symlink_metadata(fifo).map(|m| m.file_type()));
+        panic!("export into a FIFO failed: {}", stderr(&export));
+    }
+    let read = reader.wait_with_output().unwrap();
+    String::from_utf8(read.stdout).unwrap()
+}
+
+#[test]
+fn a_fifo_is_written_into_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.obj");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo runs");
+    assert!(made.success(), "mkfifo failed");
+    let text = export_through_fifo(&fifo);
+    assert_eq!(obj_counts(&text), (CURTAIN_POINTS, CURTAIN_TRIANGLES), "the reader got the whole OBJ");
+    assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(), "still a FIFO");
+    assert_eq!(names_in(dir.path()), ["pipe.obj"], "no temporary file");
+}
+
+/// `/dev/null`'s twin made with mknod: it stays a character device. Needs
+/// root (CAP_MKNOD); without it this says it did not run (the FIFO test above
+/// covers the same path).
+#[test]
+fn a_device_is_written_into_not_replaced() {
+    if !is_root() {
+        println!("SKIPPED: a null device can only be made as root; the FIFO test covers special files");
+        eprintln!("SKIPPED: a null device can only be made as root; the FIFO test covers special files");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let null = dir.path().join("null");
+    let made = Command::new("mknod").arg(&null).args(["c", "1", "3"]).output().expect("mknod runs");
+    if !made.status.success() {
+        let why = String::from_utf8_lossy(&made.stderr);
+        println!("SKIPPED: mknod failed even as root (no CAP_MKNOD in this container?): {why}");
+        eprintln!("SKIPPED: mknod failed even as root (no CAP_MKNOD in this container?): {why}");
+        return;
+    }
+    for args in [&["--format", "obj"][..], &["--format", "usda", "--frames", "0..3"][..]] {
+        let output = drape().args(["export", "scenes/curtain.ron", "-o"]).arg(&null).args(args).output().unwrap();
+        assert!(output.status.success(), "{args:?}: {}", stderr(&output));
+        let meta = fs::symlink_metadata(&null).unwrap();
+        assert!(meta.file_type().is_char_device(), "{args:?}: the device was replaced by a {:?}", meta.file_type());
+    }
+    assert_eq!(names_in(dir.path()), ["null"], "no temporary file");
+}
+
+#[test]
+fn a_symlinked_output_keeps_the_link_and_replaces_its_target() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::create_dir(dir.path().join("shots")).unwrap();
+    let target = dir.path().join("shots/curtain_v2.obj");
+    fs::write(&target, "old").unwrap();
+    let link = dir.path().join("curtain.obj");
+    std::os::unix::fs::symlink("shots/curtain_v2.obj", &link).unwrap();
+    let output = drape().args(["export", "scenes/curtain.ron", "-o"]).arg(&link).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+    assert_eq!(fs::read_link(&link).unwrap(), Path::new("shots/curtain_v2.obj"));
+    let text = fs::read_to_string(&target).unwrap();
+    assert_eq!(obj_counts(&text), (CURTAIN_POINTS, CURTAIN_TRIANGLES), "the target holds the new OBJ");
+    assert_eq!(names_in(dir.path()), ["curtain.obj", "shots"]);
+    assert_eq!(names_in(&dir.path().join("shots")), ["curtain_v2.obj"], "no temporary file beside the target");
+}
+
+// ------------------------------------------------------ hostile scene files
+
+#[test]
+fn a_scene_name_cannot_inject_obj_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = scene::load(&scene_path("curtain.ron")).unwrap();
+    scene.name = "Cur\nv 1e30 1e30 1e30\nf 1 2 3\0".into();
+    let path = dir.path().join("hostile.ron");
+    scene::save(&scene, &path).unwrap();
+    let obj = dir.path().join("hostile.obj");
+    let output = drape().args(["export"]).arg(&path).arg("-o").arg(&obj).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let bytes = fs::read(&obj).unwrap();
+    assert!(!bytes.contains(&0), "no NUL in the OBJ");
+    let text = String::from_utf8(bytes).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "# Drape cloth: 33 × 25 grid, vertex order j·cols + i");
+    assert_eq!(lines[1], "o Cur v 1e30 1e30 1e30 f 1 2 3");
+    assert_eq!(obj_counts(&text), (CURTAIN_POINTS, CURTAIN_TRIANGLES), "exactly the grid's vertices and faces");
+    assert!(!text.contains("1e30 1e30 1e30\n"), "the injected vertex is not a line of its own");
+}
+
+/// Writes `scene` with `edit` applied to its text into `dir`.
+fn scene_file(dir: &Path, name: &str, edit: impl FnOnce(String) -> String) -> PathBuf {
+    let text = fs::read_to_string(scene_path("curtain.ron")).unwrap();
+    let path = dir.join(name);
+    fs::write(&path, edit(text)).unwrap();
+    path
+}
+
+#[test]
+fn an_endless_timeline_is_a_positioned_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = scene_file(dir.path(), "long.ron", |text| {
+        let at = text.find("timeline:").expect("the curtain has a timeline");
+        let end = at + text[at..].find(')').unwrap();
+        format!("{}timeline: (fps: 24.0, start: 0, end: 2147483647{}", &text[..at], &text[end..])
+    });
+    let text = fs::read_to_string(&path).unwrap();
+    let line = text[..text.find("2147483647").unwrap()].lines().count();
+    let col = text.lines().nth(line - 1).unwrap().find("2147483647").unwrap() + 1;
+    let want = format!(
+        "error: {}:{line}:{col}: timeline end 2 147 483 647 is out of range: it must be within ±100 000 frames\n",
+        path.display()
+    );
+    for args in [&["check"][..], &["export", "-o", "x.usda"][..]] {
+        let output = drape().arg(args[0]).arg(&path).args(&args[1..]).current_dir(dir.path()).output().unwrap();
+        assert_eq!(output.status.code(), Some(1), "{args:?}");
+        assert_eq!(stderr(&output), want, "{args:?}");
+    }
+    assert_eq!(names_in(dir.path()), ["long.ron"]);
+}
+
+#[test]
+fn an_endless_file_is_refused_promptly() {
+    let mut child = drape().args(["check", "/dev/zero"]).stderr(Stdio::piped()).spawn().unwrap();
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > Duration::from_secs(20) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("`drape check /dev/zero` was still reading after 20 s");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(stderr(&output), "error: /dev/zero is too large for a scene file: over 64 MiB\n");
+}
+
+#[test]
+fn check_shortens_long_names_and_huge_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene: Scene = scene::load(&scene_path("flag.ron")).unwrap();
+    scene.name = format!("Flag{}", "g".repeat(5_000_000));
+    let drape::scene::Layer::Noise(noise) = &mut scene.layers[2] else { panic!("the flag's third layer is noise") };
+    noise.direction = (1e150, 0.0, 0.0);
+    noise.name = "\u{1b}[2J".to_string() + &"gusts".repeat(100);
+    let path = dir.path().join("flag.ron");
+    scene::save(&scene, &path).unwrap();
+    let output = drape().arg("check").arg(&path).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = String::from_utf8(output.stdout).unwrap();
+    assert!(text.len() < 10_000, "{} bytes of summary", text.len());
+    let first = text.lines().next().unwrap();
+    assert!(first.contains(": Flaggg") && first.contains("g… — valid"), "{first}");
+    assert!(text.contains("direction (1e150, 0, 0)"), "{text}");
+    assert!(!text.contains('\u{1b}'), "no terminal escape printed raw: {text}");
+    assert!(text.contains("Noise layer \"\\u{1b}[2Jgustsgusts"), "{text}");
+    // Validation messages too: not 309 digits for a width of 1e308 m.
+    scene.cloth.size.0 = 1e308;
+    scene::save(&scene, &path).unwrap();
+    let output = drape().arg("check").arg(&path).output().unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).ends_with(": cloth width 1e308 m is larger than the limit of 1000 m\n"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+// ------------------------------------------------- the same refusals as export
+
+#[test]
+fn render_refuses_frames_outside_the_timeline_as_export_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let export =
+        run(&["export", "scenes/curtain.ron", "-o", dir.path().join("x.obj").to_str().unwrap(), "--frame", "99999"]);
+    let render =
+        run(&["render", "scenes/curtain.ron", "-o", dir.path().join("x.png").to_str().unwrap(), "--frame", "99999"]);
+    let want = "error: frame 99999 is outside the scene's timeline 0..120: choose frames within it \
+                (or lengthen the timeline)\n";
+    assert_eq!(stderr(&export), want);
+    assert_eq!(stderr(&render), want);
+    assert_eq!(render.status.code(), Some(1));
+    let render = run(&[
+        "render",
+        "scenes/curtain.ron",
+        "-o",
+        dir.path().join("x.gif").to_str().unwrap(),
+        "--frames",
+        "100..130",
+    ]);
+    assert!(stderr(&render).starts_with("error: frames 100..130 reach outside the scene's timeline 0..120"));
+    assert_eq!(names_in(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn render_refuses_a_sequence_into_missing_parents_as_export_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("no/such/frames");
+    let export = drape().args(["export", "scenes/curtain.ron", "--frames", "0..2", "-o"]).arg(&out).output().unwrap();
+    let render = drape().args(["render", "scenes/curtain.ron", "--frames", "0..2", "-o"]).arg(&out).output().unwrap();
+    let want = format!(
+        "error: cannot write {}: the directory {} does not exist\n",
+        out.display(),
+        out.parent().unwrap().display()
+    );
+    assert_eq!(stderr(&export), want);
+    assert_eq!(stderr(&render), want);
+    assert_eq!(names_in(dir.path()), Vec::<String>::new(), "no directory was made");
+}
+
+// ------------------------------------------------------- signals and leftovers
+
+/// Drape's temporary files and staging directories in `dir`.
+fn temporaries_in(dir: &Path) -> Vec<String> {
+    names_in(dir).into_iter().filter(|n| n.starts_with('.') && n.contains(".drape-")).collect()
+}
+
+/// Starts `drape` with `args` in `dir` and waits until a temporary file or
+/// staging directory of it shows in `dir` (the write under way).
+fn start_writing(dir: &Path, args: &[&str]) -> Child {
+    let mut child = drape().args(args).current_dir(dir).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    let started = Instant::now();
+    while temporaries_in(dir).is_empty() {
+        if let Some(status) = child.try_wait().unwrap() {
+            let output = child.wait_with_output().unwrap();
+            panic!("drape {args:?} ended ({status}) before it could be interrupted: {}", stderr(&output));
+        }
+        assert!(started.elapsed() < Duration::from_secs(60), "no temporary file showed up in {}", dir.display());
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    child
+}
+
+fn send(child: &Child, signal: libc::c_int) {
+    // SAFETY: signals our own child, which has not been reaped yet.
+    assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
+}
+
+#[test]
+fn an_interrupted_export_leaves_nothing_behind() {
+    let carpet = scene_path("magic_carpet.ron");
+    let carpet = carpet.to_str().unwrap();
+    for (args, signal, code) in [
+        (vec!["export", carpet, "--frames", "0..120", "-o", "x.usda"], libc::SIGINT, 130),
+        (vec!["export", carpet, "--frames", "0..120", "-o", "seq.obj"], libc::SIGTERM, 143),
+        (vec!["export", carpet, "--frames", "0..120", "-o", "x.pc2"], libc::SIGINT, 130),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        fs::write(dir.path().join("keep.txt"), "an earlier file").unwrap();
+        let child = start_writing(dir.path(), &args);
+        std::thread::sleep(Duration::from_millis(100));
+        send(&child, signal);
+        let output = child.wait_with_output().unwrap();
+        if output.status.success() {
+            // It finished before the signal came: then everything is in place.
+            assert!(temporaries_in(dir.path()).is_empty(), "{args:?}: {:?}", names_in(dir.path()));
+            println!("note: {args:?} finished before the signal arrived");
+            continue;
+        }
+        assert_eq!(output.status.code(), Some(code), "{args:?}: {} {}", output.status, stderr(&output));
+        assert_eq!(names_in(dir.path()), ["keep.txt"], "{args:?}: nothing left behind, nothing half-written");
+    }
+}
+
+#[test]
+fn an_interrupted_render_sequence_leaves_the_directory_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    fs::create_dir(&frames).unwrap();
+    fs::write(frames.join("curtain_0000.png"), "an earlier frame").unwrap();
+    let mut child = drape()
+        .args(["render", "scenes/curtain.ron", "--frames", "0..120", "--size", "320x180", "-o"])
+        .arg(&frames)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the staging directory, then for a frame or two inside it.
+    let started = Instant::now();
+    let staged = loop {
+        if let Some(staging) = temporaries_in(&frames).first() {
+            let staging = frames.join(staging);
+            if fs::read_dir(&staging).map(|d| d.count()).unwrap_or(0) >= 2 {
+                break true;
+            }
+        }
+        if child.try_wait().unwrap().is_some() || started.elapsed() > Duration::from_secs(120) {
+            break false;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    send(&child, libc::SIGINT);
+    let output = child.wait_with_output().unwrap();
+    if !staged {
+        panic!("the render never staged two frames: {} {}", output.status, stderr(&output));
+    }
+    assert_eq!(output.status.code(), Some(130), "{} {}", output.status, stderr(&output));
+    assert_eq!(names_in(&frames), ["curtain_0000.png"]);
+    assert_eq!(fs::read_to_string(frames.join("curtain_0000.png")).unwrap(), "an earlier frame");
+}
+
+#[test]
+fn a_killed_exports_leftovers_go_with_the_next_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let carpet = scene_path("magic_carpet.ron");
+    let child = start_writing(dir.path(), &["export", carpet.to_str().unwrap(), "--frames", "0..120", "-o", "x.usda"]);
+    send(&child, libc::SIGKILL);
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.signal(), Some(libc::SIGKILL));
+    let left = temporaries_in(dir.path());
+    assert_eq!(left.len(), 1, "SIGKILL cannot be caught: {left:?}");
+    // A staging directory of a dead process, and a temporary of a live one (ours).
+    let dead = {
+        let mut gone = Command::new("true").spawn().unwrap();
+        let pid = gone.id();
+        gone.wait().unwrap();
+        pid
+    };
+    fs::create_dir(dir.path().join(format!(".seq.drape-{dead}-0.staging"))).unwrap();
+    fs::write(dir.path().join(format!(".seq.drape-{dead}-0.staging/seq_0000.obj")), "stale").unwrap();
+    let live = format!(".other.obj.drape-{}-0.tmp", std::process::id());
+    fs::write(dir.path().join(&live), "still being written").unwrap();
+    let output = drape().args(["export", "scenes/curtain.ron", "-o"]).arg(dir.path().join("y.obj")).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(names_in(dir.path()), [live, "y.obj".to_string()], "the dead processes' leftovers are gone");
+}
