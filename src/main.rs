@@ -219,14 +219,14 @@ fn check(path: &Path) -> Result<()> {
         let error = mean_structural_error(&rest.relaxed, cloth.cols(), cloth.rows(), rest.rest_u_m(), rest.rest_v_m());
         let report = rest.relax_report;
         say!(
-            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}; {}, mean edge error {:.2}%",
+            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}, mean edge error {:.2}%; {}",
             key.frame,
             key.pins.len(),
             if key.pins.len() == 1 { "" } else { "s" },
             readable_number(key.elasticity),
             readable_number(key.stiffness),
-            report.verdict(),
-            error * 100.0
+            error * 100.0,
+            report.verdict()
         );
         for warning in stretched_pin_warnings(&scene, key) {
             say!("      warning: {warning}");
