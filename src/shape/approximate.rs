@@ -7,7 +7,11 @@
 //! 2. Where two candidates cross in grid space, the lower one at the crossing is
 //!    removed ("conflicting"), lowest conflict first; removed candidates that no
 //!    longer cross anything come back. What is kept triangulates the pins'
-//!    convex hull.
+//!    convex hull. Two candidates equally high at their crossing (within a
+//!    billionth of the pins' spread, `TIE_TOLERANCE_OF_SPREAD`) tie and both
+//!    stay, so mirror-symmetric pins keep a mirror-symmetric network: both
+//!    diagonals of a level four-corner cloth, and both triangulations of their
+//!    quad, overlapping.
 //! 3. Grid points on a kept catenary sit on it at their arc-length fraction.
 //! 4. A point p inside a triangle T is placed as the paper describes: the line
 //!    from each vertex of T through p meets the opposite edge at vᵢ (on that
@@ -17,6 +21,12 @@
 //!    candidates coincide with the edge catenary, so the surface is continuous.
 //!    Points on one line through a vertex share its catenary when their edge
 //!    fractions agree bit for bit; it is then solved once (same output).
+//!    A point covered by several kept triangles (or on several kept catenaries),
+//!    which happens only where tied catenaries cross, takes the highest of its
+//!    placements' heights and the mean of their x/z: a set function, so the
+//!    result does not depend on the order of the triangles and mirror-symmetric
+//!    pins give a mirror-symmetric surface. Without ties every such point lies
+//!    in exactly one triangle.
 //! 5. Points outside the hull, and every point when the pins are collinear or a
 //!    single pin, hang down from the nearest part of the hull by their material
 //!    distance × elasticity (see [`drape_direction`] for the exact rule).
@@ -31,7 +41,7 @@ mod network;
 use glam::{DVec2, DVec3};
 
 use super::catenary::Catenary;
-use interior::{EdgeLookup, Fans, place_triangle};
+use interior::{EdgeLookup, Fans, Placed, place_triangle};
 use network::{candidate_pairs, classify_layout, crossing_material, find_crossings, grid_i64, resolve_conflicts};
 
 /// A pinned grid point: grid index (i, j) held at `pos` (metres).
@@ -73,7 +83,8 @@ pub struct CatenaryEdge {
     pub catenary: Catenary,
 }
 
-/// Where a kept catenary and a removed one crossed in grid space.
+/// Where a kept catenary and a removed one crossed in grid space (tied
+/// crossings, where both stay, are not conflicts).
 #[derive(Clone, Copy, Debug)]
 pub struct ConflictPoint {
     /// Material coordinates of the crossing, metres.
@@ -97,6 +108,8 @@ pub enum PinLayout {
     Collinear(Vec<usize>),
     /// Pins span an area: hull vertices (pin indices, counter-clockwise in
     /// (u, v), including pins lying on hull edges) and the kept triangles.
+    /// The triangles cover the hull; they overlap only where two kept
+    /// catenaries tie at a crossing (both triangulations of their quad).
     Hull { boundary: Vec<usize>, triangles: Vec<[usize; 3]> },
 }
 
@@ -104,7 +117,9 @@ pub enum PinLayout {
 #[derive(Clone, Debug)]
 pub struct CatenaryNetwork {
     pub pins: Vec<PinPoint>,
+    /// The surviving catenaries; two of them cross only where they tie.
     pub kept: Vec<CatenaryEdge>,
+    /// The catenaries removed at a crossing with a higher one.
     pub conflicting: Vec<CatenaryEdge>,
     pub conflict_points: Vec<ConflictPoint>,
     pub layout: PinLayout,
@@ -116,7 +131,8 @@ pub enum Placement {
     Pin,
     /// On a kept catenary, at its arc-length fraction.
     OnCatenary,
-    /// Inside a triangle of kept catenaries (paper's method).
+    /// Inside a triangle of kept catenaries (paper's method); inside several
+    /// overlapping ones where tied catenaries cross, their highest y and mean x/z.
     Interior,
     /// Outside the pins' hull: hangs from its nearest part.
     Draped,
@@ -145,6 +161,11 @@ const FOLD_SEED_WAVELENGTH_FRACTION: f64 = 0.1;
 /// around a corner spreads out instead of collapsing onto one vertical line.
 const CORNER_TILT_RAD: f64 = 45.0 * std::f64::consts::PI / 180.0;
 
+/// Two catenaries whose heights at their crossing differ by at most this
+/// fraction of the pins' spread (the diagonal of their bounding box) are
+/// equally high: rounding in mirrored computations stays far below it.
+const TIE_TOLERANCE_OF_SPREAD: f64 = 1e-9;
+
 /// Approximates the cloth's surface from its pins.
 ///
 /// `pins` must be non-empty, inside the grid and without duplicate grid points
@@ -162,7 +183,7 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
     let catenaries: Vec<Catenary> =
         candidates.iter().map(|&(a, b)| Catenary::new(pins[a].pos, pins[b].pos, length_of(a, b))).collect();
     let crossings = find_crossings(&pins, &candidates, &catenaries);
-    let alive = resolve_conflicts(candidates.len(), &crossings, &catenaries);
+    let alive = resolve_conflicts(candidates.len(), &crossings, &catenaries, tie_tolerance_m(&pins));
 
     let mut kept = Vec::new();
     let mut conflicting = Vec::new();
@@ -203,15 +224,11 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
 }
 
 fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (Vec<DVec3>, Vec<Placement>) {
-    let n = grid.point_count();
-    let mut positions = vec![DVec3::ZERO; n];
-    let mut placement: Vec<Option<Placement>> = vec![None; n];
+    let mut placed = Placed::new(grid.point_count());
     let pins = &network.pins;
 
     for pin in pins {
-        let k = grid.index(pin.grid.0, pin.grid.1);
-        positions[k] = pin.pos;
-        placement[k] = Some(Placement::Pin);
+        placed.set(grid.index(pin.grid.0, pin.grid.1), Placement::Pin, pin.pos);
     }
     for edge in &network.kept {
         let (pa, pb) = (grid_i64(&pins[edge.a]), grid_i64(&pins[edge.b]));
@@ -219,9 +236,9 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
         let steps = gcd(di.unsigned_abs(), dj.unsigned_abs()) as i64;
         for s in 1..steps {
             let (i, j) = ((pa.0 + di * s / steps) as usize, (pa.1 + dj * s / steps) as usize);
-            let k = grid.index(i, j);
-            positions[k] = edge.catenary.point_at_arc_fraction(s as f64 / steps as f64);
-            placement[k] = Some(Placement::OnCatenary);
+            // Two kept catenaries share a grid point only where they tie at a crossing.
+            let position = edge.catenary.point_at_arc_fraction(s as f64 / steps as f64);
+            placed.cover(grid.index(i, j), Placement::OnCatenary, position);
         }
     }
 
@@ -231,17 +248,7 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
         // Kept across triangles: allocating them afresh cost page faults.
         let mut fans = Fans::default();
         for tri in triangles {
-            place_triangle(
-                grid,
-                network,
-                &lookup,
-                &points,
-                *tri,
-                &mut fans,
-                elasticity,
-                &mut positions,
-                &mut placement,
-            );
+            place_triangle(grid, network, &lookup, &points, *tri, &mut fans, elasticity, &mut placed);
         }
     }
 
@@ -252,7 +259,7 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
     for j in 0..grid.rows {
         for i in 0..grid.cols {
             let k = grid.index(i, j);
-            if placement[k].is_none() {
+            if placed.placement[k].is_none() {
                 let m = grid.material(i, j);
                 let (hang, distance_m) = drape.position(m, elasticity);
                 // A flat sheet squeezed in its own plane cannot fold out of it during
@@ -261,12 +268,19 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
                     * FOLD_SEED_AMPLITUDE_CELLS
                     * grid.spacing_u_m
                     * (distance_m / fold_wavelength_m).min(1.0);
-                positions[k] = hang + sheet_normal * ripple;
-                placement[k] = Some(Placement::Draped);
+                placed.set(k, Placement::Draped, hang + sheet_normal * ripple);
             }
         }
     }
-    (positions, placement.into_iter().map(|p| p.expect("every point placed")).collect())
+    placed.finish()
+}
+
+/// Heights at a crossing closer than this are a tie (see [`TIE_TOLERANCE_OF_SPREAD`]).
+fn tie_tolerance_m(pins: &[PinPoint]) -> f64 {
+    let (low, high) = pins
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), pin| (low.min(pin.pos), high.max(pin.pos)));
+    TIE_TOLERANCE_OF_SPREAD * (high - low).length()
 }
 
 fn gcd(mut a: u64, mut b: u64) -> u64 {

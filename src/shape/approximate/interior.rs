@@ -10,6 +10,55 @@ use super::network::cross_i64;
 use super::{CatenaryEdge, CatenaryNetwork, GridSpec, PinPoint, Placement};
 use crate::shape::catenary::Catenary;
 
+/// Grid point positions while they are being placed: how each point was
+/// placed, and by how many kept catenaries or triangles. More than one covers a
+/// point only where tied catenaries cross (see `resolve_conflicts`).
+pub(super) struct Placed {
+    pub(super) positions: Vec<DVec3>,
+    pub(super) placement: Vec<Option<Placement>>,
+    covers: Vec<u32>,
+}
+
+impl Placed {
+    /// `points` grid points, none placed yet.
+    pub(super) fn new(points: usize) -> Self {
+        Placed { positions: vec![DVec3::ZERO; points], placement: vec![None; points], covers: vec![0; points] }
+    }
+
+    /// Places point `k` at `position`, overriding any earlier placement.
+    pub(super) fn set(&mut self, k: usize, how: Placement, position: DVec3) {
+        self.positions[k] = position;
+        self.placement[k] = Some(how);
+        self.covers[k] = 1;
+    }
+
+    /// Places point `k` at `position` by `how`. A point placed `how` before
+    /// takes the highest y of its placements and, after [`Placed::finish`], the
+    /// mean of their x and z: a set function, so the result does not depend on
+    /// the order of the catenaries or triangles. A single placement is kept as is.
+    pub(super) fn cover(&mut self, k: usize, how: Placement, position: DVec3) {
+        if self.placement[k] == Some(how) {
+            let sum = &mut self.positions[k];
+            *sum = DVec3::new(sum.x + position.x, sum.y.max(position.y), sum.z + position.z);
+            self.covers[k] += 1;
+        } else {
+            self.set(k, how, position);
+        }
+    }
+
+    /// Turns the x/z sums of points covered several times into means; every
+    /// point must be placed.
+    pub(super) fn finish(mut self) -> (Vec<DVec3>, Vec<Placement>) {
+        for (position, &covers) in self.positions.iter_mut().zip(&self.covers) {
+            if covers > 1 {
+                position.x /= covers as f64;
+                position.z /= covers as f64;
+            }
+        }
+        (self.positions, self.placement.into_iter().map(|p| p.expect("every point placed")).collect())
+    }
+}
+
 /// Lookup of kept catenaries by their (unordered) pin pair.
 pub(super) struct EdgeLookup<'a> {
     kept: &'a [CatenaryEdge],
@@ -111,8 +160,7 @@ pub(super) fn place_triangle(
     tri: [usize; 3],
     fans: &mut Fans,
     elasticity: f64,
-    positions: &mut [DVec3],
-    placement: &mut [Option<Placement>],
+    placed: &mut Placed,
 ) {
     let pins = &network.pins;
     let corners = tri.map(|k| points[k]);
@@ -126,7 +174,8 @@ pub(super) fn place_triangle(
     for j in min_j..=max_j {
         for i in min_i..=max_i {
             let k = grid.index(i as usize, j as usize);
-            if placement[k].is_some() {
+            // Pins and catenary points stay; another triangle's points are covered again.
+            if !matches!(placed.placement[k], None | Some(Placement::Interior)) {
                 continue;
             }
             let p = (i, j);
@@ -139,8 +188,8 @@ pub(super) fn place_triangle(
                 continue;
             }
             let lambda = w.map(|x| x as f64 / area2 as f64);
-            positions[k] = interior_point(&opposite, fans, pins, tri, material, lambda, elasticity);
-            placement[k] = Some(Placement::Interior);
+            let position = interior_point(&opposite, fans, pins, tri, material, lambda, elasticity);
+            placed.cover(k, Placement::Interior, position);
         }
     }
 }

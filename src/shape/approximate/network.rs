@@ -60,6 +60,11 @@ impl Crossing {
     fn lower_y(&self) -> f64 {
         self.y_first.min(self.y_second)
     }
+
+    /// Whether the two catenaries are equally high here, within `tolerance_m`.
+    pub(super) fn is_tie(&self, tolerance_m: f64) -> bool {
+        (self.y_first - self.y_second).abs() <= tolerance_m
+    }
 }
 
 pub(super) fn find_crossings(
@@ -98,17 +103,28 @@ pub(super) fn find_crossings(
 /// conflict first; then removed candidates that cross no survivor come back
 /// (highest midpoint first), so the survivors are a maximal non-crossing set —
 /// a triangulation of the hull.
-pub(super) fn resolve_conflicts(count: usize, crossings: &[Crossing], catenaries: &[Catenary]) -> Vec<bool> {
+///
+/// A crossing whose two heights differ by at most `tie_tolerance_m` is a tie
+/// and removes neither: both stay, and neither keeps the other from coming
+/// back. Mirror-symmetric pins give mirror-image candidates that meet on the
+/// mirror at equal heights (up to rounding), and breaking such a tie either way
+/// would tilt the whole shape. Tied survivors cross; the triangles on both
+/// sides are then kept and overlap. Without ties the result is as above.
+pub(super) fn resolve_conflicts(
+    count: usize,
+    crossings: &[Crossing],
+    catenaries: &[Catenary],
+    tie_tolerance_m: f64,
+) -> Vec<bool> {
     let mut alive = vec![true; count];
     let mut order: Vec<usize> = (0..crossings.len()).collect();
     order.sort_by(|&x, &y| crossings[x].lower_y().total_cmp(&crossings[y].lower_y()).then(x.cmp(&y)));
     for &k in &order {
         let x = &crossings[k];
-        if !(alive[x.first] && alive[x.second]) {
+        if !(alive[x.first] && alive[x.second]) || x.is_tie(tie_tolerance_m) {
             continue;
         }
-        // Ties keep the earlier candidate so the result is deterministic.
-        if x.y_first >= x.y_second {
+        if x.y_first > x.y_second {
             alive[x.second] = false;
         } else {
             alive[x.first] = false;
@@ -116,16 +132,14 @@ pub(super) fn resolve_conflicts(count: usize, crossings: &[Crossing], catenaries
     }
 
     let mut partners: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for x in crossings {
+    for x in crossings.iter().filter(|x| !x.is_tie(tie_tolerance_m)) {
         partners[x.first].push(x.second);
         partners[x.second].push(x.first);
     }
-    let mut removed: Vec<usize> = (0..count).filter(|&c| !alive[c]).collect();
-    removed.sort_by(|&x, &y| {
-        let (mx, my) = (catenaries[x].point_at_arc_fraction(0.5).y, catenaries[y].point_at_arc_fraction(0.5).y);
-        my.total_cmp(&mx).then(x.cmp(&y))
-    });
-    for c in removed {
+    let mut removed: Vec<(f64, usize)> =
+        (0..count).filter(|&c| !alive[c]).map(|c| (catenaries[c].point_at_arc_fraction(0.5).y, c)).collect();
+    removed.sort_by(|&(mx, x), &(my, y)| my.total_cmp(&mx).then(x.cmp(&y)));
+    for (_, c) in removed {
         if partners[c].iter().all(|&p| !alive[p]) {
             alive[c] = true;
         }
