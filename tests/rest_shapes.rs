@@ -3,7 +3,8 @@
 
 use drape::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings};
 use drape::shape::relax::{RelaxParams, mean_structural_error, relax};
-use drape::shape::{Catenary, PinLayout, Placement, RestShape};
+use drape::shape::rest_shape::grid_spec;
+use drape::shape::{Approximation, Catenary, PinLayout, PinPoint, Placement, RestShape, approximate};
 use glam::DVec3;
 use proptest::prelude::*;
 
@@ -361,4 +362,120 @@ proptest! {
         let error = mean_structural_error(&shape.relaxed, cols as usize, rows as usize, shape.rest_u_m(), shape.rest_v_m());
         prop_assert!(error < 0.01, "mean edge error {}", error);
     }
+}
+
+// ---------------------------------------------------------------------------
+// Symmetric in, symmetric out: ties between crossing catenaries.
+// ---------------------------------------------------------------------------
+
+/// A pin as the tests write it: grid index and position (metres).
+type PinAt = ((u32, u32), (f64, f64, f64));
+
+/// The approximation of `pins` on a `cols × rows` cloth of `size` metres.
+fn approximation(size: (f64, f64), (cols, rows): (u32, u32), pins: &[PinAt]) -> Approximation {
+    let grid = grid_spec(&Cloth::new(size, (cols, rows)));
+    let pins: Vec<PinPoint> = pins
+        .iter()
+        .map(|&((i, j), (x, y, z))| PinPoint { grid: (i as usize, j as usize), pos: DVec3::new(x, y, z) })
+        .collect();
+    approximate(grid, &pins, 1.05)
+}
+
+/// Pins symmetric about x = 0 under i ↦ cols−1−i and about z = 0 under
+/// j ↦ rows−1−j give positions symmetric under both mirrors within `tolerance_m`.
+fn assert_mirror_symmetric(label: &str, cols: usize, rows: usize, positions: &[DVec3], tolerance_m: f64) {
+    for j in 0..rows {
+        for i in 0..cols {
+            let p = positions[j * cols + i];
+            let across_i = positions[j * cols + cols - 1 - i];
+            let across_j = positions[(rows - 1 - j) * cols + i];
+            let (want_i, want_j) =
+                (DVec3::new(-across_i.x, across_i.y, across_i.z), DVec3::new(across_j.x, across_j.y, -across_j.z));
+            assert!(p.distance(want_i) <= tolerance_m, "{label} ({i}, {j}): {p} vs its mirror in i {want_i}");
+            assert!(p.distance(want_j) <= tolerance_m, "{label} ({i}, {j}): {p} vs its mirror in j {want_j}");
+        }
+    }
+}
+
+/// Four pins at the cloth's corners, pulled in to 90% of its size, at `height_m`.
+fn level_corners(size: (f64, f64), (cols, rows): (u32, u32), height_m: f64) -> Vec<PinAt> {
+    let (x, z) = (0.45 * size.0, 0.45 * size.1);
+    vec![
+        ((0, 0), (-x, height_m, -z)),
+        ((cols - 1, 0), (x, height_m, -z)),
+        ((0, rows - 1), (-x, height_m, z)),
+        ((cols - 1, rows - 1), (x, height_m, z)),
+    ]
+}
+
+#[test]
+fn level_four_corners_approximate_symmetrically_under_both_mirrors() {
+    for (size, grid) in [((1.6, 1.6), (32, 32)), ((1.6, 1.6), (33, 33)), ((1.6, 1.6), (40, 40)), ((1.0, 1.6), (21, 33))]
+    {
+        let label = format!("{}×{}", grid.0, grid.1);
+        let approx = approximation(size, grid, &level_corners(size, grid, 1.0));
+        // The diagonals tie at their crossing: both stay, nothing conflicts.
+        let net = &approx.network;
+        assert_eq!((net.kept.len(), net.conflicting.len(), net.conflict_points.len()), (6, 0, 0), "{label}");
+        assert!(matches!(&net.layout, PinLayout::Hull { triangles, .. } if triangles.len() == 4), "{label}");
+        assert!(approx.positions.iter().all(|p| p.is_finite()), "{label}");
+        assert_mirror_symmetric(&label, grid.0 as usize, grid.1 as usize, &approx.positions, 1e-9);
+    }
+}
+
+#[test]
+fn a_tent_approximates_symmetrically_under_both_mirrors() {
+    for (size, (cols, rows)) in [((1.6, 1.6), (33u32, 33u32)), ((1.0, 1.6), (21, 33)), ((2.0, 2.0), (17, 17))] {
+        let mut pins = level_corners(size, (cols, rows), 0.0);
+        pins.push((((cols - 1) / 2, (rows - 1) / 2), (0.0, 0.8, 0.0)));
+        let approx = approximation(size, (cols, rows), &pins);
+        assert_mirror_symmetric(&format!("tent {cols}×{rows}"), cols as usize, rows as usize, &approx.positions, 1e-9);
+    }
+}
+
+#[test]
+fn a_level_lattice_of_pins_approximates_symmetrically() {
+    // Every cell's diagonals tie, and longer candidates cross them.
+    for n in [17u32, 33] {
+        let step = (n - 1) / 4;
+        let pins: Vec<_> = (0..5)
+            .flat_map(|b| (0..5).map(move |a| (a, b)))
+            .map(|(a, b)| ((a * step, b * step), (-0.6 + 0.3 * a as f64, 0.75, -0.6 + 0.3 * b as f64)))
+            .collect();
+        let approx = approximation((1.6, 1.6), (n, n), &pins);
+        assert_mirror_symmetric(&format!("lattice {n}²"), n as usize, n as usize, &approx.positions, 1e-9);
+    }
+}
+
+#[test]
+fn a_grid_point_covered_by_tied_triangles_takes_the_highest_y_and_the_mean_x_z() {
+    // 21 × 33: the diagonals cross at grid point (10, 16), on both catenaries.
+    let size = (1.0, 1.6);
+    let approx = approximation(size, (21, 33), &level_corners(size, (21, 33), 1.0));
+    let centre = approx.positions[16 * 21 + 10];
+    assert_eq!(approx.placement[16 * 21 + 10], Placement::OnCatenary);
+    let on_diagonals: Vec<DVec3> = approx
+        .network
+        .kept
+        .iter()
+        .filter(|e| (e.a, e.b) == (0, 3) || (e.a, e.b) == (1, 2))
+        .map(|e| e.catenary.point_at_arc_fraction(0.5))
+        .collect();
+    assert_eq!(on_diagonals.len(), 2);
+    assert_eq!(centre.y, on_diagonals[0].y.max(on_diagonals[1].y));
+    assert!((centre.x - (on_diagonals[0].x + on_diagonals[1].x) / 2.0).abs() < 1e-15);
+    assert!((centre.z - (on_diagonals[0].z + on_diagonals[1].z) / 2.0).abs() < 1e-15);
+    // Interior points lie in two triangles, one of each triangulation of the quad.
+    assert!(approx.placement.iter().filter(|&&p| p == Placement::Interior).count() > 0);
+}
+
+#[test]
+fn untied_crossings_still_remove_the_lower_catenary() {
+    // One corner a millimetre lower: the diagonal through it loses, as before.
+    let size = (1.6, 1.6);
+    let mut pins = level_corners(size, (33, 33), 1.0);
+    pins[3].1.1 -= 0.001;
+    let approx = approximation(size, (33, 33), &pins);
+    assert_eq!((approx.network.kept.len(), approx.network.conflicting.len()), (5, 1));
+    assert_eq!((approx.network.conflicting[0].a, approx.network.conflicting[0].b), (0, 3));
 }

@@ -7,7 +7,11 @@
 //! 2. Where two candidates cross in grid space, the lower one at the crossing is
 //!    removed ("conflicting"), lowest conflict first; removed candidates that no
 //!    longer cross anything come back. What is kept triangulates the pins'
-//!    convex hull.
+//!    convex hull. Two candidates equally high at their crossing (within a
+//!    billionth of the pins' spread, `TIE_TOLERANCE_OF_SPREAD`) tie and both
+//!    stay, so mirror-symmetric pins keep a mirror-symmetric network: both
+//!    diagonals of a level four-corner cloth, and both triangulations of their
+//!    quad, overlapping.
 //! 3. Grid points on a kept catenary sit on it at their arc-length fraction.
 //! 4. A point p inside a triangle T is placed as the paper describes: the line
 //!    from each vertex of T through p meets the opposite edge at vᵢ (on that
@@ -17,6 +21,12 @@
 //!    candidates coincide with the edge catenary, so the surface is continuous.
 //!    Points on one line through a vertex share its catenary when their edge
 //!    fractions agree bit for bit; it is then solved once (same output).
+//!    A point covered by several kept triangles (or on several kept catenaries),
+//!    which happens only where tied catenaries cross, takes the highest of its
+//!    placements' heights and the mean of their x/z: a set function, so the
+//!    result does not depend on the order of the triangles and mirror-symmetric
+//!    pins give a mirror-symmetric surface. Without ties every such point lies
+//!    in exactly one triangle.
 //! 5. Points outside the hull, and every point when the pins are collinear or a
 //!    single pin, hang down from the nearest part of the hull by their material
 //!    distance × elasticity (see [`drape_direction`] for the exact rule).
@@ -25,12 +35,14 @@
 //! integer arithmetic on grid indices: material space is grid space scaled per
 //! axis, which changes no crossing, collinearity or containment.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+mod interior;
+mod network;
 
 use glam::{DVec2, DVec3};
 
 use super::catenary::Catenary;
+use interior::{EdgeLookup, Fans, Placed, place_triangle};
+use network::{candidate_pairs, classify_layout, crossing_material, find_crossings, grid_i64, resolve_conflicts};
 
 /// A pinned grid point: grid index (i, j) held at `pos` (metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,7 +83,8 @@ pub struct CatenaryEdge {
     pub catenary: Catenary,
 }
 
-/// Where a kept catenary and a removed one crossed in grid space.
+/// Where a kept catenary and a removed one crossed in grid space (tied
+/// crossings, where both stay, are not conflicts).
 #[derive(Clone, Copy, Debug)]
 pub struct ConflictPoint {
     /// Material coordinates of the crossing, metres.
@@ -95,6 +108,8 @@ pub enum PinLayout {
     Collinear(Vec<usize>),
     /// Pins span an area: hull vertices (pin indices, counter-clockwise in
     /// (u, v), including pins lying on hull edges) and the kept triangles.
+    /// The triangles cover the hull; they overlap only where two kept
+    /// catenaries tie at a crossing (both triangulations of their quad).
     Hull { boundary: Vec<usize>, triangles: Vec<[usize; 3]> },
 }
 
@@ -102,7 +117,9 @@ pub enum PinLayout {
 #[derive(Clone, Debug)]
 pub struct CatenaryNetwork {
     pub pins: Vec<PinPoint>,
+    /// The surviving catenaries; two of them cross only where they tie.
     pub kept: Vec<CatenaryEdge>,
+    /// The catenaries removed at a crossing with a higher one.
     pub conflicting: Vec<CatenaryEdge>,
     pub conflict_points: Vec<ConflictPoint>,
     pub layout: PinLayout,
@@ -114,7 +131,8 @@ pub enum Placement {
     Pin,
     /// On a kept catenary, at its arc-length fraction.
     OnCatenary,
-    /// Inside a triangle of kept catenaries (paper's method).
+    /// Inside a triangle of kept catenaries (paper's method); inside several
+    /// overlapping ones where tied catenaries cross, their highest y and mean x/z.
     Interior,
     /// Outside the pins' hull: hangs from its nearest part.
     Draped,
@@ -143,6 +161,11 @@ const FOLD_SEED_WAVELENGTH_FRACTION: f64 = 0.1;
 /// around a corner spreads out instead of collapsing onto one vertical line.
 const CORNER_TILT_RAD: f64 = 45.0 * std::f64::consts::PI / 180.0;
 
+/// Two catenaries whose heights at their crossing differ by at most this
+/// fraction of the pins' spread (the diagonal of their bounding box) are
+/// equally high: rounding in mirrored computations stays far below it.
+const TIE_TOLERANCE_OF_SPREAD: f64 = 1e-9;
+
 /// Approximates the cloth's surface from its pins.
 ///
 /// `pins` must be non-empty, inside the grid and without duplicate grid points
@@ -160,7 +183,7 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
     let catenaries: Vec<Catenary> =
         candidates.iter().map(|&(a, b)| Catenary::new(pins[a].pos, pins[b].pos, length_of(a, b))).collect();
     let crossings = find_crossings(&pins, &candidates, &catenaries);
-    let alive = resolve_conflicts(candidates.len(), &crossings, &catenaries);
+    let alive = resolve_conflicts(candidates.len(), &crossings, &catenaries, tie_tolerance_m(&pins));
 
     let mut kept = Vec::new();
     let mut conflicting = Vec::new();
@@ -200,316 +223,12 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
     Approximation { network, positions, placement }
 }
 
-fn grid_i64(p: &PinPoint) -> (i64, i64) {
-    (p.grid.0 as i64, p.grid.1 as i64)
-}
-
-fn cross_i64(o: (i64, i64), a: (i64, i64), b: (i64, i64)) -> i64 {
-    (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
-}
-
-fn crossing_material(grid: GridSpec, pins: &[PinPoint], (a, b): (usize, usize), t: f64) -> DVec2 {
-    let ma = grid.material(pins[a].grid.0, pins[a].grid.1);
-    let mb = grid.material(pins[b].grid.0, pins[b].grid.1);
-    ma.lerp(mb, t)
-}
-
-/// Every pair of pins (a < b) whose segment passes through no third pin.
-fn candidate_pairs(pins: &[PinPoint]) -> Vec<(usize, usize)> {
-    let mut pairs = Vec::new();
-    for a in 0..pins.len() {
-        for b in a + 1..pins.len() {
-            let (pa, pb) = (grid_i64(&pins[a]), grid_i64(&pins[b]));
-            let blocked = pins.iter().enumerate().any(|(k, pin)| {
-                if k == a || k == b {
-                    return false;
-                }
-                let pk = grid_i64(pin);
-                let along = (pk.0 - pa.0) * (pb.0 - pa.0) + (pk.1 - pa.1) * (pb.1 - pa.1);
-                let len2 = (pb.0 - pa.0).pow(2) + (pb.1 - pa.1).pow(2);
-                cross_i64(pa, pb, pk) == 0 && along > 0 && along < len2
-            });
-            if !blocked {
-                pairs.push((a, b));
-            }
-        }
-    }
-    pairs
-}
-
-/// A proper crossing of two candidates in grid space.
-struct Crossing {
-    first: usize,
-    second: usize,
-    t_first: f64,
-    t_second: f64,
-    /// Heights of the two catenaries at the crossing.
-    y_first: f64,
-    y_second: f64,
-}
-
-impl Crossing {
-    fn lower_y(&self) -> f64 {
-        self.y_first.min(self.y_second)
-    }
-}
-
-fn find_crossings(pins: &[PinPoint], candidates: &[(usize, usize)], catenaries: &[Catenary]) -> Vec<Crossing> {
-    let mut crossings = Vec::new();
-    for e in 0..candidates.len() {
-        let (a, b) = candidates[e];
-        let (pa, pb) = (grid_i64(&pins[a]), grid_i64(&pins[b]));
-        for f in e + 1..candidates.len() {
-            let (c, d) = candidates[f];
-            if a == c || a == d || b == c || b == d {
-                continue;
-            }
-            let (pc, pd) = (grid_i64(&pins[c]), grid_i64(&pins[d]));
-            let (d1, d2) = (cross_i64(pa, pb, pc), cross_i64(pa, pb, pd));
-            let (d3, d4) = (cross_i64(pc, pd, pa), cross_i64(pc, pd, pb));
-            // Strict sign changes: a proper crossing at interior points of both.
-            if !(d1.signum() * d2.signum() < 0 && d3.signum() * d4.signum() < 0) {
-                continue;
-            }
-            // Intersection parameters: t along a→b, s along c→d.
-            let t = d3 as f64 / (d3 - d4) as f64;
-            let s = d1 as f64 / (d1 - d2) as f64;
-            let ye = catenaries[e].point_at_arc_fraction(t).y;
-            let yf = catenaries[f].point_at_arc_fraction(s).y;
-            crossings.push(Crossing { first: e, second: f, t_first: t, t_second: s, y_first: ye, y_second: yf });
-        }
-    }
-    crossings
-}
-
-/// Which candidates survive: at each crossing the lower one goes, lowest
-/// conflict first; then removed candidates that cross no survivor come back
-/// (highest midpoint first), so the survivors are a maximal non-crossing set —
-/// a triangulation of the hull.
-fn resolve_conflicts(count: usize, crossings: &[Crossing], catenaries: &[Catenary]) -> Vec<bool> {
-    let mut alive = vec![true; count];
-    let mut order: Vec<usize> = (0..crossings.len()).collect();
-    order.sort_by(|&x, &y| crossings[x].lower_y().total_cmp(&crossings[y].lower_y()).then(x.cmp(&y)));
-    for &k in &order {
-        let x = &crossings[k];
-        if !(alive[x.first] && alive[x.second]) {
-            continue;
-        }
-        // Ties keep the earlier candidate so the result is deterministic.
-        if x.y_first >= x.y_second {
-            alive[x.second] = false;
-        } else {
-            alive[x.first] = false;
-        }
-    }
-
-    let mut partners: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for x in crossings {
-        partners[x.first].push(x.second);
-        partners[x.second].push(x.first);
-    }
-    let mut removed: Vec<usize> = (0..count).filter(|&c| !alive[c]).collect();
-    removed.sort_by(|&x, &y| {
-        let (mx, my) = (catenaries[x].point_at_arc_fraction(0.5).y, catenaries[y].point_at_arc_fraction(0.5).y);
-        my.total_cmp(&mx).then(x.cmp(&y))
-    });
-    for c in removed {
-        if partners[c].iter().all(|&p| !alive[p]) {
-            alive[c] = true;
-        }
-    }
-    alive
-}
-
-fn classify_layout(pins: &[PinPoint], kept: &[CatenaryEdge]) -> PinLayout {
-    if pins.len() == 1 {
-        return PinLayout::Single;
-    }
-    let points: Vec<(i64, i64)> = pins.iter().map(grid_i64).collect();
-    let p0 = points[0];
-    let far = (1..points.len())
-        .max_by_key(|&k| (points[k].0 - p0.0).pow(2) + (points[k].1 - p0.1).pow(2))
-        .expect("at least two pins");
-    let pf = points[far];
-    if points.iter().all(|&p| cross_i64(p0, pf, p) == 0) {
-        let dir = (pf.0 - p0.0, pf.1 - p0.1);
-        let mut order: Vec<usize> = (0..pins.len()).collect();
-        order.sort_by_key(|&k| (points[k].0 - p0.0) * dir.0 + (points[k].1 - p0.1) * dir.1);
-        return PinLayout::Collinear(order);
-    }
-    let boundary = convex_hull_with_collinear(&points);
-    let triangles = kept_triangles(&points, kept);
-    PinLayout::Hull { boundary, triangles }
-}
-
-/// Andrew's monotone chain, keeping points that lie on hull edges so that each
-/// boundary step is a single kept catenary. Input is not all collinear.
-fn convex_hull_with_collinear(points: &[(i64, i64)]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..points.len()).collect();
-    order.sort_by_key(|&k| points[k]);
-    let mut hull: Vec<usize> = Vec::with_capacity(points.len() * 2);
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &usize>> =
-            if pass == 0 { Box::new(order.iter()) } else { Box::new(order.iter().rev()) };
-        for &k in iter {
-            while hull.len() >= start + 2
-                && cross_i64(points[hull[hull.len() - 2]], points[hull[hull.len() - 1]], points[k]) < 0
-            {
-                hull.pop();
-            }
-            hull.push(k);
-        }
-        hull.pop();
-    }
-    hull
-}
-
-/// Triangles whose three edges are kept and that hold no other pin.
-fn kept_triangles(points: &[(i64, i64)], kept: &[CatenaryEdge]) -> Vec<[usize; 3]> {
-    let n = points.len();
-    let mut adjacent = vec![Vec::new(); n];
-    for e in kept {
-        adjacent[e.a].push(e.b);
-        adjacent[e.b].push(e.a);
-    }
-    for list in &mut adjacent {
-        list.sort_unstable();
-    }
-    let mut triangles = Vec::new();
-    for a in 0..n {
-        for (x, &b) in adjacent[a].iter().enumerate() {
-            if b <= a {
-                continue;
-            }
-            for &c in &adjacent[a][x + 1..] {
-                if adjacent[b].binary_search(&c).is_err() {
-                    continue;
-                }
-                let area2 = cross_i64(points[a], points[b], points[c]);
-                if area2 == 0 {
-                    continue;
-                }
-                let empty =
-                    (0..n).all(|k| k == a || k == b || k == c || !strictly_inside(points, [a, b, c], points[k]));
-                if empty {
-                    triangles.push([a, b, c]);
-                }
-            }
-        }
-    }
-    triangles
-}
-
-fn strictly_inside(points: &[(i64, i64)], [a, b, c]: [usize; 3], p: (i64, i64)) -> bool {
-    let s = cross_i64(points[a], points[b], points[c]).signum();
-    let w =
-        [cross_i64(points[b], points[c], p), cross_i64(points[c], points[a], p), cross_i64(points[a], points[b], p)];
-    w.iter().all(|&x| x.signum() == s)
-}
-
-/// Lookup of kept catenaries by their (unordered) pin pair.
-struct EdgeLookup<'a> {
-    kept: &'a [CatenaryEdge],
-    by_pins: HashMap<(usize, usize), usize>,
-}
-
-impl<'a> EdgeLookup<'a> {
-    fn new(kept: &'a [CatenaryEdge]) -> Self {
-        let by_pins = kept.iter().enumerate().map(|(k, e)| ((e.a, e.b), k)).collect();
-        EdgeLookup { kept, by_pins }
-    }
-
-    /// Point at arc fraction `t` of the way from pin `from` to pin `to`.
-    fn point(&self, from: usize, to: usize, t: f64) -> DVec3 {
-        self.directed(from, to).point(t)
-    }
-
-    /// The kept catenary from pin `from` to pin `to`.
-    fn directed(&self, from: usize, to: usize) -> Directed<'a> {
-        let key = if from < to { (from, to) } else { (to, from) };
-        Directed { catenary: &self.kept[self.by_pins[&key]].catenary, reversed: from > to }
-    }
-}
-
-/// A kept catenary walked from one of its pins to the other.
-#[derive(Clone, Copy)]
-struct Directed<'a> {
-    catenary: &'a Catenary,
-    reversed: bool,
-}
-
-impl Directed<'_> {
-    /// Point at arc fraction `t` of the way.
-    fn point(&self, t: f64) -> DVec3 {
-        self.catenary.point_at_arc_fraction(if self.reversed { 1.0 - t } else { t })
-    }
-}
-
-/// Catenaries from the vertices of one triangle, by vertex and by the fraction
-/// along the opposite edge they end at (as bits). Grid points on one line
-/// through a vertex mostly share that fraction bit for bit, and then the
-/// catenary: found once, a third of the solves are saved on the benchmark grid.
-#[derive(Default)]
-struct Fans {
-    /// Per vertex: fraction bits → index into `catenaries`. Small entries: with
-    /// whole catenaries in the table, moving them cost what the solves saved.
-    by_fraction: [HashMap<u64, u32, BuildHasherDefault<BitsHasher>>; 3],
-    catenaries: Vec<Catenary>,
-}
-
-impl Fans {
-    /// Empties them for a triangle of about `points` grid points.
-    fn clear(&mut self, points: usize) {
-        for map in &mut self.by_fraction {
-            map.clear();
-            map.reserve(points);
-        }
-        self.catenaries.clear();
-    }
-
-    /// The catenary from vertex `v` ending at fraction `t`, from `solve` the first time.
-    fn get(&mut self, v: usize, t: f64, solve: impl FnOnce() -> Catenary) -> &Catenary {
-        let next = self.catenaries.len() as u32;
-        let k = *self.by_fraction[v].entry(t.to_bits()).or_insert(next);
-        if k == next {
-            self.catenaries.push(solve());
-        }
-        &self.catenaries[k as usize]
-    }
-}
-
-/// A multiplicative hash for [`Fans`]' keys, which are whole `f64` bit
-/// patterns: cheaper than the default SipHash for one-word keys.
-#[derive(Default)]
-struct BitsHasher(u64);
-
-impl Hasher for BitsHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0 ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(29);
-    }
-}
-
 fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (Vec<DVec3>, Vec<Placement>) {
-    let n = grid.point_count();
-    let mut positions = vec![DVec3::ZERO; n];
-    let mut placement: Vec<Option<Placement>> = vec![None; n];
+    let mut placed = Placed::new(grid.point_count());
     let pins = &network.pins;
 
     for pin in pins {
-        let k = grid.index(pin.grid.0, pin.grid.1);
-        positions[k] = pin.pos;
-        placement[k] = Some(Placement::Pin);
+        placed.set(grid.index(pin.grid.0, pin.grid.1), Placement::Pin, pin.pos);
     }
     for edge in &network.kept {
         let (pa, pb) = (grid_i64(&pins[edge.a]), grid_i64(&pins[edge.b]));
@@ -517,9 +236,9 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
         let steps = gcd(di.unsigned_abs(), dj.unsigned_abs()) as i64;
         for s in 1..steps {
             let (i, j) = ((pa.0 + di * s / steps) as usize, (pa.1 + dj * s / steps) as usize);
-            let k = grid.index(i, j);
-            positions[k] = edge.catenary.point_at_arc_fraction(s as f64 / steps as f64);
-            placement[k] = Some(Placement::OnCatenary);
+            // Two kept catenaries share a grid point only where they tie at a crossing.
+            let position = edge.catenary.point_at_arc_fraction(s as f64 / steps as f64);
+            placed.cover(grid.index(i, j), Placement::OnCatenary, position);
         }
     }
 
@@ -529,17 +248,7 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
         // Kept across triangles: allocating them afresh cost page faults.
         let mut fans = Fans::default();
         for tri in triangles {
-            place_triangle(
-                grid,
-                network,
-                &lookup,
-                &points,
-                *tri,
-                &mut fans,
-                elasticity,
-                &mut positions,
-                &mut placement,
-            );
+            place_triangle(grid, network, &lookup, &points, *tri, &mut fans, elasticity, &mut placed);
         }
     }
 
@@ -550,7 +259,7 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
     for j in 0..grid.rows {
         for i in 0..grid.cols {
             let k = grid.index(i, j);
-            if placement[k].is_none() {
+            if placed.placement[k].is_none() {
                 let m = grid.material(i, j);
                 let (hang, distance_m) = drape.position(m, elasticity);
                 // A flat sheet squeezed in its own plane cannot fold out of it during
@@ -559,12 +268,19 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
                     * FOLD_SEED_AMPLITUDE_CELLS
                     * grid.spacing_u_m
                     * (distance_m / fold_wavelength_m).min(1.0);
-                positions[k] = hang + sheet_normal * ripple;
-                placement[k] = Some(Placement::Draped);
+                placed.set(k, Placement::Draped, hang + sheet_normal * ripple);
             }
         }
     }
-    (positions, placement.into_iter().map(|p| p.expect("every point placed")).collect())
+    placed.finish()
+}
+
+/// Heights at a crossing closer than this are a tie (see [`TIE_TOLERANCE_OF_SPREAD`]).
+fn tie_tolerance_m(pins: &[PinPoint]) -> f64 {
+    let (low, high) = pins
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(low, high), pin| (low.min(pin.pos), high.max(pin.pos)));
+    TIE_TOLERANCE_OF_SPREAD * (high - low).length()
 }
 
 fn gcd(mut a: u64, mut b: u64) -> u64 {
@@ -572,83 +288,6 @@ fn gcd(mut a: u64, mut b: u64) -> u64 {
         (a, b) = (b, a % b);
     }
     a
-}
-
-#[allow(clippy::too_many_arguments)]
-fn place_triangle(
-    grid: GridSpec,
-    network: &CatenaryNetwork,
-    lookup: &EdgeLookup,
-    points: &[(i64, i64)],
-    tri: [usize; 3],
-    fans: &mut Fans,
-    elasticity: f64,
-    positions: &mut [DVec3],
-    placement: &mut [Option<Placement>],
-) {
-    let pins = &network.pins;
-    let corners = tri.map(|k| points[k]);
-    let area2 = cross_i64(corners[0], corners[1], corners[2]);
-    let (min_i, max_i) = (corners.iter().map(|c| c.0).min().unwrap(), corners.iter().map(|c| c.0).max().unwrap());
-    let (min_j, max_j) = (corners.iter().map(|c| c.1).min().unwrap(), corners.iter().map(|c| c.1).max().unwrap());
-    let material = tri.map(|k| grid.material(pins[k].grid.0, pins[k].grid.1));
-    let opposite = [0, 1, 2].map(|v| lookup.directed(tri[(v + 1) % 3], tri[(v + 2) % 3]));
-    // About the triangle's grid points, an upper bound on its rays.
-    fans.clear(area2.unsigned_abs() as usize / 2);
-    for j in min_j..=max_j {
-        for i in min_i..=max_i {
-            let k = grid.index(i as usize, j as usize);
-            if placement[k].is_some() {
-                continue;
-            }
-            let p = (i, j);
-            let w = [
-                cross_i64(corners[1], corners[2], p),
-                cross_i64(corners[2], corners[0], p),
-                cross_i64(corners[0], corners[1], p),
-            ];
-            if w.iter().any(|&x| x != 0 && x.signum() != area2.signum()) {
-                continue;
-            }
-            let lambda = w.map(|x| x as f64 / area2 as f64);
-            positions[k] = interior_point(&opposite, fans, pins, tri, material, lambda, elasticity);
-            placement[k] = Some(Placement::Interior);
-        }
-    }
-}
-
-/// The paper's placement of a point with barycentric coordinates `lambda` in
-/// triangle `tri`: one catenary per vertex towards the opposite edge.
-fn interior_point(
-    opposite: &[Directed; 3],
-    fans: &mut Fans,
-    pins: &[PinPoint],
-    tri: [usize; 3],
-    material: [DVec2; 3],
-    lambda: [f64; 3],
-    elasticity: f64,
-) -> DVec3 {
-    let mut best_y = f64::NEG_INFINITY;
-    let mut xz = DVec2::ZERO;
-    for v in 0..3 {
-        let (b, c) = ((v + 1) % 3, (v + 2) % 3);
-        let rest = lambda[b] + lambda[c];
-        let candidate = if rest <= 1e-12 {
-            pins[tri[v]].pos
-        } else {
-            // The line from vertex v through p meets edge b–c at fraction t from b.
-            let t = lambda[c] / rest;
-            let catenary = fans.get(v, t, || {
-                let edge_material = material[b].lerp(material[c], t);
-                let length = material[v].distance(edge_material) * elasticity;
-                Catenary::new(pins[tri[v]].pos, opposite[v].point(t), length)
-            });
-            catenary.point_at_arc_fraction(rest)
-        };
-        best_y = best_y.max(candidate.y);
-        xz += lambda[v] * DVec2::new(candidate.x, candidate.z);
-    }
-    DVec3::new(xz.x, best_y, xz.y)
 }
 
 /// The frame that hangs points outside the pins' hull.
