@@ -264,7 +264,10 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
                 let (hang, distance_m) = drape.position(m, elasticity);
                 // A flat sheet squeezed in its own plane cannot fold out of it during
                 // relaxation; a faint ripple across it lets slack buckle into folds.
-                let ripple = (std::f64::consts::TAU * m.x / fold_wavelength_m).sin()
+                // Even about the middle column (measured from it in exact half
+                // cells), so a mirror-symmetric cloth gets a mirror-symmetric seed.
+                let from_middle_m = (2.0 * i as f64 - (grid.cols - 1) as f64) * (0.5 * grid.spacing_u_m);
+                let ripple = (std::f64::consts::TAU * from_middle_m / fold_wavelength_m).cos()
                     * FOLD_SEED_AMPLITUDE_CELLS
                     * grid.spacing_u_m
                     * (distance_m / fold_wavelength_m).min(1.0);
