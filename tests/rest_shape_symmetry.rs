@@ -5,11 +5,14 @@ use drape::scene::{Cloth, Ease, Key, Pin, RelaxSettings};
 use drape::shape::RestShape;
 use glam::DVec3;
 
+/// A pin: where on the material (fractions of width and height) and where in the world (metres).
+type MaterialPin = ((f64, f64), (f64, f64, f64));
+
 /// A cloth of `size` metres on a `grid`, hanging from `pins` given by their
 /// material fraction (0..1 along width and height) and position.
 struct Setup {
     size: (f64, f64),
-    pins: Vec<((f64, f64), (f64, f64, f64))>,
+    pins: Vec<MaterialPin>,
     elasticity: f64,
     stiffness: f64,
 }
