@@ -4,7 +4,7 @@
 use drape::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings};
 use drape::shape::relax::{RelaxParams, mean_structural_error, relax};
 use drape::shape::rest_shape::grid_spec;
-use drape::shape::{Approximation, Catenary, PinLayout, PinPoint, Placement, RestShape, approximate};
+use drape::shape::{Approximation, Catenary, GridSpec, PinLayout, PinPoint, Placement, RestShape, approximate};
 use glam::DVec3;
 use proptest::prelude::*;
 
@@ -478,4 +478,99 @@ fn untied_crossings_still_remove_the_lower_catenary() {
     let approx = approximation(size, (33, 33), &pins);
     assert_eq!((approx.network.kept.len(), approx.network.conflicting.len()), (5, 1));
     assert_eq!((approx.network.conflicting[0].a, approx.network.conflicting[0].b), (0, 3));
+}
+
+/// Whether segments a–b and c–d cross at interior points of both (grid space, exact).
+fn segments_cross(a: (i64, i64), b: (i64, i64), c: (i64, i64), d: (i64, i64)) -> bool {
+    let cross = |o: (i64, i64), p: (i64, i64), q: (i64, i64)| (p.0 - o.0) * (q.1 - o.1) - (p.1 - o.1) * (q.0 - o.0);
+    cross(a, b, c).signum() * cross(a, b, d).signum() < 0 && cross(c, d, a).signum() * cross(c, d, b).signum() < 0
+}
+
+/// The invariants the editor and relaxation rely on, for any number of pins:
+/// every point finite, pins exact, every grid point inside the pins' hull
+/// placed from the network rather than draped, and — when no two candidates
+/// tie (`untied`) — no two kept catenaries crossing in grid space.
+fn assert_network_invariants(label: &str, grid: GridSpec, pins: &[PinPoint], approx: &Approximation, untied: bool) {
+    assert!(approx.positions.iter().all(|p| p.is_finite()), "{label}: a point is not finite");
+    for pin in pins {
+        assert_eq!(approx.positions[grid.index(pin.grid.0, pin.grid.1)], pin.pos, "{label}: pin {:?} moved", pin.grid);
+    }
+    let net = &approx.network;
+    let at = |k: usize| (net.pins[k].grid.0 as i64, net.pins[k].grid.1 as i64);
+    // Sweep along i so that only catenaries overlapping in i are compared.
+    let mut by_min_i: Vec<usize> = (0..net.kept.len()).collect();
+    by_min_i.sort_by_key(|&e| at(net.kept[e].a).0.min(at(net.kept[e].b).0));
+    for (x, &e) in by_min_i.iter().enumerate().filter(|_| untied) {
+        let (ea, eb) = (at(net.kept[e].a), at(net.kept[e].b));
+        for &f in &by_min_i[x + 1..] {
+            let (fa, fb) = (at(net.kept[f].a), at(net.kept[f].b));
+            if fa.0.min(fb.0) > ea.0.max(eb.0) {
+                break;
+            }
+            assert!(!segments_cross(ea, eb, fa, fb), "{label}: kept {ea:?}–{eb:?} and {fa:?}–{fb:?} cross");
+        }
+    }
+    let PinLayout::Hull { boundary, triangles } = &net.layout else {
+        panic!("{label}: pins span an area, got {:?}", net.layout);
+    };
+    assert!(!triangles.is_empty());
+    let hull: Vec<(i64, i64)> = boundary.iter().map(|&k| at(k)).collect();
+    let cross = |o: (i64, i64), p: (i64, i64), q: (i64, i64)| (p.0 - o.0) * (q.1 - o.1) - (p.1 - o.1) * (q.0 - o.0);
+    for j in 0..grid.rows {
+        for i in 0..grid.cols {
+            let p = (i as i64, j as i64);
+            let inside = (0..hull.len()).all(|k| cross(hull[k], hull[(k + 1) % hull.len()], p) >= 0);
+            if inside {
+                let placement = approx.placement[grid.index(i, j)];
+                assert!(placement != Placement::Draped, "{label}: ({i}, {j}) inside the hull is draped");
+            }
+        }
+    }
+}
+
+/// Columns, rows, the left half's pins (grid, (height above 1 m, z)), elasticity.
+type MirroredLayout = (usize, usize, Vec<((usize, usize), (f64, f64))>, f64);
+
+/// A layout mirror-symmetric in i (pins at (i, j) and (cols−1−i, j), x
+/// negated), so that mirrored catenaries tie where they cross on the mirror.
+fn mirrored_layout() -> impl Strategy<Value = MirroredLayout> {
+    (8usize..40, 8usize..40, 1usize..40, 1.0f64..1.3).prop_flat_map(|(cols, rows, count, elasticity)| {
+        let pin = ((0..cols.div_ceil(2), 0..rows), (0.0f64..1.0, -0.3f64..0.3));
+        (Just(cols), Just(rows), prop::collection::vec(pin, count), Just(elasticity))
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, .. ProptestConfig::default() })]
+
+    #[test]
+    fn mirror_symmetric_layouts_keep_the_network_invariants((cols, rows, half, elasticity) in mirrored_layout()) {
+        let grid = grid_spec(&Cloth::new((0.05 * (cols - 1) as f64, 0.05 * (rows - 1) as f64), (cols as u32, rows as u32)));
+        let centre = 0.025 * (cols - 1) as f64;
+        let mut seen = std::collections::HashSet::new();
+        let mut pins = Vec::new();
+        for ((i, j), (height, z)) in half {
+            for g in [(i, j), (cols - 1 - i, j)] {
+                if seen.insert(g) {
+                    let x = grid.material(g.0, g.1).x - centre;
+                    pins.push(PinPoint { grid: g, pos: DVec3::new(if 2 * g.0 + 1 == cols { 0.0 } else { x }, 1.0 + height, z + 0.05 * j as f64) });
+                }
+            }
+        }
+        let approx = approximate(grid, &pins, elasticity);
+        if matches!(approx.network.layout, PinLayout::Hull { .. }) {
+            assert_network_invariants(&format!("{} mirrored pins", pins.len()), grid, &pins, &approx, false);
+            // Inside the hull (outside, the fold seed's ripple is not symmetric) the surface mirrors too.
+            for j in 0..rows {
+                for i in 0..cols {
+                    let (k, mirror) = (grid.index(i, j), grid.index(cols - 1 - i, j));
+                    if approx.placement[k] != Placement::Draped {
+                        let (p, q) = (approx.positions[k], approx.positions[mirror]);
+                        let want = DVec3::new(-q.x, q.y, q.z);
+                        prop_assert!(p.distance(want) < 1e-9, "{} pins, ({i}, {j}): {p} vs mirrored {want}", pins.len());
+                    }
+                }
+            }
+        }
+    }
 }

@@ -8,10 +8,13 @@
 //!    removed ("conflicting"), lowest conflict first; removed candidates that no
 //!    longer cross anything come back. What is kept triangulates the pins'
 //!    convex hull. Two candidates equally high at their crossing (within a
-//!    billionth of the pins' spread, `TIE_TOLERANCE_OF_SPREAD`) tie and both
-//!    stay, so mirror-symmetric pins keep a mirror-symmetric network: both
-//!    diagonals of a level four-corner cloth, and both triangulations of their
-//!    quad, overlapping.
+//!    billionth of the pins' spread, `TIE_TOLERANCE_OF_SPREAD`) tie: neither
+//!    is higher, and keeping either would tilt the shape of mirror-symmetric
+//!    pins. Ties are broken both ways — once for catenaries along the grid's
+//!    main diagonal direction (i and j growing together), once for the other,
+//!    which a mirror in i or in j swaps — and the catenaries and triangles of
+//!    both triangulations are kept: both diagonals of a level four-corner
+//!    cloth and both triangulations of their quad, overlapping.
 //! 3. Grid points on a kept catenary sit on it at their arc-length fraction.
 //! 4. A point p inside a triangle T is placed as the paper describes: the line
 //!    from each vertex of T through p meets the opposite edge at vᵢ (on that
@@ -22,8 +25,8 @@
 //!    Points on one line through a vertex share its catenary when their edge
 //!    fractions agree bit for bit; it is then solved once (same output).
 //!    A point covered by several kept triangles (or on several kept catenaries),
-//!    which happens only where tied catenaries cross, takes the highest of its
-//!    placements' heights and the mean of their x/z: a set function, so the
+//!    which happens only where ties gave two triangulations, takes the highest
+//!    of its placements' heights and the mean of their x/z: a set function, so the
 //!    result does not depend on the order of the triangles and mirror-symmetric
 //!    pins give a mirror-symmetric surface. Without ties every such point lies
 //!    in exactly one triangle.
@@ -42,7 +45,7 @@ use glam::{DVec2, DVec3};
 
 use super::catenary::Catenary;
 use interior::{EdgeLookup, Fans, Placed, place_triangle};
-use network::{candidate_pairs, classify_layout, crossing_material, find_crossings, grid_i64, resolve_conflicts};
+use network::{candidate_pairs, classify_layout, crossing_material, find_crossings, grid_i64, survivors};
 
 /// A pinned grid point: grid index (i, j) held at `pos` (metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -108,8 +111,8 @@ pub enum PinLayout {
     Collinear(Vec<usize>),
     /// Pins span an area: hull vertices (pin indices, counter-clockwise in
     /// (u, v), including pins lying on hull edges) and the kept triangles.
-    /// The triangles cover the hull; they overlap only where two kept
-    /// catenaries tie at a crossing (both triangulations of their quad).
+    /// The triangles cover the hull; they overlap only where candidates tied
+    /// at a crossing and both triangulations were kept (see the module doc).
     Hull { boundary: Vec<usize>, triangles: Vec<[usize; 3]> },
 }
 
@@ -117,7 +120,8 @@ pub enum PinLayout {
 #[derive(Clone, Debug)]
 pub struct CatenaryNetwork {
     pub pins: Vec<PinPoint>,
-    /// The surviving catenaries; two of them cross only where they tie.
+    /// The surviving catenaries. No two cross, except where ties kept two
+    /// triangulations (see the module doc): catenaries of different ones may.
     pub kept: Vec<CatenaryEdge>,
     /// The catenaries removed at a crossing with a higher one.
     pub conflicting: Vec<CatenaryEdge>,
@@ -132,7 +136,8 @@ pub enum Placement {
     /// On a kept catenary, at its arc-length fraction.
     OnCatenary,
     /// Inside a triangle of kept catenaries (paper's method); inside several
-    /// overlapping ones where tied catenaries cross, their highest y and mean x/z.
+    /// overlapping ones where ties kept two triangulations, their highest y
+    /// and mean x/z.
     Interior,
     /// Outside the pins' hull: hangs from its nearest part.
     Draped,
@@ -183,7 +188,8 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
     let catenaries: Vec<Catenary> =
         candidates.iter().map(|&(a, b)| Catenary::new(pins[a].pos, pins[b].pos, length_of(a, b))).collect();
     let crossings = find_crossings(&pins, &candidates, &catenaries);
-    let alive = resolve_conflicts(candidates.len(), &crossings, &catenaries, tie_tolerance_m(&pins));
+    let survivors = survivors(&pins, &candidates, &crossings, &catenaries, tie_tolerance_m(&pins));
+    let alive = &survivors.alive;
 
     let mut kept = Vec::new();
     let mut conflicting = Vec::new();
@@ -217,7 +223,12 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
         })
         .collect();
 
-    let layout = classify_layout(&pins, &kept);
+    let resolutions: Vec<Vec<(usize, usize)>> = survivors
+        .resolutions
+        .iter()
+        .map(|survives| candidates.iter().zip(survives).filter(|&(_, &s)| s).map(|(&pair, _)| pair).collect())
+        .collect();
+    let layout = classify_layout(&pins, &resolutions);
     let network = CatenaryNetwork { pins, kept, conflicting, conflict_points, layout };
     let (positions, placement) = place_points(grid, &network, elasticity);
     Approximation { network, positions, placement }
@@ -236,7 +247,7 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
         let steps = gcd(di.unsigned_abs(), dj.unsigned_abs()) as i64;
         for s in 1..steps {
             let (i, j) = ((pa.0 + di * s / steps) as usize, (pa.1 + dj * s / steps) as usize);
-            // Two kept catenaries share a grid point only where they tie at a crossing.
+            // Two kept catenaries share a grid point only where ties kept two triangulations.
             let position = edge.catenary.point_at_arc_fraction(s as f64 / steps as f64);
             placed.cover(grid.index(i, j), Placement::OnCatenary, position);
         }

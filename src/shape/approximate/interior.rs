@@ -12,7 +12,7 @@ use crate::shape::catenary::Catenary;
 
 /// Grid point positions while they are being placed: how each point was
 /// placed, and by how many kept catenaries or triangles. More than one covers a
-/// point only where tied catenaries cross (see `resolve_conflicts`).
+/// point only where ties kept two triangulations (see `network::survivors`).
 pub(super) struct Placed {
     pub(super) positions: Vec<DVec3>,
     pub(super) placement: Vec<Option<Placement>>,

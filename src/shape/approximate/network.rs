@@ -2,10 +2,13 @@
 //! candidate catenaries join, where they cross, which survive, and the
 //! layout (hull and triangles) of what is kept. Every predicate is exact
 //! integer arithmetic on grid indices.
+//!
+
+use std::collections::HashSet;
 
 use glam::DVec2;
 
-use super::{CatenaryEdge, GridSpec, PinLayout, PinPoint};
+use super::{GridSpec, PinLayout, PinPoint};
 use crate::shape::catenary::Catenary;
 
 pub(super) fn grid_i64(p: &PinPoint) -> (i64, i64) {
@@ -67,36 +70,105 @@ impl Crossing {
     }
 }
 
+/// Every proper crossing of two candidates in grid space, by (first, second).
 pub(super) fn find_crossings(
     pins: &[PinPoint],
     candidates: &[(usize, usize)],
     catenaries: &[Catenary],
 ) -> Vec<Crossing> {
-    let mut crossings = Vec::new();
-    for e in 0..candidates.len() {
-        let (a, b) = candidates[e];
-        let (pa, pb) = (grid_i64(&pins[a]), grid_i64(&pins[b]));
-        for f in e + 1..candidates.len() {
-            let (c, d) = candidates[f];
-            if a == c || a == d || b == c || b == d {
-                continue;
-            }
-            let (pc, pd) = (grid_i64(&pins[c]), grid_i64(&pins[d]));
-            let (d1, d2) = (cross_i64(pa, pb, pc), cross_i64(pa, pb, pd));
-            let (d3, d4) = (cross_i64(pc, pd, pa), cross_i64(pc, pd, pb));
-            // Strict sign changes: a proper crossing at interior points of both.
-            if !(d1.signum() * d2.signum() < 0 && d3.signum() * d4.signum() < 0) {
-                continue;
-            }
-            // Intersection parameters: t along a→b, s along c→d.
-            let t = d3 as f64 / (d3 - d4) as f64;
-            let s = d1 as f64 / (d1 - d2) as f64;
-            let ye = catenaries[e].point_at_arc_fraction(t).y;
-            let yf = catenaries[f].point_at_arc_fraction(s).y;
-            crossings.push(Crossing { first: e, second: f, t_first: t, t_second: s, y_first: ye, y_second: yf });
-        }
+    (0..candidates.len())
+        .flat_map(|e| (e + 1..candidates.len()).map(move |f| (e, f)))
+        .filter_map(|(e, f)| crossing(pins, candidates, catenaries, e, f))
+        .collect()
+}
+
+/// The proper crossing of candidates `e` and `f` (interior points of both), if any.
+fn crossing(
+    pins: &[PinPoint],
+    pairs: &[(usize, usize)],
+    catenaries: &[Catenary],
+    e: usize,
+    f: usize,
+) -> Option<Crossing> {
+    let ((a, b), (c, d)) = (pairs[e], pairs[f]);
+    if a == c || a == d || b == c || b == d {
+        return None;
     }
-    crossings
+    let (pa, pb) = (grid_i64(&pins[a]), grid_i64(&pins[b]));
+    let (pc, pd) = (grid_i64(&pins[c]), grid_i64(&pins[d]));
+    let (d1, d2) = (cross_i64(pa, pb, pc), cross_i64(pa, pb, pd));
+    let (d3, d4) = (cross_i64(pc, pd, pa), cross_i64(pc, pd, pb));
+    // Strict sign changes: a proper crossing at interior points of both.
+    if !(d1.signum() * d2.signum() < 0 && d3.signum() * d4.signum() < 0) {
+        return None;
+    }
+    // Intersection parameters: t along a→b, s along c→d.
+    let t = d3 as f64 / (d3 - d4) as f64;
+    let s = d1 as f64 / (d1 - d2) as f64;
+    let ye = catenaries[e].point_at_arc_fraction(t).y;
+    let yf = catenaries[f].point_at_arc_fraction(s).y;
+    Some(Crossing { first: e, second: f, t_first: t, t_second: s, y_first: ye, y_second: yf })
+}
+
+/// The surviving candidates: each resolution's ([`resolve_conflicts`]) and
+/// their union.
+pub(super) struct Survivors {
+    /// Candidates that survive in at least one resolution: the kept ones.
+    pub(super) alive: Vec<bool>,
+    /// Each resolution's survivors, a triangulation of the hull each: one
+    /// resolution when no crossing ties, else the two that break ties towards
+    /// one diagonal direction and towards the other.
+    pub(super) resolutions: Vec<Vec<bool>>,
+}
+
+/// Resolves the conflicts of `candidates` at `crossings`. Where two are
+/// equally high at their crossing (within `tie_tolerance_m`) neither is the
+/// higher, and keeping either one would tilt the shape of symmetric pins:
+/// mirror-symmetric pins give mirror-image candidates that meet on the mirror
+/// at equal heights (up to rounding). Such ties are broken both ways — once
+/// for catenaries along the grid's main diagonal direction (i and j growing
+/// together), once for the other — and both resolutions are kept. A mirror in
+/// i or in j swaps the two directions, so it swaps the two resolutions and
+/// leaves their union as it was. Without ties there is one resolution, the
+/// paper's.
+pub(super) fn survivors(
+    pins: &[PinPoint],
+    candidates: &[(usize, usize)],
+    crossings: &[Crossing],
+    catenaries: &[Catenary],
+    tie_tolerance_m: f64,
+) -> Survivors {
+    let resolve = |tie_break| resolve_conflicts(pins, candidates, crossings, catenaries, tie_tolerance_m, tie_break);
+    let main = resolve(TieBreak::MainDiagonal);
+    let anti = if crossings.iter().any(|x| x.is_tie(tie_tolerance_m)) {
+        resolve(TieBreak::AntiDiagonal)
+    } else {
+        main.clone()
+    };
+    if anti == main {
+        return Survivors { alive: main.clone(), resolutions: vec![main] };
+    }
+    let alive = main.iter().zip(&anti).map(|(&m, &a)| m || a).collect();
+    Survivors { alive, resolutions: vec![main, anti] }
+}
+
+/// Which catenary wins a tie at a crossing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TieBreak {
+    /// The one along the main diagonal direction (i and j grow together), then
+    /// an axis-aligned one, then the other; between two alike, the first.
+    MainDiagonal,
+    /// The one along the other diagonal direction, then an axis-aligned one.
+    AntiDiagonal,
+}
+
+impl TieBreak {
+    /// 0 for the preferred direction, 1 along an axis, 2 for the other.
+    fn rank(self, a: (i64, i64), b: (i64, i64)) -> u8 {
+        let slope = ((b.0 - a.0) * (b.1 - a.1)).signum();
+        let towards = if self == TieBreak::MainDiagonal { slope } else { -slope };
+        (1 - towards) as u8
+    }
 }
 
 /// Which candidates survive: at each crossing the lower one goes, lowest
@@ -104,50 +176,65 @@ pub(super) fn find_crossings(
 /// (highest midpoint first), so the survivors are a maximal non-crossing set —
 /// a triangulation of the hull.
 ///
-/// A crossing whose two heights differ by at most `tie_tolerance_m` is a tie
-/// and removes neither: both stay, and neither keeps the other from coming
-/// back. Mirror-symmetric pins give mirror-image candidates that meet on the
-/// mirror at equal heights (up to rounding), and breaking such a tie either way
-/// would tilt the whole shape. Tied survivors cross; the triangles on both
-/// sides are then kept and overlap. Without ties the result is as above.
-pub(super) fn resolve_conflicts(
-    count: usize,
+/// A crossing whose two heights differ by at most `tie_tolerance_m` is a tie,
+/// won by the catenary `tie_break` prefers, in both steps: of a removed
+/// catenary and removed ones it ties with that could all come back, the
+/// preferred one does, whichever comes first by height. Without ties the
+/// result does not depend on `tie_break`.
+fn resolve_conflicts(
+    pins: &[PinPoint],
+    pairs: &[(usize, usize)],
     crossings: &[Crossing],
     catenaries: &[Catenary],
     tie_tolerance_m: f64,
+    tie_break: TieBreak,
 ) -> Vec<bool> {
+    let count = pairs.len();
+    let rank: Vec<u8> = pairs.iter().map(|&(a, b)| tie_break.rank(grid_i64(&pins[a]), grid_i64(&pins[b]))).collect();
+    let preferred = |x: usize, y: usize| (rank[x], x) < (rank[y], y);
     let mut alive = vec![true; count];
     let mut order: Vec<usize> = (0..crossings.len()).collect();
     order.sort_by(|&x, &y| crossings[x].lower_y().total_cmp(&crossings[y].lower_y()).then(x.cmp(&y)));
     for &k in &order {
         let x = &crossings[k];
-        if !(alive[x.first] && alive[x.second]) || x.is_tie(tie_tolerance_m) {
+        if !(alive[x.first] && alive[x.second]) {
             continue;
         }
-        if x.y_first > x.y_second {
+        let first_stays = if x.is_tie(tie_tolerance_m) { preferred(x.first, x.second) } else { x.y_first > x.y_second };
+        if first_stays {
             alive[x.second] = false;
         } else {
             alive[x.first] = false;
         }
     }
 
-    let mut partners: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for x in crossings.iter().filter(|x| !x.is_tie(tie_tolerance_m)) {
-        partners[x.first].push(x.second);
-        partners[x.second].push(x.first);
+    // Per candidate, the candidates it crosses and whether they tie there.
+    let mut partners: Vec<Vec<(usize, bool)>> = vec![Vec::new(); count];
+    for x in crossings {
+        let tie = x.is_tie(tie_tolerance_m);
+        partners[x.first].push((x.second, tie));
+        partners[x.second].push((x.first, tie));
     }
     let mut removed: Vec<(f64, usize)> =
         (0..count).filter(|&c| !alive[c]).map(|c| (catenaries[c].point_at_arc_fraction(0.5).y, c)).collect();
     removed.sort_by(|&(mx, x), &(my, y)| my.total_cmp(&mx).then(x.cmp(&y)));
     for (_, c) in removed {
-        if partners[c].iter().all(|&p| !alive[p]) {
-            alive[c] = true;
+        let free = |c: usize, alive: &[bool]| partners[c].iter().all(|&(p, _)| !alive[p]);
+        if alive[c] || !free(c, &alive) {
+            continue;
         }
+        let back = partners[c]
+            .iter()
+            .filter(|&&(p, tie)| tie && !alive[p] && free(p, &alive))
+            .fold(c, |best, &(p, _)| if preferred(p, best) { p } else { best });
+        alive[back] = true;
     }
     alive
 }
 
-pub(super) fn classify_layout(pins: &[PinPoint], kept: &[CatenaryEdge]) -> PinLayout {
+/// The layout of `pins`; over an area, the triangles of each resolution
+/// (pin pairs of its survivors), those of the first first.
+pub(super) fn classify_layout(pins: &[PinPoint], resolutions: &[Vec<(usize, usize)>]) -> PinLayout {
     if pins.len() == 1 {
         return PinLayout::Single;
     }
@@ -164,13 +251,17 @@ pub(super) fn classify_layout(pins: &[PinPoint], kept: &[CatenaryEdge]) -> PinLa
         return PinLayout::Collinear(order);
     }
     let boundary = convex_hull_with_collinear(&points);
-    let triangles = kept_triangles(&points, kept);
+    let mut triangles = Vec::new();
+    let mut seen = HashSet::new();
+    for edges in resolutions {
+        triangles.extend(kept_triangles(&points, edges).into_iter().filter(|&triangle| seen.insert(triangle)));
+    }
     PinLayout::Hull { boundary, triangles }
 }
 
 /// Andrew's monotone chain, keeping points that lie on hull edges so that each
 /// boundary step is a single kept catenary. Input is not all collinear.
-pub(super) fn convex_hull_with_collinear(points: &[(i64, i64)]) -> Vec<usize> {
+fn convex_hull_with_collinear(points: &[(i64, i64)]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by_key(|&k| points[k]);
     let mut hull: Vec<usize> = Vec::with_capacity(points.len() * 2);
@@ -191,13 +282,13 @@ pub(super) fn convex_hull_with_collinear(points: &[(i64, i64)]) -> Vec<usize> {
     hull
 }
 
-/// Triangles whose three edges are kept and that hold no other pin.
-pub(super) fn kept_triangles(points: &[(i64, i64)], kept: &[CatenaryEdge]) -> Vec<[usize; 3]> {
+/// Triangles whose three edges are in `edges` (pin pairs) and that hold no other pin.
+fn kept_triangles(points: &[(i64, i64)], edges: &[(usize, usize)]) -> Vec<[usize; 3]> {
     let n = points.len();
     let mut adjacent = vec![Vec::new(); n];
-    for e in kept {
-        adjacent[e.a].push(e.b);
-        adjacent[e.b].push(e.a);
+    for &(a, b) in edges {
+        adjacent[a].push(b);
+        adjacent[b].push(a);
     }
     for list in &mut adjacent {
         list.sort_unstable();
@@ -227,9 +318,81 @@ pub(super) fn kept_triangles(points: &[(i64, i64)], kept: &[CatenaryEdge]) -> Ve
     triangles
 }
 
-pub(super) fn strictly_inside(points: &[(i64, i64)], [a, b, c]: [usize; 3], p: (i64, i64)) -> bool {
+fn strictly_inside(points: &[(i64, i64)], [a, b, c]: [usize; 3], p: (i64, i64)) -> bool {
     let s = cross_i64(points[a], points[b], points[c]).signum();
     let w =
         [cross_i64(points[b], points[c], p), cross_i64(points[c], points[a], p), cross_i64(points[a], points[b], p)];
     w.iter().all(|&x| x.signum() == s)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+
+    fn pin(i: usize, j: usize, y: f64) -> PinPoint {
+        PinPoint { grid: (i, j), pos: DVec3::new(i as f64 * 0.1, y, j as f64 * 0.1) }
+    }
+
+    fn catenaries(pins: &[PinPoint], pairs: &[(usize, usize)], elasticity: f64) -> Vec<Catenary> {
+        pairs
+            .iter()
+            .map(|&(a, b)| {
+                let length = pins[a].pos.distance(pins[b].pos).max(0.1 * elasticity) * elasticity;
+                Catenary::new(pins[a].pos, pins[b].pos, length)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn crossings_are_proper_and_exact() {
+        // A plus sign, a T (touching), a shared end and collinear overlap.
+        let pins = [pin(0, 2, 1.0), pin(4, 2, 1.0), pin(2, 0, 1.0), pin(2, 4, 1.0), pin(6, 2, 1.0), pin(2, 2, 0.5)];
+        let pairs = [(0, 1), (2, 3), (1, 4), (2, 5), (0, 4)];
+        let cats = catenaries(&pins, &pairs, 1.1);
+        let x = crossing(&pins, &pairs, &cats, 0, 1).expect("the plus crosses");
+        assert_eq!((x.t_first, x.t_second), (0.5, 0.5));
+        assert!(crossing(&pins, &pairs, &cats, 0, 2).is_none(), "a shared end is no crossing");
+        assert!(crossing(&pins, &pairs, &cats, 0, 3).is_none(), "touching at a pin is no crossing");
+        assert!(crossing(&pins, &pairs, &cats, 0, 4).is_none(), "collinear overlap is no crossing");
+        // Far from the origin the predicate stays exact (integer arithmetic).
+        let far = [pin(100_000, 0, 1.0), pin(100_003, 1, 1.0), pin(100_001, 1, 1.0), pin(100_002, 0, 1.0)];
+        let pairs = [(0, 1), (2, 3)];
+        let cats = catenaries(&far, &pairs, 1.1);
+        let x = crossing(&far, &pairs, &cats, 0, 1).expect("crosses");
+        assert_eq!((x.t_first, x.t_second), (0.5, 0.5));
+    }
+
+    #[test]
+    fn the_hull_keeps_pins_on_its_edges_counter_clockwise() {
+        let points = [(0, 0), (2, 0), (4, 0), (4, 4), (2, 2), (0, 4), (0, 2), (1, 1), (4, 2)];
+        let hull = convex_hull_with_collinear(&points);
+        let on_hull: Vec<(i64, i64)> = hull.iter().map(|&k| points[k]).collect();
+        assert_eq!(on_hull, [(0, 0), (2, 0), (4, 0), (4, 2), (4, 4), (0, 4), (0, 2)]);
+        for k in 0..hull.len() {
+            let (a, b, c) = (on_hull[k], on_hull[(k + 1) % hull.len()], on_hull[(k + 2) % hull.len()]);
+            assert!(cross_i64(a, b, c) >= 0);
+        }
+    }
+
+    #[test]
+    fn ties_keep_both_diagonals_of_a_level_square() {
+        let pins = [pin(0, 0, 1.0), pin(8, 0, 1.0), pin(0, 8, 1.0), pin(8, 8, 1.0)];
+        let candidates = candidate_pairs(&pins);
+        let cats = catenaries(&pins, &candidates, 1.1);
+        let crossings = find_crossings(&pins, &candidates, &cats);
+        let survivors = survivors(&pins, &candidates, &crossings, &cats, 1e-9);
+        assert!(survivors.alive.iter().all(|&a| a));
+        assert_eq!(survivors.resolutions.len(), 2);
+        // Each resolution is one triangulation: the main diagonal (0–3) or the other (1–2).
+        let diagonal = |r: &Vec<bool>| {
+            (
+                r[candidates.iter().position(|&p| p == (0, 3)).unwrap()],
+                r[candidates.iter().position(|&p| p == (1, 2)).unwrap()],
+            )
+        };
+        assert_eq!(diagonal(&survivors.resolutions[0]), (true, false));
+        assert_eq!(diagonal(&survivors.resolutions[1]), (false, true));
+    }
 }
