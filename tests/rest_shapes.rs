@@ -574,3 +574,136 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------
+// Many pins: local candidates, same invariants.
+// ---------------------------------------------------------------------------
+
+/// A small deterministic generator for the layouts below.
+struct Lcg(u64);
+
+impl Lcg {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.unit() * n as f64) as usize
+    }
+}
+
+/// `count` distinct grid points on `grid`, held where the flat cloth would be
+/// (x along u, z along v, centred), at a height from `height_m(u, v)`.
+fn scattered_pins(grid: GridSpec, count: usize, seed: u64, height_m: impl Fn(f64, f64) -> f64) -> Vec<PinPoint> {
+    let mut rng = Lcg(seed);
+    let mut seen = std::collections::HashSet::new();
+    let (w, h) = (grid.spacing_u_m * (grid.cols - 1) as f64, grid.spacing_v_m * (grid.rows - 1) as f64);
+    let mut pins = Vec::new();
+    while pins.len() < count {
+        let g = (rng.below(grid.cols), rng.below(grid.rows));
+        if seen.insert(g) {
+            let m = grid.material(g.0, g.1);
+            pins.push(PinPoint {
+                grid: g,
+                pos: DVec3::new(0.95 * (m.x - w / 2.0), height_m(m.x, m.y), 0.95 * (m.y - h / 2.0)),
+            });
+        }
+    }
+    pins
+}
+
+/// A table top: pins every `step` grid points (both ways) at `height_m`, each
+/// where the flat cloth would be, `pull` of the way towards the centre.
+fn lattice_pins(grid: GridSpec, step: usize, pull: f64, height_m: impl Fn(usize, usize) -> f64) -> Vec<PinPoint> {
+    let (w, h) = (grid.spacing_u_m * (grid.cols - 1) as f64, grid.spacing_v_m * (grid.rows - 1) as f64);
+    (0..grid.rows)
+        .step_by(step)
+        .flat_map(|j| (0..grid.cols).step_by(step).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let m = grid.material(i, j);
+            PinPoint {
+                grid: (i, j),
+                pos: DVec3::new((1.0 - pull) * (m.x - w / 2.0), height_m(i, j), (1.0 - pull) * (m.y - h / 2.0)),
+            }
+        })
+        .collect()
+}
+
+fn timed_approximation(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> (Approximation, f64) {
+    let start = std::time::Instant::now();
+    let approx = approximate(grid, pins, elasticity);
+    (approx, start.elapsed().as_secs_f64() * 1e3)
+}
+
+#[test]
+fn a_table_top_pinned_on_a_17_by_17_lattice_approximates_whole() {
+    let grid = grid_spec(&Cloth::new((1.6, 1.6), (65, 65)));
+    let mut rng = Lcg(7);
+    let bumps: Vec<f64> = (0..65 * 65).map(|_| 0.01 * rng.unit()).collect();
+    type Height<'a> = Box<dyn Fn(usize, usize) -> f64 + 'a>;
+    let cases: [(&str, f64, f64, Height); 3] = [
+        ("level, taut", 0.0, 1.0, Box::new(|_, _| 0.75)),
+        ("level, slack", 0.05, 1.05, Box::new(|_, _| 0.75)),
+        ("bumpy", 0.05, 1.05, Box::new(|i, j| 0.75 + bumps[j * 65 + i])),
+    ];
+    for (label, pull, elasticity, height) in cases {
+        let pins = lattice_pins(grid, 4, pull, height);
+        assert_eq!(pins.len(), 289);
+        let (approx, ms) = timed_approximation(grid, &pins, elasticity);
+        eprintln!("289-pin lattice ({label}) on 65²: {ms:.1} ms, {} kept", approx.network.kept.len());
+        assert_network_invariants(&format!("lattice, {label}"), grid, &pins, &approx, label == "bumpy");
+        // The whole cloth lies in the hull: nothing drapes.
+        assert!(approx.placement.iter().all(|&p| p != Placement::Draped), "{label}");
+    }
+}
+
+#[test]
+fn a_level_table_top_with_overhang_approximates_symmetrically() {
+    // 17 × 17 pins inset by 8 points on an 81² cloth: the lattice's mirror symmetry survives.
+    let grid = grid_spec(&Cloth::new((2.0, 2.0), (81, 81)));
+    let pins: Vec<PinPoint> = lattice_pins(grid, 4, 0.05, |_, _| 0.75)
+        .into_iter()
+        .filter(|p| (8..=72).contains(&p.grid.0) && (8..=72).contains(&p.grid.1))
+        .collect();
+    assert_eq!(pins.len(), 289);
+    let approx = approximate(grid, &pins, 1.05);
+    assert_network_invariants("inset lattice", grid, &pins, &approx, false);
+    let inside = |i: usize, j: usize| (8..=72).contains(&i) && (8..=72).contains(&j);
+    let positions: Vec<DVec3> =
+        (0..81 * 81).map(|k| if inside(k % 81, k / 81) { approx.positions[k] } else { DVec3::ZERO }).collect();
+    assert_mirror_symmetric("inset lattice", 81, 81, &positions, 1e-9);
+}
+
+#[test]
+fn a_thousand_scattered_pins_approximate_whole() {
+    for (cols, count, seed) in [(65usize, 300usize, 1u64), (129, 1000, 2), (129, 1000, 3)] {
+        let grid = grid_spec(&Cloth::new((2.0, 2.0), (cols as u32, cols as u32)));
+        let pins = scattered_pins(grid, count, seed, |u, v| 1.0 + 0.2 * (3.0 * u).sin() * (2.0 * v).cos());
+        let (approx, ms) = timed_approximation(grid, &pins, 1.05);
+        eprintln!("{count} scattered pins on {cols}²: {ms:.1} ms, {} kept", approx.network.kept.len());
+        assert_network_invariants(&format!("{count} pins on {cols}²"), grid, &pins, &approx, true);
+    }
+}
+
+#[test]
+fn a_hem_of_64_collinear_pins_hangs_from_its_catenaries() {
+    let grid = grid_spec(&Cloth::new((1.6, 1.0), (64, 40)));
+    let pins: Vec<PinPoint> = (0..64)
+        .rev()
+        .map(|i| PinPoint { grid: (i, 0), pos: DVec3::new(0.98 * grid.material(i, 0).x - 0.78, 2.0, 0.0) })
+        .collect();
+    let (approx, ms) = timed_approximation(grid, &pins, 1.05);
+    eprintln!("64-pin hem on 64 × 40: {ms:.1} ms");
+    let PinLayout::Collinear(order) = &approx.network.layout else { panic!("{:?}", approx.network.layout) };
+    assert_eq!(order.len(), 64);
+    assert_eq!(approx.network.kept.len(), 63, "neighbours only");
+    assert!(approx.network.conflicting.is_empty());
+    assert!(approx.positions.iter().all(|p| p.is_finite()));
+    for pin in &pins {
+        assert_eq!(approx.positions[grid.index(pin.grid.0, pin.grid.1)], pin.pos);
+    }
+    // Below the hem the cloth hangs: each column's points fall away from its pin.
+    for i in 0..64 {
+        assert!(approx.positions[grid.index(i, 39)].y < 2.0 - 0.9, "column {i}");
+    }
+}

@@ -3,7 +3,11 @@
 //!
 //! 1. A candidate catenary joins every pair of pins; its arc length is the pins'
 //!    material distance × elasticity. A candidate that passes through a third
-//!    pin in grid space is covered by the two shorter ones and dropped.
+//!    pin in grid space is covered by the two shorter ones and dropped. Above
+//!    24 pins only local pairs are candidates — the edges of the pins' Delaunay
+//!    subdivision and the alternatives across them — so that hundreds or
+//!    thousands of pins (a table top pinned on a lattice) take milliseconds and
+//!    memory linear in the pins rather than O(P⁴) (see `network`).
 //! 2. Where two candidates cross in grid space, the lower one at the crossing is
 //!    removed ("conflicting"), lowest conflict first; removed candidates that no
 //!    longer cross anything come back. What is kept triangulates the pins'
@@ -38,6 +42,7 @@
 //! integer arithmetic on grid indices: material space is grid space scaled per
 //! axis, which changes no crossing, collinearity or containment.
 
+mod delaunay;
 mod interior;
 mod network;
 
@@ -45,7 +50,7 @@ use glam::{DVec2, DVec3};
 
 use super::catenary::Catenary;
 use interior::{EdgeLookup, Fans, Placed, place_triangle};
-use network::{candidate_pairs, classify_layout, crossing_material, find_crossings, grid_i64, survivors};
+use network::{classify_layout, crossing_material, find_crossings, grid_i64, select_candidates, survivors};
 
 /// A pinned grid point: grid index (i, j) held at `pos` (metres).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -184,17 +189,17 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
         ma.distance(mb) * elasticity
     };
 
-    let candidates = candidate_pairs(&pins);
+    let candidates = select_candidates(&pins, grid);
     let catenaries: Vec<Catenary> =
-        candidates.iter().map(|&(a, b)| Catenary::new(pins[a].pos, pins[b].pos, length_of(a, b))).collect();
+        candidates.pairs.iter().map(|&(a, b)| Catenary::new(pins[a].pos, pins[b].pos, length_of(a, b))).collect();
     let crossings = find_crossings(&pins, &candidates, &catenaries);
     let survivors = survivors(&pins, &candidates, &crossings, &catenaries, tie_tolerance_m(&pins));
     let alive = &survivors.alive;
 
     let mut kept = Vec::new();
     let mut conflicting = Vec::new();
-    let mut slot = vec![0usize; candidates.len()];
-    for (c, &(a, b)) in candidates.iter().enumerate() {
+    let mut slot = vec![0usize; candidates.pairs.len()];
+    for (c, &(a, b)) in candidates.pairs.iter().enumerate() {
         let edge = CatenaryEdge { a, b, catenary: catenaries[c].clone() };
         if alive[c] {
             slot[c] = kept.len();
@@ -214,7 +219,7 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
                 (x.second, x.first, x.t_second, x.t_first)
             };
             ConflictPoint {
-                material_m: crossing_material(grid, &pins, candidates[k], tk),
+                material_m: crossing_material(grid, &pins, candidates.pairs[k], tk),
                 kept: slot[k],
                 removed: slot[r],
                 kept_pos: catenaries[k].point_at_arc_fraction(tk),
@@ -226,7 +231,7 @@ pub fn approximate(grid: GridSpec, pins: &[PinPoint], elasticity: f64) -> Approx
     let resolutions: Vec<Vec<(usize, usize)>> = survivors
         .resolutions
         .iter()
-        .map(|survives| candidates.iter().zip(survives).filter(|&(_, &s)| s).map(|(&pair, _)| pair).collect())
+        .map(|survives| candidates.pairs.iter().zip(survives).filter(|&(_, &s)| s).map(|(&pair, _)| pair).collect())
         .collect();
     let layout = classify_layout(&pins, &resolutions);
     let network = CatenaryNetwork { pins, kept, conflicting, conflict_points, layout };
@@ -466,9 +471,10 @@ impl<'a> DrapeFrame<'a> {
         } else if a >= span_m {
             pins[last].pos + along_world * ((a - span_m) * elasticity)
         } else {
-            let segment = (0..self.boundary.len() - 1)
-                .find(|&s| (self.pin_material(self.boundary[s + 1]) - m_first).dot(along_m) >= a)
-                .unwrap_or(self.boundary.len() - 2);
+            // The first segment whose far end is at or past `a` (pins are sorted along the line).
+            let segment = self.boundary[1..]
+                .partition_point(|&pin| (self.pin_material(pin) - m_first).dot(along_m) < a)
+                .min(self.boundary.len() - 2);
             let (sa, sb) = (self.boundary[segment], self.boundary[segment + 1]);
             let (a0, a1) =
                 ((self.pin_material(sa) - m_first).dot(along_m), (self.pin_material(sb) - m_first).dot(along_m));
