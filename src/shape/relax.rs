@@ -117,6 +117,9 @@ fn format_small_mm(mm: f64) -> String {
     if !mm.is_finite() {
         return "an unknown distance".to_string();
     }
+    if mm == 0.0 {
+        return "0 mm".to_string();
+    }
     let digits = if mm >= 10.0 { 0 } else { (1.0 - mm.max(1e-12).log10().floor()) as usize };
     format!("{mm:.digits$} mm")
 }
@@ -1136,6 +1139,7 @@ mod tests {
         );
         assert_eq!(format_small_mm(f64::NAN), "an unknown distance");
         assert_eq!(format_small_mm(25.4), "25 mm");
+        assert_eq!(format_small_mm(0.0), "0 mm");
     }
 
     #[test]
