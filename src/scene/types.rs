@@ -177,9 +177,11 @@ pub struct Pin {
     pub pos: (f64, f64, f64),
 }
 
-/// When relaxation stops: after `iterations` sweeps per grid level, or earlier
-/// once no constraint asks any point to move by more than `tolerance` × the
-/// grid spacing in a sweep.
+/// When relaxation stops: once no constraint asks any point to move by more
+/// than `tolerance` × the grid spacing in a sweep, or, unsettled, after
+/// `iterations` sweeps per grid level. The cap never changes a shape that
+/// settles within it (the coarsest level's settling is a fixed schedule on
+/// top of it).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RelaxSettings {
@@ -189,7 +191,7 @@ pub struct RelaxSettings {
 
 impl Default for RelaxSettings {
     fn default() -> Self {
-        RelaxSettings { iterations: 200, tolerance: 1e-5 }
+        RelaxSettings { iterations: 2000, tolerance: 1e-5 }
     }
 }
 
