@@ -875,3 +875,56 @@ fn blender_plays_the_point_caches_and_the_gltf() {
     assert!(run.status.success(), "Blender disagrees:\n{report}{}", String::from_utf8_lossy(&run.stderr));
     assert_eq!(checks.len(), 3 * 6 + 1, "every format at every frame was checked:\n{report}");
 }
+
+/// A table top held by 300 pins (a 15 × 20 lattice, every fourth grid point,
+/// the cloth running 8 points past it as an overhang), exported as a user
+/// would: `drape check` says the key settled and `drape export` writes an OBJ
+/// with every vertex, every pin exactly where the scene puts it.
+#[test]
+fn three_hundred_pins_check_and_export_with_every_pin_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cols, rows) = (65u32, 77u32);
+    let spacing_m = 0.02;
+    let mut pins = Vec::new();
+    let mut wanted = Vec::new();
+    for j in (0..rows).step_by(4) {
+        for i in (0..57).step_by(4) {
+            // Slightly closer together than the cloth is long, so the cloth sags a little between pins.
+            let pos = (f64::from(i) * spacing_m * 0.98, 0.75, f64::from(j) * spacing_m * 0.98);
+            pins.push(format!("(grid: ({i}, {j}), pos: ({:?}, {:?}, {:?}))", pos.0, pos.1, pos.2));
+            wanted.push(((j * cols + i) as usize, Vec3::new(pos.0 as f32, pos.1 as f32, pos.2 as f32)));
+        }
+    }
+    assert_eq!(pins.len(), 300);
+    let size = (f64::from(cols - 1) * spacing_m, f64::from(rows - 1) * spacing_m);
+    let text = format!(
+        "(version: 1, name: \"Table top\", cloth: (size: ({:?}, {:?}), grid: ({cols}, {rows})), \
+         keys: [(frame: 0, pins: [{}])])",
+        size.0,
+        size.1,
+        pins.join(", ")
+    );
+    let scene_path = dir.path().join("table.ron");
+    fs::write(&scene_path, text).unwrap();
+    let drape = env!("CARGO_BIN_EXE_drape");
+    let check = Command::new(drape).arg("check").arg(&scene_path).output().unwrap();
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "check failed: {report}{}", String::from_utf8_lossy(&check.stderr));
+    assert!(report.contains("300 pins") && report.contains("settled in"), "check says: {report}");
+    assert!(!report.contains("NOT settled"), "check says: {report}");
+    let obj = dir.path().join("table.obj");
+    let export = Command::new(drape).arg("export").arg(&scene_path).arg("-o").arg(&obj).output().unwrap();
+    assert!(export.status.success(), "export failed: {}", String::from_utf8_lossy(&export.stderr));
+    let (positions, normals, faces) = read_obj(&obj);
+    assert_eq!(positions.len(), (cols * rows) as usize);
+    assert_eq!(normals.len(), positions.len());
+    assert_eq!(faces, ((cols - 1) * (rows - 1) * 2) as usize);
+    assert!(positions.iter().all(|p| p.is_finite()), "a vertex is not finite");
+    for (k, want) in wanted {
+        assert!(
+            (positions[k] - want).abs().max_element() <= TOLERANCE_M,
+            "pin vertex {k}: {} instead of {want}",
+            positions[k]
+        );
+    }
+}
