@@ -33,6 +33,13 @@ pub const MAX_TIMELINE_FRAME: i32 = 100_000;
 /// gigabyte; the limit keeps a file's numbers, not its size, from deciding
 /// how much memory and time a key takes.
 pub const MAX_PINS_PER_KEY: usize = 4096;
+/// Most rest-shape points in a scene: keys × grid points. Every key's rest
+/// shape is kept while the scene is evaluated (about 80 bytes a point), so
+/// this bounds that memory to well under a gigabyte: 32 keys at 512 × 512,
+/// over 10 000 on a 33 × 25 curtain.
+pub const MAX_KEY_POINTS: u64 = 1 << 23;
+/// Most layers in the stack; each costs a pass over the cloth every frame.
+pub const MAX_LAYERS: usize = 256;
 /// Highest frame rate, in frames per second.
 pub const MAX_FPS: f64 = 1000.0;
 /// Largest absolute pin coordinate along any axis, in metres.
@@ -151,6 +158,15 @@ impl Checker {
         self.cloth(scene);
         self.timeline(scene);
         self.keys(scene);
+        if scene.layers.len() > MAX_LAYERS {
+            self.push(
+                format!("layers[{MAX_LAYERS}]"),
+                format!(
+                    "the scene has {} layers; the limit is {MAX_LAYERS}",
+                    group_thousands(scene.layers.len() as u64)
+                ),
+            );
+        }
         for (index, layer) in scene.layers.iter().enumerate() {
             self.layer(index, layer);
         }
@@ -272,6 +288,21 @@ impl Checker {
     fn keys(&mut self, scene: &Scene) {
         if scene.keys.is_empty() {
             self.push("keys", "the scene has no keys: it needs at least one key with pins");
+        }
+        let (cols, rows) = scene.cloth.grid;
+        let points = u64::from(cols) * u64::from(rows);
+        if (1..=MAX_GRID_POINTS).contains(&points) && scene.keys.len() as u64 * points > MAX_KEY_POINTS {
+            let most = MAX_KEY_POINTS / points;
+            self.push(
+                format!("keys[{most}]"),
+                format!(
+                    "the scene has {} keys on a {cols} × {rows} grid; at most {} fit, since keys × grid points \
+                     may not pass {}: use fewer keys or a coarser grid",
+                    group_thousands(scene.keys.len() as u64),
+                    group_thousands(most),
+                    group_thousands(MAX_KEY_POINTS)
+                ),
+            );
         }
         for (index, key) in scene.keys.iter().enumerate() {
             let path = format!("keys[{index}]");
@@ -639,6 +670,37 @@ mod tests {
             ["keys[0].pins[4096]: key at frame 0 has 4 098 pins; the limit is 4 096 pins per key"],
             "the pins beyond the limit are not checked one by one"
         );
+    }
+
+    #[test]
+    fn keys_times_grid_points_are_limited() {
+        let mut s = scene();
+        s.cloth.grid = (512, 512);
+        s.keys[0].pins[1].grid = (511, 0);
+        s.keys = (0..33).map(|frame| Key { frame, ..s.keys[0].clone() }).collect();
+        assert_eq!(
+            messages(&s),
+            ["keys[32]: the scene has 33 keys on a 512 × 512 grid; at most 32 fit, since keys × grid points \
+              may not pass 8 388 608: use fewer keys or a coarser grid"]
+        );
+        s.keys.pop();
+        assert_eq!(s.validate(), Ok(()));
+    }
+
+    #[test]
+    fn layers_are_limited() {
+        let mut s = scene();
+        let layer = Layer::FollowThrough(FollowThrough {
+            name: String::new(),
+            enabled: true,
+            weight: 1.0.into(),
+            lag: 0.1.into(),
+            falloff: 1.0.into(),
+        });
+        s.layers = vec![layer; MAX_LAYERS];
+        assert_eq!(s.validate(), Ok(()));
+        s.layers.push(s.layers[0].clone());
+        assert_eq!(messages(&s), ["layers[256]: the scene has 257 layers; the limit is 256"]);
     }
 
     #[test]
