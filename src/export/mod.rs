@@ -33,13 +33,16 @@ pub mod mdd;
 pub mod obj;
 pub mod pc2;
 pub mod png;
+pub mod size;
 pub mod usd;
 
 pub use crate::atomic_file::write_atomically;
 pub use animation::{
     AnimationFormat, ExportError, ExportOptions, ExportStage, ExportSummary, FrameSource, check_frames,
-    check_sequence_dir, ensure_sequence_dir, export_animation, export_animation_with, sequence_file_name,
+    check_sequence_dir, ensure_sequence_dir, export_animation, export_animation_using, export_animation_with,
+    sequence_file_name,
 };
 pub use gif::GifWriter;
 pub use obj::write_obj;
 pub use png::write_png;
+pub use size::{MAX_EXPORT_BYTES, SizeEstimate, check_export_size};

@@ -92,7 +92,7 @@ impl Scene {
 }
 
 /// `4000000` → `4 000 000`.
-pub(crate) fn group_thousands(n: u64) -> String {
+pub fn group_thousands(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {
