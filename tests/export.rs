@@ -877,6 +877,31 @@ fn unwritable_paths_say_which_and_why() {
     assert_eq!(left, Vec::<String>::new());
 }
 
+/// A .glb cannot hold more than 4 GiB: 700 frames of a 512 × 512 cloth are
+/// refused before any frame is evaluated (relaxing that key alone would
+/// take half a minute), and nothing is written.
+#[test]
+fn a_glb_too_large_for_its_format_is_refused_before_evaluating() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = load("curtain.ron");
+    scene.cloth.grid = (512, 512);
+    scene.timeline.end = 1000;
+    let output = dir.path().join("big.glb");
+    let started = std::time::Instant::now();
+    let mut progress_calls = 0;
+    let error = export_animation(&scene, 0..=699, &output, AnimationFormat::Glb, &mut |_, _| {
+        progress_calls += 1;
+        true
+    })
+    .unwrap_err();
+    assert!(matches!(error, ExportError::TooLarge { .. }), "{error}");
+    let text = error.to_string();
+    assert!(text.contains("would take at least 4.") && text.contains("export to .gltf instead"), "{text}");
+    assert_eq!(progress_calls, 1, "only the report before the first frame");
+    assert!(started.elapsed().as_secs() < 10, "no frame was evaluated: {:?}", started.elapsed());
+    assert_eq!(files_in(dir.path()), Vec::<String>::new());
+}
+
 #[test]
 fn a_full_disk_is_reported_with_the_file() {
     let path = Path::new("/shots/carpet.pc2");

@@ -124,9 +124,11 @@ pub(crate) fn write(job: &mut Job, output: &Path, binary: bool) -> Result<Vec<Pa
     let png = texture_png(scene.cloth.texture);
     // A .glb carries the texture in its buffer; a .gltf beside it.
     let embedded_png = if binary { png } else { None };
-    let index_count = job.source.mesh(job.first).indices.len();
+    // Every mesh of the grid has these counts (two triangles a cell).
+    let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
+    let index_count = (cols - 1) * (rows - 1) * 6;
     let image_len = embedded_png.map_or(0, <[u8]>::len);
-    let vertices = scene.cloth.cols() * scene.cloth.rows();
+    let vertices = cols * rows;
     let layout = Layout::new(vertices, index_count, image_len, job.frame_count());
     // The buffer's length is known before any frame is evaluated: a .glb too
     // large for its 32-bit length is refused at once, not after the first pass.
