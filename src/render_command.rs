@@ -84,8 +84,8 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
     // The frames and the directory `drape export` would accept, refused with its messages.
     check_frames(&scene, range.first, range.last)?;
     if kind == Output::Sequence {
-        if output.is_file() {
-            bail!("{} is a file: --frames writes a numbered sequence into a directory", output.display());
+        if output.exists() && !output.is_dir() {
+            bail!("{} is not a directory: --frames writes a numbered sequence into a directory", output.display());
         }
         check_sequence_dir(output)?;
     }

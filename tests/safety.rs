@@ -159,6 +159,17 @@ fn a_point_cache_into_a_fifo_makes_no_file_beside_it() {
     assert!(read.stdout.starts_with(b"POINTCACHE2\0"));
     assert!(String::from_utf8_lossy(&export.stdout).contains("not written: the base mesh"));
     assert_eq!(names_in(dir.path()), ["cache.pc2"], "no cache.obj beside the FIFO");
+
+    // A sequence needs a directory: refused before anything opens the FIFO.
+    let frames = dir.path().join("frames");
+    assert!(Command::new("mkfifo").arg(&frames).status().expect("mkfifo runs").success());
+    for command in ["export", "render"] {
+        let output =
+            drape().args([command, "scenes/curtain.ron", "--frames", "0..2", "-o"]).arg(&frames).output().unwrap();
+        assert_eq!(output.status.code(), Some(1), "{command}");
+        assert!(stderr(&output).contains(&format!("{} is not a directory", frames.display())), "{}", stderr(&output));
+    }
+    assert_eq!(names_in(dir.path()), ["cache.pc2", "frames"]);
 }
 
 #[test]
