@@ -6,6 +6,9 @@
 //! mesh as OBJ), glTF 2.0 with one morph target per frame, USD or an OBJ
 //! sequence, streaming frame by frame with progress and cancel; see
 //! [`animation`] for its guarantees and each format's module for its layout.
+//! [`size`] estimates an export's size before it starts, and
+//! [`check_export_size`] refuses one past [`MAX_EXPORT_BYTES`] or the free
+//! space on its disk (the CLI's `--force` skips that check).
 //!
 //! The editor's File ▸ Export calls, for example:
 //!
