@@ -13,14 +13,39 @@ use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, sh
 use drape::shape::relax::mean_structural_error;
 
 /// `println!` that ends the program quietly when stdout is closed (`drape
-/// check scene.ron | head`) instead of panicking on the broken pipe.
+/// check scene.ron | head`) instead of panicking on the broken pipe. When
+/// the output file is stdout itself ([`SUMMARY_TO_STDERR`]) it prints to
+/// stderr instead.
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        if writeln!(std::io::stdout(), $($arg)*).is_err() {
+        if crate::SUMMARY_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed) {
+            let _ = writeln!(std::io::stderr(), $($arg)*);
+        } else if writeln!(std::io::stdout(), $($arg)*).is_err() {
             std::process::exit(0);
         }
     }};
+}
+
+/// Set when the output file is the process's own stdout (`-o /dev/stdout`,
+/// `-o /dev/fd/1`): the summary then goes to stderr, so it never lands in
+/// the data piped on.
+static SUMMARY_TO_STDERR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether `path` is the file, pipe or terminal stdout writes to.
+#[cfg(unix)]
+fn is_stdout(path: &Path) -> bool {
+    use std::os::fd::AsFd as _;
+    use std::os::unix::fs::MetadataExt as _;
+    let Ok(target) = std::fs::metadata(path) else { return false };
+    let Ok(stdout) = std::io::stdout().as_fd().try_clone_to_owned() else { return false };
+    let Ok(stdout) = std::fs::File::from(stdout).metadata() else { return false };
+    (target.dev(), target.ino()) == (stdout.dev(), stdout.ino())
+}
+
+#[cfg(not(unix))]
+fn is_stdout(_path: &Path) -> bool {
+    false
 }
 
 mod export_command;
@@ -143,6 +168,11 @@ fn main() -> ExitCode {
             }
         };
     };
+    if let Command::Export { output, .. } | Command::Render { output, .. } = &command
+        && is_stdout(output)
+    {
+        SUMMARY_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
     let result = match command {
         Command::Check { scene } => check(&scene),
         Command::Export { scene, output, frame, frames, format, stage, no_layers, force } => {

@@ -144,6 +144,22 @@ fn a_device_is_written_into_not_replaced() {
     assert_eq!(names_in(dir.path()), ["null"], "no temporary file, no base mesh or .bin beside the device");
 }
 
+/// `-o /dev/stdout` pipes the file on: the summary goes to stderr, so
+/// nothing but the file's bytes reaches stdout.
+#[test]
+fn an_export_to_stdout_keeps_the_summary_out_of_the_data() {
+    let obj = run(&["export", "scenes/curtain.ron", "-o", "/dev/stdout", "--format", "obj"]);
+    assert!(obj.status.success(), "{}", stderr(&obj));
+    let text = String::from_utf8(obj.stdout.clone()).unwrap();
+    assert_eq!(obj_counts(&text), (CURTAIN_POINTS, CURTAIN_TRIANGLES));
+    assert!(text.lines().last().unwrap().starts_with("f "), "the OBJ ends with its last face");
+    assert!(stderr(&obj).starts_with("wrote /dev/stdout ("), "{}", stderr(&obj));
+    let pc2 = run(&["export", "scenes/curtain.ron", "-o", "/dev/stdout", "--format", "pc2", "--frames", "0..3"]);
+    assert!(pc2.status.success(), "{}", stderr(&pc2));
+    assert_eq!(pc2.stdout.len(), 32 + 4 * CURTAIN_POINTS * 12, "the cache and nothing else");
+    assert!(stderr(&pc2).contains("not written: the base mesh /dev/stdout.obj"), "{}", stderr(&pc2));
+}
+
 /// A PC2 cache streamed into a named pipe arrives whole, and no base OBJ
 /// appears beside the pipe (works without root, unlike the device above).
 #[test]
