@@ -21,6 +21,8 @@ use crate::{FrameRange, frame_number_width, padded_frame};
 /// Sizes used when `--size` is not given: a full-HD-ish still, a lighter GIF.
 pub const DEFAULT_PNG_SIZE: (u32, u32) = (1280, 720);
 pub const DEFAULT_GIF_SIZE: (u32, u32) = (640, 360);
+/// How to make a sequence or GIF smaller, for a refusal of its size.
+const RENDER_REMEDY: &str = "render fewer frames or smaller pictures";
 /// Largest side accepted by `--size`.
 pub const MAX_SIDE_PX: u32 = 8192;
 
@@ -97,11 +99,12 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         let estimate = SizeEstimate::new(
             frame_count * frame_bytes,
             format!(
-                "a GIF of {} frames at {}×{}, counted at a byte a pixel",
+                "the render (a GIF of {} frames at {}×{}, counted at a byte a pixel)",
                 group_thousands(frame_count),
                 size_px.0,
                 size_px.1
             ),
+            RENDER_REMEDY,
         );
         crate::check_size(&estimate, output, request.force)?;
     }
@@ -165,12 +168,13 @@ fn render_sequence(
     let estimate = SizeEstimate::new(
         frame_count.saturating_mul(first_png.len() as u64),
         format!(
-            "a PNG sequence of {} frames at {}×{}, {} each as the first frame is",
+            "the render (a PNG sequence of {} frames at {}×{}, {} each as the first frame is)",
             group_thousands(frame_count),
             first_image.width,
             first_image.height,
             readable_bytes(first_png.len() as u64)
         ),
+        RENDER_REMEDY,
     );
     crate::check_size(&estimate, dir, force)?;
     let created_dir = ensure_sequence_dir(dir)?;

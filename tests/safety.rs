@@ -371,23 +371,33 @@ fn an_export_past_the_size_limit_is_refused_before_writing() {
     assert_eq!(pc2.status.code(), Some(1));
     assert_eq!(
         stderr(&pc2),
-        "error: the export would write about 293.0 GiB (PC2 point cache of 262 144 points × 100 001 frames), \
+        "error: the export (PC2 point cache of 262 144 points × 100 001 frames) would take about 293.0 GiB, \
          more than the 8.0 GiB limit: export fewer frames or a coarser grid, or pass --force to write it anyway\n"
     );
     let sequence = in_dir(&["export", "big.ron", "--frames", "0..100000", "-o", "frames"]);
     assert_eq!(sequence.status.code(), Some(1));
     assert!(
-        stderr(&sequence).contains("(OBJ sequence of 262 144 points × 100 001 frames), more than the 8.0 GiB limit"),
+        stderr(&sequence).contains("the export (OBJ sequence of 262 144 points × 100 001 frames) would take about"),
         "{}",
         stderr(&sequence)
     );
     let gif = in_dir(&["render", "big.ron", "-o", "x.gif"]);
     assert_eq!(gif.status.code(), Some(1));
     assert!(
-        stderr(&gif).contains("(a GIF of 100 001 frames at 640×360, counted at a byte a pixel), more than the 8.0 GiB"),
+        stderr(&gif).ends_with(
+            "(a GIF of 100 001 frames at 640×360, counted at a byte a pixel) would take about 21.6 GiB, more than \
+             the 8.0 GiB limit: render fewer frames or smaller pictures, or pass --force to write it anyway\n"
+        ),
         "{}",
         stderr(&gif)
     );
+    // A PNG sequence is estimated from its first frame, rendered but not written.
+    let pngs = in_dir(&["render", "big.ron", "--frames", "0..100000", "--size", "1920x1080", "-o", "frames"]);
+    assert_eq!(pngs.status.code(), Some(1));
+    let text = stderr(&pngs);
+    assert!(text.starts_with("error: the render (a PNG sequence of 100 001 frames at 1920×1080, "), "{text}");
+    assert!(text.contains(" each as the first frame is) would take about "), "{text}");
+    assert!(text.contains("render fewer frames or smaller pictures, or pass --force"), "{text}");
     assert_eq!(names_in(dir.path()), ["big.ron"], "nothing written, no directory made");
 
     // A few frames of the same scene are small and go ahead.

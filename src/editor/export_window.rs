@@ -312,8 +312,9 @@ mod tests {
         assert_eq!(size_refusal(&scene, &(0..=120), &output, AnimationFormat::Usda), None, "about 2.4 GiB");
         let reason = size_refusal(&scene, &(0..=499), &output, AnimationFormat::Usda).expect("held back");
         assert!(
-            reason.starts_with("the export would write about 9.8 GiB (USD (text) of 262 144 points × 500 frames)")
-                && reason.ends_with("more than the 8.0 GiB limit: export fewer frames or a coarser grid"),
+            reason
+                == "the export (USD (text) of 262 144 points × 500 frames) would take about 9.8 GiB, more than the \
+                    8.0 GiB limit: export fewer frames or a coarser grid",
             "{reason}"
         );
     }

@@ -183,14 +183,13 @@ pub enum ExportError {
     )]
     TooLarge { path: PathBuf, size_bytes: u64 },
     #[error(
-        "the export would write about {} ({what}), more than the {} limit: export fewer frames or a coarser grid",
+        "{what} would take about {}, more than the {} limit: {remedy}",
         readable_bytes(*estimate_bytes),
         readable_bytes(*limit_bytes)
     )]
-    OverSizeLimit { what: String, estimate_bytes: u64, limit_bytes: u64 },
+    OverSizeLimit { what: String, estimate_bytes: u64, limit_bytes: u64, remedy: String },
     #[error(
-        "the export would write about {} ({what}) but the disk holding {} has only {} free: free some space or \
-         write elsewhere",
+        "{what} would take about {} but the disk holding {} has only {} free: free some space or write elsewhere",
         readable_bytes(*estimate_bytes),
         dir.display(),
         readable_bytes(*free_bytes)

@@ -27,23 +27,29 @@ pub const MAX_EXPORT_BYTES: u64 = 8 << 30;
 pub const TEXT_NUMBER_BYTES: u64 = 12;
 
 /// What an export is about to write: its estimated size and, for messages,
-/// what it is (`PC2 point cache of 825 points × 121 frames`).
+/// what it is (`the export (PC2 point cache of 825 points × 121 frames)`)
+/// and how to make it smaller (`export fewer frames or a coarser grid`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SizeEstimate {
     pub bytes: u64,
     pub what: String,
+    pub remedy: String,
 }
+
+/// How to make an export of cloth geometry smaller.
+const EXPORT_REMEDY: &str = "export fewer frames or a coarser grid";
 
 impl SizeEstimate {
     /// An estimate made elsewhere (rendered frames: the caller knows their size).
-    pub fn new(bytes: u64, what: impl Into<String>) -> SizeEstimate {
-        SizeEstimate { bytes, what: what.into() }
+    pub fn new(bytes: u64, what: impl Into<String>, remedy: impl Into<String>) -> SizeEstimate {
+        SizeEstimate { bytes, what: what.into(), remedy: remedy.into() }
     }
 
     /// One OBJ of `scene`'s cloth at one frame.
     pub fn obj(scene: &Scene) -> SizeEstimate {
         let points = grid_points(scene);
-        SizeEstimate::new(obj_bytes(scene), format!("an OBJ of {} points", group_thousands(points)))
+        let what = format!("the export (an OBJ of {} points)", group_thousands(points));
+        SizeEstimate::new(obj_bytes(scene), what, EXPORT_REMEDY)
     }
 
     /// `frame_count` frames of `scene` in `format`, side files included (a
@@ -59,7 +65,8 @@ impl SizeEstimate {
         };
         let frames =
             if frame_count == 1 { "1 frame".to_string() } else { format!("{} frames", group_thousands(frame_count)) };
-        SizeEstimate::new(bytes, format!("{} of {} points × {frames}", format.description(), group_thousands(points)))
+        let what = format!("the export ({} of {} points × {frames})", format.description(), group_thousands(points));
+        SizeEstimate::new(bytes, what, EXPORT_REMEDY)
     }
 }
 
@@ -131,6 +138,7 @@ fn size_verdict(estimate: &SizeEstimate, limit_bytes: u64, free: Option<(PathBuf
             what: estimate.what.clone(),
             estimate_bytes: estimate.bytes,
             limit_bytes,
+            remedy: estimate.remedy.clone(),
         });
     }
     match free {
@@ -220,10 +228,10 @@ mod tests {
         let obj = obj_bytes(&scene);
         let pc2 = SizeEstimate::animation(&scene, AnimationFormat::Pc2, 121);
         assert_eq!(pc2.bytes, 32 + 121 * 825 * 12 + obj);
-        assert_eq!(pc2.what, "PC2 point cache of 825 points × 121 frames");
+        assert_eq!(pc2.what, "the export (PC2 point cache of 825 points × 121 frames)");
         let mdd = SizeEstimate::animation(&scene, AnimationFormat::Mdd, 1);
         assert_eq!(mdd.bytes, 8 + 4 + 825 * 12 + obj);
-        assert_eq!(mdd.what, "MDD point cache of 825 points × 1 frame");
+        assert_eq!(mdd.what, "the export (MDD point cache of 825 points × 1 frame)");
         let sequence = SizeEstimate::animation(&scene, AnimationFormat::ObjSequence, 10);
         assert_eq!(sequence.bytes, 10 * obj);
     }
@@ -241,21 +249,20 @@ mod tests {
 
     #[test]
     fn refusals_name_the_estimate_and_the_limit_or_the_free_space() {
-        let estimate = SizeEstimate::new(12 << 30, "USD (text) of 262 144 points × 1 000 frames");
+        let estimate = SizeEstimate::new(12 << 30, "the render (a GIF of 9 frames)", "render fewer frames");
         let error = size_verdict(&estimate, MAX_EXPORT_BYTES, None).unwrap_err();
         assert_eq!(
             error.to_string(),
-            "the export would write about 12.0 GiB (USD (text) of 262 144 points × 1 000 frames), more than the \
-             8.0 GiB limit: export fewer frames or a coarser grid"
+            "the render (a GIF of 9 frames) would take about 12.0 GiB, more than the 8.0 GiB limit: render fewer frames"
         );
-        let small = SizeEstimate::new(3 << 20, "an OBJ of 825 points");
+        let small = SizeEstimate { bytes: 3 << 20, ..SizeEstimate::obj(&curtain()) };
         assert!(size_verdict(&small, MAX_EXPORT_BYTES, None).is_ok());
         assert!(size_verdict(&small, MAX_EXPORT_BYTES, Some((PathBuf::from("/out"), 4 << 20))).is_ok());
         let error = size_verdict(&small, MAX_EXPORT_BYTES, Some((PathBuf::from("/out"), 1 << 20))).unwrap_err();
         assert_eq!(
             error.to_string(),
-            "the export would write about 3.0 MiB (an OBJ of 825 points) but the disk holding /out has only \
-             1.0 MiB free: free some space or write elsewhere"
+            "the export (an OBJ of 825 points) would take about 3.0 MiB but the disk holding /out has only 1.0 MiB \
+             free: free some space or write elsewhere"
         );
     }
 
