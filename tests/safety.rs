@@ -1,8 +1,11 @@
 //! "Nothing blown up, nothing lost": the `drape` binary writing to special
-//! files and symlinks, interrupted by signals or killed, leaving no temporary
-//! file behind; hostile scene files (a name that injects OBJ lines, an endless
-//! timeline, an endless file); and the CLI's subcommands refusing the same
-//! things with the same messages.
+//! files (no side file beside a device or FIFO), stdout and symlinks,
+//! interrupted by signals or killed, leaving no temporary file behind;
+//! hostile scene files (a name that injects OBJ lines, an endless timeline,
+//! an endless file, too many pins); bounded memory (a 1000-pin key) and
+//! exports refused up front past their size limit unless --force; progress
+//! on a terminal only; and the CLI's subcommands refusing the same things
+//! with the same messages.
 
 #![cfg(unix)]
 
