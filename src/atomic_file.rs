@@ -64,6 +64,13 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
     Ok(())
 }
 
+/// Whether `path` (through its symlinks) is a device, FIFO or socket: a
+/// file [`write_atomically`] writes straight into rather than replaces, and
+/// beside which no side file (`/dev/null.obj`) should be made.
+pub fn is_special_file(path: &Path) -> bool {
+    fs::metadata(path).is_ok_and(|meta| !meta.is_file() && !meta.is_dir())
+}
+
 /// What an output path leads to.
 enum Destination {
     /// A device or a FIFO: written into, never replaced.

@@ -8,14 +8,16 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
+use drape::animate::Evaluator;
 use drape::export::animation::ExportStage;
 use drape::export::{
-    AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, check_frames, export_animation_with,
-    write_atomically, write_obj,
+    AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, SizeEstimate, check_frames,
+    export_animation_using, write_atomically, write_obj,
 };
-use drape::scene::{self, Scene};
+use drape::scene::{self, Key, Scene};
 
 use crate::FrameRange;
+use crate::terminal_progress::{StatusLine, build_key_shapes};
 
 /// `--format`: what to write when the output's extension does not say.
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
@@ -73,6 +75,8 @@ pub struct ExportRequest {
     pub format: Option<Format>,
     pub stage: Stage,
     pub layers: bool,
+    /// Write even when the size estimate is over the limit or the free space.
+    pub force: bool,
 }
 
 pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
@@ -104,7 +108,10 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
 
     if format == AnimationFormat::ObjSequence && request.frames.is_none() {
         let frame = request.frame.unwrap_or(scene.timeline.start);
-        return export_one_obj(&scene, frame, output, &options);
+        check_frames(&scene, frame, frame)?;
+        crate::check_size(&SizeEstimate::obj(&scene), output, request.force)?;
+        let evaluator = evaluator_with_key_shapes(&scene, request.stage, frame, frame);
+        return export_one_obj(&scene, frame, output, &options, evaluator);
     }
     let (first, last) = match (request.frames, request.frame) {
         (Some(range), _) => (range.first, range.last),
@@ -112,14 +119,19 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
         // An animation format without a range: the whole timeline.
         (None, None) => (scene.timeline.start, scene.timeline.end),
     };
+    // Nothing is written, and no key relaxed, before the range and the size are known to be fine.
+    check_frames(&scene, first, last)?;
+    let frame_count = (i64::from(last) - i64::from(first) + 1) as u64;
+    crate::check_size(&SizeEstimate::animation(&scene, format, frame_count), output, request.force)?;
     let started = Instant::now();
+    let evaluator = evaluator_with_key_shapes(&scene, request.stage, first, last);
     let mut bar: Option<indicatif::ProgressBar> = None;
     let mut progress = |done: usize, total: usize| {
         let bar = bar.get_or_insert_with(|| progress_bar(total as u64));
         bar.set_position(done as u64);
         true
     };
-    let summary = export_animation_with(&scene, first..=last, output, format, &options, &mut progress);
+    let summary = export_animation_using(&scene, first..=last, output, format, &options, evaluator, &mut progress);
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -127,9 +139,33 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
     Ok(())
 }
 
-fn export_one_obj(scene: &Scene, frame: i32, output: &Path, options: &ExportOptions) -> Result<()> {
-    check_frames(scene, frame, frame)?;
-    let mut source = FrameSource::new(scene, options.stage, options.layers);
+/// An evaluator holding the rest shapes the frames `first..=last` need
+/// (every key for the animation, the keys in effect for a single key's
+/// stage), built while the terminal shows each key's relaxation.
+fn evaluator_with_key_shapes(scene: &Scene, stage: Stage, first: i32, last: i32) -> Evaluator {
+    let in_effect_first = scene.key_in_effect(f64::from(first));
+    let keys: Vec<&Key> = match stage {
+        Stage::Animated => scene.keys.iter().collect(),
+        Stage::Approx | Stage::Relaxed => scene
+            .keys
+            .iter()
+            .filter(|key| std::ptr::eq(*key, in_effect_first) || (first < key.frame && key.frame <= last))
+            .collect(),
+    };
+    let mut evaluator = Evaluator::new();
+    let mut status = StatusLine::on_stderr();
+    build_key_shapes(&mut evaluator, &scene.cloth, keys.into_iter(), &mut status);
+    evaluator
+}
+
+fn export_one_obj(
+    scene: &Scene,
+    frame: i32,
+    output: &Path,
+    options: &ExportOptions,
+    evaluator: Evaluator,
+) -> Result<()> {
+    let mut source = FrameSource::with_evaluator(scene, options.stage, options.layers, evaluator);
     let mesh = source.mesh(frame);
     write_atomically(output, |w| write_obj(mesh, &scene.name, w)).map_err(|e| ExportError::write(output, e))?;
     say!(
@@ -183,6 +219,9 @@ fn report(summary: &ExportSummary, output: &Path, what: &str, started: Instant) 
         summary.vertex_count,
         summary.triangle_count
     );
+    for left_out in &summary.left_out {
+        say!("  not written: {left_out}");
+    }
 }
 
 fn progress_bar(total: u64) -> indicatif::ProgressBar {

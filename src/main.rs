@@ -13,18 +13,44 @@ use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, sh
 use drape::shape::relax::mean_structural_error;
 
 /// `println!` that ends the program quietly when stdout is closed (`drape
-/// check scene.ron | head`) instead of panicking on the broken pipe.
+/// check scene.ron | head`) instead of panicking on the broken pipe. When
+/// the output file is stdout itself ([`SUMMARY_TO_STDERR`]) it prints to
+/// stderr instead.
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        if writeln!(std::io::stdout(), $($arg)*).is_err() {
+        if crate::SUMMARY_TO_STDERR.load(std::sync::atomic::Ordering::Relaxed) {
+            let _ = writeln!(std::io::stderr(), $($arg)*);
+        } else if writeln!(std::io::stdout(), $($arg)*).is_err() {
             std::process::exit(0);
         }
     }};
 }
 
+/// Set when the output file is the process's own stdout (`-o /dev/stdout`,
+/// `-o /dev/fd/1`): the summary then goes to stderr, so it never lands in
+/// the data piped on.
+static SUMMARY_TO_STDERR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether `path` is the file, pipe or terminal stdout writes to.
+#[cfg(unix)]
+fn is_stdout(path: &Path) -> bool {
+    use std::os::fd::AsFd as _;
+    use std::os::unix::fs::MetadataExt as _;
+    let Ok(target) = std::fs::metadata(path) else { return false };
+    let Ok(stdout) = std::io::stdout().as_fd().try_clone_to_owned() else { return false };
+    let Ok(stdout) = std::fs::File::from(stdout).metadata() else { return false };
+    (target.dev(), target.ino()) == (stdout.dev(), stdout.ino())
+}
+
+#[cfg(not(unix))]
+fn is_stdout(_path: &Path) -> bool {
+    false
+}
+
 mod export_command;
 mod render_command;
+mod terminal_progress;
 
 #[derive(Parser)]
 #[command(name = "drape", version, about = "Cloth animation with fake dynamics: pins, catenaries, relaxation.")]
@@ -69,6 +95,9 @@ enum Command {
         /// Animated stage only: the blended rest shapes without the layer stack.
         #[arg(long)]
         no_layers: bool,
+        /// Write even when the estimated size is over 8 GiB or over the free space on the disk.
+        #[arg(long)]
+        force: bool,
     },
     /// Draw the cloth: a PNG of one frame, a numbered PNG sequence (--frames into a directory) or an animated GIF.
     Render {
@@ -98,6 +127,9 @@ enum Command {
         /// Draw the key's triangulation of its pins on the cloth.
         #[arg(long)]
         triangulation: bool,
+        /// Write a sequence or GIF even when its estimated size is over 8 GiB or over the free space on the disk.
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -136,15 +168,20 @@ fn main() -> ExitCode {
             }
         };
     };
+    if let Command::Export { output, .. } | Command::Render { output, .. } = &command
+        && is_stdout(output)
+    {
+        SUMMARY_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
     let result = match command {
         Command::Check { scene } => check(&scene),
-        Command::Export { scene, output, frame, frames, format, stage, no_layers } => {
-            let request = export_command::ExportRequest { frame, frames, format, stage, layers: !no_layers };
+        Command::Export { scene, output, frame, frames, format, stage, no_layers, force } => {
+            let request = export_command::ExportRequest { frame, frames, format, stage, layers: !no_layers, force };
             export_command::export(&scene, &output, request)
         }
-        Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries, triangulation } => {
+        Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries, triangulation, force } => {
             let overlays = SceneOverlays { wireframe, pins, catenaries, triangulation };
-            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays };
+            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, force };
             render_command::render(&scene, &output, request)
         }
     };
@@ -213,6 +250,8 @@ fn check(path: &Path) -> Result<()> {
     );
     say!("  keys      {}", scene.keys.len());
     let mut evaluator = Evaluator::new();
+    let mut status = terminal_progress::StatusLine::on_stderr();
+    terminal_progress::build_key_shapes(&mut evaluator, cloth, scene.keys.iter(), &mut status);
     let shapes: Vec<_> = scene.keys.iter().map(|key| evaluator.key_shape(cloth, key)).collect();
     for (index, (key, shape)) in scene.keys.iter().zip(&shapes).enumerate() {
         let rest = &shape.rest;
@@ -228,11 +267,27 @@ fn check(path: &Path) -> Result<()> {
             error * 100.0,
             report.verdict()
         );
-        for warning in stretched_pin_warnings(&scene, key) {
+        let (warnings, taut_pairs) = stretched_pin_warnings(&scene, key);
+        for warning in &warnings {
             say!("      warning: {warning}");
         }
+        if taut_pairs > warnings.len() {
+            let more = taut_pairs - warnings.len();
+            say!(
+                "      warning: … and {more} more pair{} of pins pulled taut ({taut_pairs} in all)",
+                if more == 1 { "" } else { "s" }
+            );
+        }
         if let Some(next) = scene.keys.get(index + 1) {
-            say!("      → frame {}: {}", next.frame, segment_summary(&scene, index, &shapes));
+            if key.inbetween_relax > 0 {
+                status.show_now(&format!(
+                    "relaxing the in-between of frames {}..{} ({} sweeps)",
+                    key.frame, next.frame, key.inbetween_relax
+                ));
+            }
+            let summary = segment_summary(&scene, index, &shapes);
+            status.clear();
+            say!("      → frame {}: {summary}", next.frame);
         }
     }
     say!("  layers    {}", scene.layers.len());
@@ -332,11 +387,17 @@ fn layer_parameters(layer: &Layer) -> String {
     format!("weight {weight}, {specific}")
 }
 
+/// Most "pulled taut" warnings `check` prints for one key; the other pairs
+/// are counted in one line (4096 pins have over eight million pairs).
+const MAX_TAUT_WARNINGS_PER_KEY: usize = 10;
+
 /// Pins further apart in space than the cloth between them can reach: the
-/// cloth is held taut (straight) there.
-fn stretched_pin_warnings(scene: &Scene, key: &Key) -> Vec<String> {
+/// cloth is held taut (straight) there. The first
+/// [`MAX_TAUT_WARNINGS_PER_KEY`] warnings, and how many pairs there are.
+fn stretched_pin_warnings(scene: &Scene, key: &Key) -> (Vec<String>, usize) {
     let cloth = &scene.cloth;
     let mut warnings = Vec::new();
+    let mut taut_pairs = 0;
     for (a, pa) in key.pins.iter().enumerate() {
         for pb in &key.pins[a + 1..] {
             let (ua, va) = cloth.material_uv(pa.grid.0 as usize, pa.grid.1 as usize);
@@ -345,6 +406,10 @@ fn stretched_pin_warnings(scene: &Scene, key: &Key) -> Vec<String> {
             let apart =
                 ((pa.pos.0 - pb.pos.0).powi(2) + (pa.pos.1 - pb.pos.1).powi(2) + (pa.pos.2 - pb.pos.2).powi(2)).sqrt();
             if apart > reach * (1.0 + 1e-9) {
+                taut_pairs += 1;
+                if warnings.len() == MAX_TAUT_WARNINGS_PER_KEY {
+                    continue;
+                }
                 warnings.push(format!(
                     "pins {:?} and {:?} are {apart:.3} m apart but the cloth between them reaches only {reach:.3} m: it is pulled taut",
                     pa.grid, pb.grid
@@ -352,7 +417,17 @@ fn stretched_pin_warnings(scene: &Scene, key: &Key) -> Vec<String> {
             }
         }
     }
-    warnings
+    (warnings, taut_pairs)
+}
+
+/// Refuses an output `estimate` says is too large for the limit or the disk,
+/// unless `force`; the message says how to go on anyway.
+fn check_size(estimate: &drape::export::SizeEstimate, output: &Path, force: bool) -> Result<()> {
+    if force {
+        return Ok(());
+    }
+    drape::export::check_export_size(estimate, output, drape::export::MAX_EXPORT_BYTES)
+        .map_err(|error| anyhow!("{error}, or pass --force to write it anyway"))
 }
 
 /// Digits for the frame numbers of a sequence: at least 4, more when needed,

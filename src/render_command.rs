@@ -8,16 +8,21 @@ use std::time::Instant;
 use anyhow::{Context as _, Result, anyhow, bail};
 use drape::atomic_file::StagedFiles;
 use drape::atomic_file::io_reason;
-use drape::export::{GifWriter, check_frames, check_sequence_dir, ensure_sequence_dir, write_atomically, write_png};
+use drape::export::size::readable_bytes;
+use drape::export::{
+    GifWriter, SizeEstimate, check_frames, check_sequence_dir, ensure_sequence_dir, write_atomically, write_png,
+};
 use drape::render::headless::{SceneOverlays, SceneRenderer};
 use drape::render::{GpuContext, RgbaImage};
-use drape::scene::{self, Scene};
+use drape::scene::{self, Scene, group_thousands};
 
 use crate::{FrameRange, frame_number_width, padded_frame};
 
 /// Sizes used when `--size` is not given: a full-HD-ish still, a lighter GIF.
 pub const DEFAULT_PNG_SIZE: (u32, u32) = (1280, 720);
 pub const DEFAULT_GIF_SIZE: (u32, u32) = (640, 360);
+/// How to make a sequence or GIF smaller, for a refusal of its size.
+const RENDER_REMEDY: &str = "render fewer frames or smaller pictures";
 /// Largest side accepted by `--size`.
 pub const MAX_SIDE_PX: u32 = 8192;
 
@@ -26,6 +31,8 @@ pub struct RenderRequest {
     pub frames: Option<FrameRange>,
     pub size_px: Option<(u32, u32)>,
     pub overlays: SceneOverlays,
+    /// Write a sequence or GIF even when its size estimate is over the limit or the free space.
+    pub force: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,10 +86,27 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
     // The frames and the directory `drape export` would accept, refused with its messages.
     check_frames(&scene, range.first, range.last)?;
     if kind == Output::Sequence {
-        if output.is_file() {
-            bail!("{} is a file: --frames writes a numbered sequence into a directory", output.display());
+        if output.exists() && !output.is_dir() {
+            bail!("{} is not a directory: --frames writes a numbered sequence into a directory", output.display());
         }
         check_sequence_dir(output)?;
+    }
+
+    let frame_count = (i64::from(range.last) - i64::from(range.first) + 1) as u64;
+    if kind == Output::Gif {
+        // A GIF frame is at most a palette and one LZW-coded byte a pixel; cloth compresses far better.
+        let frame_bytes = u64::from(size_px.0) * u64::from(size_px.1) + 1024;
+        let estimate = SizeEstimate::new(
+            frame_count * frame_bytes,
+            format!(
+                "the render (a GIF of {} frames at {}×{}, counted at a byte a pixel)",
+                group_thousands(frame_count),
+                size_px.0,
+                size_px.1
+            ),
+            RENDER_REMEDY,
+        );
+        crate::check_size(&estimate, output, request.force)?;
     }
 
     let context = GpuContext::headless()?;
@@ -112,7 +136,7 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
             report(output, range, size_px, started, &adapter, &format!("GIF at {} fps", scene.timeline.fps));
         }
         Output::Sequence => {
-            render_sequence(&mut renderer, &scene, path, output, range)?;
+            render_sequence(&mut renderer, &scene, path, output, range, request.force)?;
             report(output, range, size_px, started, &adapter, "PNG sequence");
         }
     }
@@ -125,15 +149,36 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
 /// place together once all are written, like an OBJ sequence: an error or an
 /// interrupt leaves the directory as it was, never old and new frames mixed.
 /// `dir` is created when missing, but not its parents (as `drape export`).
+///
+/// Before anything is written the size of the sequence is estimated as the
+/// first frame's PNG size times the frame count, and refused past the limit
+/// or the free space on the disk unless `force`.
 fn render_sequence(
     renderer: &mut SceneRenderer,
     scene: &Scene,
     path: &Path,
     dir: &Path,
     range: FrameRange,
+    force: bool,
 ) -> Result<()> {
+    let first_image = renderer.render_frame(scene, range.first as f64)?;
+    let mut first_png = Vec::new();
+    write_png(&first_image, &mut first_png).map_err(|e| anyhow!("cannot encode a PNG: {}", io_reason(&e)))?;
+    let frame_count = (i64::from(range.last) - i64::from(range.first) + 1) as u64;
+    let estimate = SizeEstimate::new(
+        frame_count.saturating_mul(first_png.len() as u64),
+        format!(
+            "the render (a PNG sequence of {} frames at {}×{}, {} each as the first frame is)",
+            group_thousands(frame_count),
+            first_image.width,
+            first_image.height,
+            readable_bytes(first_png.len() as u64)
+        ),
+        RENDER_REMEDY,
+    );
+    crate::check_size(&estimate, dir, force)?;
     let created_dir = ensure_sequence_dir(dir)?;
-    let rendered = render_staged(renderer, scene, path, dir, range);
+    let rendered = render_staged(renderer, scene, path, dir, range, first_image);
     if rendered.is_err() && created_dir {
         let _ = std::fs::remove_dir(dir);
     }
@@ -146,6 +191,7 @@ fn render_staged(
     path: &Path,
     dir: &Path,
     range: FrameRange,
+    first_image: RgbaImage,
 ) -> Result<()> {
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
     let mut staged =
@@ -163,8 +209,9 @@ fn render_staged(
         Ok(staged)
     });
     let mut rendered = Ok(());
+    let mut first_image = Some(first_image);
     for frame in range.first..=range.last {
-        let image = match renderer.render_frame(scene, frame as f64) {
+        let image = match first_image.take().map_or_else(|| renderer.render_frame(scene, frame as f64), Ok) {
             Ok(image) => image,
             Err(error) => {
                 rendered = Err(anyhow!(error));

@@ -436,7 +436,13 @@ struct Usda {
 }
 
 impl Usda {
+    /// A metadata value, without the quotes of a string or token.
     fn metadata(&self, key: &str) -> &str {
+        self.metadata_literal(key).trim_matches('"')
+    }
+
+    /// A metadata value as written, quotes and escapes included.
+    fn metadata_literal(&self, key: &str) -> &str {
         &self.metadata.iter().find(|(k, _)| k == key).unwrap_or_else(|| panic!("no {key} in the layer")).1
     }
 }
@@ -482,7 +488,7 @@ fn read_usda(text: &str) -> Usda {
                     break;
                 }
                 let (key, value) = line.split_once('=').unwrap();
-                usda.metadata.push((key.trim().to_string(), value.trim().trim_matches('"').to_string()));
+                usda.metadata.push((key.trim().to_string(), value.trim().to_string()));
             }
             break;
         }
@@ -596,6 +602,10 @@ fn usd_python() -> Option<PathBuf> {
     works.is_ok_and(|o| o.status.success()).then_some(python)
 }
 
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
 #[test]
 fn pixar_usd_opens_and_validates_the_stage() {
     let Some(python) = usd_python() else {
@@ -605,7 +615,8 @@ fn pixar_usd_opens_and_validates_the_stage() {
         );
     };
     let dir = tempfile::tempdir().unwrap();
-    // The carpet, and the flag under a name with line breaks and a NUL.
+    // The carpet, and the flag under a name with quotes, backslashes, line
+    // breaks and a NUL, which USD must read back exactly from the layer's doc.
     for (scene, frames) in [carpet(), (hostile_flag(), 40..=44)] {
         let output = dir.path().join("cloth.usda");
         export(&scene, frames.clone(), &output);
@@ -617,6 +628,7 @@ fn pixar_usd_opens_and_validates_the_stage() {
             .arg(frames.end().to_string())
             .arg((scene.cloth.cols() * scene.cloth.rows()).to_string())
             .arg(scene.timeline.fps.to_string())
+            .args((scene.name == HOSTILE_NAME).then(|| hex(hostile_usd_doc(frames.clone()).as_bytes())))
             .output()
             .unwrap();
         let report = String::from_utf8_lossy(&run.stdout);
@@ -674,7 +686,42 @@ fn other_stages_export_the_key_in_effect() {
 /// A scene name that tries to add a vertex and a face to every OBJ written
 /// with it, with a NUL, a carriage return, a line separator and a trailing
 /// backslash (a line continuation to some OBJ readers) for good measure.
-const HOSTILE_NAME: &str = "Cur\nv 1e30 1e30 1e30\nf 1 2 3\r\nvt\u{0}0 0\u{2028}vn 0 0 1 \\";
+const HOSTILE_NAME: &str = "Cur\"ta\\in\nv 1e30 1e30 1e30\nf 1 2 3\r\nvt\u{0}0 0\u{2028}vn 0 0 1 \\";
+
+/// The `doc` string a USD export of `frames` of [`hostile_flag`] carries.
+fn hostile_usd_doc(frames: std::ops::RangeInclusive<i32>) -> String {
+    format!(
+        "Drape cloth animation of \"{HOSTILE_NAME}\": frames {}..{} at 24 fps, metres, Y up",
+        frames.start(),
+        frames.end()
+    )
+}
+
+/// Reads a USD string literal (`"…"` with its escapes: `\\`, `\"`, `\'`,
+/// `\n`, `\r`, `\t`, `\xHH` bytes) back into the text it stands for.
+fn usd_unescaped(literal: &str) -> String {
+    let inner = literal.strip_prefix('"').and_then(|l| l.strip_suffix('"')).expect("a quoted USD string");
+    let mut bytes = Vec::new();
+    let mut chars = inner.chars();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            bytes.extend_from_slice(c.encode_utf8(&mut [0; 4]).as_bytes());
+            continue;
+        }
+        match chars.next().expect("an escape after the backslash") {
+            'n' => bytes.push(b'\n'),
+            'r' => bytes.push(b'\r'),
+            't' => bytes.push(b'\t'),
+            'x' => {
+                let hex: String = chars.by_ref().take(2).collect();
+                bytes.push(u8::from_str_radix(&hex, 16).expect("two hex digits"));
+            }
+            other @ ('\\' | '"' | '\'') => bytes.push(other as u8),
+            other => panic!("unknown USD escape \\{other}"),
+        }
+    }
+    String::from_utf8(bytes).expect("the escapes spell UTF-8")
+}
 
 /// The flag renamed [`HOSTILE_NAME`].
 fn hostile_flag() -> Scene {
@@ -696,7 +743,7 @@ fn scene_names_never_add_geometry() {
         let text = String::from_utf8(bytes).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].starts_with("# Drape cloth: "), "{}", lines[0]);
-        assert_eq!(lines[1], "o Cur v 1e30 1e30 1e30 f 1 2 3  vt 0 0 vn 0 0 1", "{}", path.display());
+        assert_eq!(lines[1], "o Cur\"ta\\in v 1e30 1e30 1e30 f 1 2 3  vt 0 0 vn 0 0 1", "{}", path.display());
         let count = |prefix: &str| lines.iter().filter(|l| l.starts_with(prefix)).count();
         assert_eq!((count("v "), count("vt "), count("vn "), count("f ")), (points, points, points, triangles));
         assert_eq!(lines.len(), 2 + 3 * points + triangles, "{}: no other lines", path.display());
@@ -724,8 +771,9 @@ fn scene_names_never_add_geometry() {
     export(&scene, 40..=42, &output);
     let text = fs::read_to_string(&output).unwrap();
     assert!(!text.contains('\0') && !text.contains('\r') && !text.contains('\u{2028}'));
-    assert!(text.contains("defaultPrim = \"Cur_v_1e30_1e30_1e30_f_1_2_3__vt_0_0_vn_0_0_1__\""), "{text:.400}");
+    assert!(text.contains("defaultPrim = \"Cur_ta_in_v_1e30_1e30_1e30_f_1_2_3__vt_0_0_vn_0_0_1__\""), "{text:.400}");
     let usda = read_usda(&text);
+    assert_eq!(usd_unescaped(usda.metadata_literal("doc")), hostile_usd_doc(40..=42), "the name round-trips exactly");
     assert_eq!(usda.points.len(), 3);
     assert_points_match("USD frame 40", &usda.points[0].1, &reference(&scene, 40).positions, TOLERANCE_M);
 }
@@ -827,6 +875,31 @@ fn unwritable_paths_say_which_and_why() {
     let mut left = files_in(dir.path());
     left.retain(|f| !f.starts_with("taken.") && f != "plain_file" && f != "no");
     assert_eq!(left, Vec::<String>::new());
+}
+
+/// A .glb cannot hold more than 4 GiB: 700 frames of a 512 × 512 cloth are
+/// refused before any frame is evaluated (relaxing that key alone would
+/// take half a minute), and nothing is written.
+#[test]
+fn a_glb_too_large_for_its_format_is_refused_before_evaluating() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = load("curtain.ron");
+    scene.cloth.grid = (512, 512);
+    scene.timeline.end = 1000;
+    let output = dir.path().join("big.glb");
+    let started = std::time::Instant::now();
+    let mut progress_calls = 0;
+    let error = export_animation(&scene, 0..=699, &output, AnimationFormat::Glb, &mut |_, _| {
+        progress_calls += 1;
+        true
+    })
+    .unwrap_err();
+    assert!(matches!(error, ExportError::TooLarge { .. }), "{error}");
+    let text = error.to_string();
+    assert!(text.contains("would take at least 4.") && text.contains("export to .gltf instead"), "{text}");
+    assert_eq!(progress_calls, 1, "only the report before the first frame");
+    assert!(started.elapsed().as_secs() < 10, "no frame was evaluated: {:?}", started.elapsed());
+    assert_eq!(files_in(dir.path()), Vec::<String>::new());
 }
 
 #[test]

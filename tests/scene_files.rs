@@ -130,6 +130,16 @@ const MALFORMED: &[(&str, &str)] = &[
          it must be within ±100 000 frames",
     ),
     (
+        "key_frame_too_far.ron",
+        "tests/data/malformed/key_frame_too_far.ron:14:20: key frame -2 000 000 000 is out of range: \
+         it must be within ±100 000 frames",
+    ),
+    (
+        "param_key_frame_too_far.ron",
+        "tests/data/malformed/param_key_frame_too_far.ron:16:57: Sway layer 1: magnitude key frame 2 000 000 000 \
+         is out of range: it must be within ±100 000 frames",
+    ),
+    (
         "keys_out_of_order.ron",
         "tests/data/malformed/keys_out_of_order.ron:6:17: key at frame 10 comes after \
          the key at frame 20: keys must be in increasing frame order",

@@ -1,6 +1,9 @@
 //! File ▸ Export: the evaluated animation of a frame range as PC2, MDD,
 //! glTF, USD or an OBJ sequence, written on a worker thread with a progress
-//! bar and Cancel, through the same exporter as `drape export`.
+//! bar and Cancel, through the same exporter as `drape export`. The window
+//! shows the export's estimated size; one past 8 GiB or the free disk space
+//! is held back with the reason until the user asks to export anyway (the
+//! command line's `--force`).
 
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
@@ -13,7 +16,10 @@ use eframe::egui;
 
 use super::app::DrapeApp;
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use crate::export::{AnimationFormat, ExportError, ExportSummary, export_animation};
+use crate::export::size::readable_bytes;
+use crate::export::{
+    AnimationFormat, ExportError, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, export_animation,
+};
 use crate::scene::Scene;
 
 /// An export running on its worker.
@@ -34,7 +40,13 @@ pub(super) struct ExportWindow {
     output: String,
     dialog: Option<FileDialog>,
     job: Option<Job>,
+    /// Why the last Export was held back, and the settings it was for; shown
+    /// with an "Export anyway" button until the settings change.
+    refused: Option<(String, Settings)>,
 }
+
+/// What an export writes: format, frames and file.
+type Settings = (AnimationFormat, i32, i32, String);
 
 impl Default for ExportWindow {
     fn default() -> Self {
@@ -46,6 +58,7 @@ impl Default for ExportWindow {
             output: String::new(),
             dialog: None,
             job: None,
+            refused: None,
         }
     }
 }
@@ -73,6 +86,18 @@ fn start(
         result
     });
     Job { handle, done, total, cancel, started: Instant::now() }
+}
+
+/// Why exporting `frames` of `scene` as `format` to `output` should not go
+/// ahead without asking: its estimated size is over [`MAX_EXPORT_BYTES`] or
+/// over the free space on the disk it goes to. `None` when it may go ahead.
+fn size_refusal(scene: &Scene, frames: &RangeInclusive<i32>, output: &Path, format: AnimationFormat) -> Option<String> {
+    let estimate = SizeEstimate::animation(scene, format, frame_count(frames));
+    check_export_size(&estimate, output, MAX_EXPORT_BYTES).err().map(|error| error.to_string())
+}
+
+fn frame_count(frames: &RangeInclusive<i32>) -> u64 {
+    (i64::from(*frames.end()) - i64::from(*frames.start()) + 1).max(0) as u64
 }
 
 /// `path` with its extension replaced by `format`'s.
@@ -111,8 +136,10 @@ impl DrapeApp {
         let timeline = self.doc.scene().timeline.clone();
         let mut open = true;
         let mut start_now = false;
+        let mut force_now = false;
         let mut choose = false;
         let busy = self.export.job.is_some();
+        let scene = self.doc.scene();
         egui::Window::new("Export animation").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
             let window = &mut self.export;
             ui.add_enabled_ui(!busy, |ui| {
@@ -143,10 +170,13 @@ impl DrapeApp {
                             .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Last frame"));
                         window.last = window.last.max(window.first);
                         let seconds = f64::from(window.last - window.first + 1) / timeline.fps;
+                        let frames = window.first..=window.last;
+                        let estimate = SizeEstimate::animation(scene, window.format, frame_count(&frames));
                         ui.weak(format!(
-                            "{} frames, {seconds:.2} s at {} fps",
+                            "{} frames, {seconds:.2} s at {} fps, about {}",
                             window.last - window.first + 1,
-                            timeline.fps
+                            timeline.fps,
+                            readable_bytes(estimate.bytes)
                         ));
                     });
                     ui.end_row();
@@ -175,9 +205,19 @@ impl DrapeApp {
                     });
                 }
                 None => {
+                    let settings = (window.format, window.first, window.last, window.output.clone());
+                    if window.refused.as_ref().is_some_and(|(_, held)| *held != settings) {
+                        window.refused = None;
+                    }
+                    if let Some((reason, _)) = &window.refused {
+                        ui.colored_label(ui.visuals().warn_fg_color, format!("Not exported: {reason}."));
+                    }
                     ui.horizontal(|ui| {
                         let ready = !window.output.trim().is_empty();
                         start_now = ui.add_enabled(ready, egui::Button::new("Export")).clicked();
+                        if window.refused.is_some() && ui.button("Export anyway").clicked() {
+                            force_now = true;
+                        }
                     });
                 }
             }
@@ -195,10 +235,21 @@ impl DrapeApp {
             }
             self.export.dialog = None;
         }
-        if start_now {
+        if start_now || force_now {
             let output = PathBuf::from(self.export.output.trim());
             let frames = self.export.first..=self.export.last;
-            self.export.job = Some(start(self.doc.scene().clone(), frames, output, self.export.format, ctx.clone()));
+            let format = self.export.format;
+            let refusal = if force_now { None } else { size_refusal(self.doc.scene(), &frames, &output, format) };
+            match refusal {
+                Some(reason) => {
+                    let settings = (format, self.export.first, self.export.last, self.export.output.clone());
+                    self.export.refused = Some((reason, settings));
+                }
+                None => {
+                    self.export.refused = None;
+                    self.export.job = Some(start(self.doc.scene().clone(), frames, output, format, ctx.clone()));
+                }
+            }
         }
         if !open {
             // Closing the window cancels an export in progress.
@@ -249,6 +300,23 @@ mod tests {
         assert_eq!(with_format_extension("/a/carpet.glb", AnimationFormat::Pc2), "/a/carpet.pc2");
         assert_eq!(with_format_extension("carpet", AnimationFormat::Usda), "carpet.usda");
         assert_eq!(with_format_extension("  ", AnimationFormat::Usda), "");
+    }
+
+    #[test]
+    fn a_huge_export_is_held_back_with_its_estimate() {
+        let mut scene = crate::scene::parse(include_str!("../../scenes/curtain.ron"), "curtain.ron").unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let output = dir.path().join("curtain.usda");
+        assert_eq!(size_refusal(&scene, &(0..=120), &output, AnimationFormat::Usda), None);
+        scene.cloth.grid = (512, 512);
+        assert_eq!(size_refusal(&scene, &(0..=120), &output, AnimationFormat::Usda), None, "about 2.4 GiB");
+        let reason = size_refusal(&scene, &(0..=499), &output, AnimationFormat::Usda).expect("held back");
+        assert!(
+            reason
+                == "the export (USD (text) of 262 144 points × 500 frames) would take about 9.8 GiB, more than the \
+                    8.0 GiB limit: export fewer frames or a coarser grid",
+            "{reason}"
+        );
     }
 
     #[test]

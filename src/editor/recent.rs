@@ -16,6 +16,10 @@ use crate::atomic_file::write_atomically;
 /// How many paths the list keeps; pushing more drops the oldest.
 pub const MAX_RECENT_FILES: usize = 10;
 
+/// Largest list file read: ten paths of Linux's longest (4096 bytes) with room
+/// to spare. A larger file is not a list Drape wrote and reads as empty.
+pub const MAX_RECENT_FILE_BYTES: u64 = 64 * 1024;
+
 /// The list's file name inside [`default_config_dir`].
 pub const RECENT_FILES_NAME: &str = "recent-files.txt";
 
@@ -32,12 +36,13 @@ pub struct RecentFiles {
 }
 
 impl RecentFiles {
-    /// Reads the list from `config_file`. A missing or unreadable file, or one
-    /// that is not a list of paths (it holds NUL bytes), gives an empty list;
+    /// Reads the list from `config_file`. A missing or unreadable file, one
+    /// over [`MAX_RECENT_FILE_BYTES`] (not read beyond that), or one that is
+    /// not a list of paths (it holds NUL bytes), gives an empty list;
     /// lines that are not absolute paths are skipped. Never fails.
     pub fn load(config_file: &Path) -> RecentFiles {
         let mut recent = RecentFiles { config_file: config_file.to_owned(), paths: Vec::new() };
-        let Ok(bytes) = fs::read(config_file) else {
+        let Ok(bytes) = crate::scene::read_capped(config_file, MAX_RECENT_FILE_BYTES) else {
             return recent;
         };
         if bytes.contains(&0) {
@@ -200,6 +205,17 @@ mod tests {
         fs::write(&file, "relative/path.ron\n\n/abs/one.ron\r\n/abs/one.ron\n   \n/abs/two.ron").unwrap();
         let recent = RecentFiles::load(&file);
         assert_eq!(recent.paths(), [PathBuf::from("/abs/one.ron"), PathBuf::from("/abs/two.ron")]);
+    }
+
+    #[test]
+    fn an_endless_file_reads_as_an_empty_list() {
+        assert!(RecentFiles::load(Path::new("/dev/zero")).paths().is_empty());
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("recent.txt");
+        let mut text = "/abs/one.ron\n".to_string();
+        text.push_str(&"/".repeat(MAX_RECENT_FILE_BYTES as usize));
+        fs::write(&file, text).unwrap();
+        assert!(RecentFiles::load(&file).paths().is_empty());
     }
 
     #[test]

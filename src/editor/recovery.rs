@@ -20,13 +20,17 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
 
 use crate::atomic_file::write_atomically;
-use crate::scene::{Scene, SceneError, parse_bytes, to_ron_string};
+use crate::scene::{MAX_SCENE_FILE_BYTES, Scene, SceneError, parse_bytes, read_capped, to_ron_string};
 
 /// The recovery file's name inside the state directory.
 pub const RECOVERY_FILE_NAME: &str = "recovery.ron";
 
 /// Overrides the state directory (tests, CI, portable installs).
 pub const STATE_DIR_ENV: &str = "DRAPE_STATE_DIR";
+
+/// Largest recovery file [`Recovery::read`] reads: a scene file's limit
+/// plus room for the header lines (the original path, the time).
+pub const MAX_RECOVERY_FILE_BYTES: u64 = MAX_SCENE_FILE_BYTES + 64 * 1024;
 
 /// How often a dirty scene is written to the recovery file by default.
 pub const DEFAULT_AUTOSAVE_INTERVAL: Duration = Duration::from_secs(30);
@@ -107,16 +111,17 @@ impl Recovery {
     }
 
     /// The recovery file's scene, if there is a file: `None` when there is
-    /// none; `Some(Err(..))` when it cannot be read or is not a valid scene
-    /// (the message names the file, line and column). Missing or unreadable
+    /// none; `Some(Err(..))` when it cannot be read, is larger than
+    /// [`MAX_RECOVERY_FILE_BYTES`] (nothing beyond that is read) or is not a
+    /// valid scene (the message names the file, line and column). Missing or unreadable
     /// header lines only lose the original path (`None`) or the time (the
     /// file's modification time instead). Never panics.
     pub fn read(&self) -> Option<Result<RecoveredScene, SceneError>> {
         let path = self.file();
-        let bytes = match fs::read(&path) {
+        let bytes = match read_capped(&path, MAX_RECOVERY_FILE_BYTES) {
             Ok(bytes) => bytes,
-            Err(error) if error.kind() == io::ErrorKind::NotFound => return None,
-            Err(source) => return Some(Err(SceneError::Read { path, source })),
+            Err(SceneError::Read { source, .. }) if source.kind() == io::ErrorKind::NotFound => return None,
+            Err(error) => return Some(Err(error)),
         };
         Some(self.parse_recovered(&path, &bytes))
     }
@@ -293,6 +298,17 @@ mod tests {
 
         fs::write(recovery.file(), b"\xff\xfe\x00").unwrap();
         assert!(recovery.read().unwrap().unwrap_err().to_string().contains("not UTF-8"));
+    }
+
+    #[test]
+    fn an_oversized_file_is_refused_without_reading_it_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let recovery = Recovery::new(dir.path());
+        // Sparse: a file that says it is larger than the limit, without filling the disk.
+        fs::File::create(recovery.file()).unwrap().set_len(MAX_RECOVERY_FILE_BYTES + 1).unwrap();
+        let error = recovery.read().unwrap().unwrap_err();
+        assert!(matches!(error, SceneError::TooLarge { .. }), "{error}");
+        assert!(error.to_string().ends_with("recovery.ron is too large for a scene file: over 64 MiB"), "{error}");
     }
 
     #[test]

@@ -27,11 +27,12 @@ use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
 use crate::animate::{EvaluateOptions, Evaluator, frame_time_secs};
-use crate::atomic_file::{StagedFiles, io_reason, write_atomically};
+use crate::atomic_file::{StagedFiles, io_reason, is_special_file, write_atomically};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 
 use super::obj::write_obj;
+use super::size::readable_bytes;
 use super::{gltf, mdd, pc2, usd};
 
 /// A file format for an exported frame range.
@@ -144,6 +145,9 @@ pub struct ExportSummary {
     pub vertex_count: usize,
     pub triangle_count: usize,
     pub fps: f64,
+    /// Files the format usually writes that were left out, each with why: a
+    /// point cache streamed into a device or FIFO gets no base OBJ beside it.
+    pub left_out: Vec<String>,
 }
 
 /// Why an export failed. Messages name the file or the ranges involved.
@@ -160,7 +164,10 @@ pub enum ExportError {
     LayersWithoutAnimation { stage: ExportStage },
     #[error("cannot write {path}: the directory {} does not exist", dir.display(), path = path.display())]
     MissingDirectory { path: PathBuf, dir: PathBuf },
-    #[error("{} is a file: an OBJ sequence is written into a directory (or name the files with OUT.obj)", path.display())]
+    #[error(
+        "{} is not a directory: an OBJ sequence is written into a directory (or name the files with OUT.obj)",
+        path.display()
+    )]
     NotADirectory { path: PathBuf },
     #[error("cannot write {}: {reason}", path.display())]
     Write {
@@ -169,8 +176,31 @@ pub enum ExportError {
         #[source]
         source: io::Error,
     },
-    #[error("{} would be {size_bytes} bytes, more than a GLB can hold (4 GiB): export to .gltf instead", path.display())]
+    #[error(
+        "{} would take at least {} ({size_bytes} bytes), more than a GLB can hold (4 GiB): export to .gltf instead",
+        path.display(),
+        readable_bytes(*size_bytes)
+    )]
     TooLarge { path: PathBuf, size_bytes: u64 },
+    #[error(
+        "{what} would take about {}, more than the {} limit: {remedy}",
+        readable_bytes(*estimate_bytes),
+        readable_bytes(*limit_bytes)
+    )]
+    OverSizeLimit { what: String, estimate_bytes: u64, limit_bytes: u64, remedy: String },
+    #[error(
+        "{what} would take about {} but the disk holding {} has only {} free: free some space or write elsewhere",
+        readable_bytes(*estimate_bytes),
+        dir.display(),
+        readable_bytes(*free_bytes)
+    )]
+    NotEnoughSpace { what: String, estimate_bytes: u64, free_bytes: u64, dir: PathBuf },
+    #[error(
+        "{} is not a regular file (a device or a FIFO): a .gltf needs its .bin beside it, which Drape does not \
+         make next to a special file; write a .glb, which holds everything, instead",
+        path.display()
+    )]
+    SideFilesBesideSpecialFile { path: PathBuf },
     #[error("the export was cancelled; nothing was written")]
     Cancelled,
 }
@@ -221,6 +251,22 @@ pub fn export_animation_with(
     options: &ExportOptions,
     progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<ExportSummary, ExportError> {
+    export_animation_using(scene, frames, output, format, options, Evaluator::new(), progress)
+}
+
+/// [`export_animation_with`] through `evaluator`, whose cache may already
+/// hold rest shapes of the scene's keys (`drape export` builds them first,
+/// showing each key's relaxation). The output is the same either way: the
+/// cache only saves work.
+pub fn export_animation_using(
+    scene: &Scene,
+    frames: RangeInclusive<i32>,
+    output: &Path,
+    format: AnimationFormat,
+    options: &ExportOptions,
+    evaluator: Evaluator,
+    progress: &mut dyn FnMut(usize, usize) -> bool,
+) -> Result<ExportSummary, ExportError> {
     let (first, last) = (*frames.start(), *frames.end());
     check_frames(scene, first, last)?;
     if !options.layers && options.stage != ExportStage::Animated {
@@ -228,15 +274,16 @@ pub fn export_animation_with(
     }
     let frame_count = (i64::from(last) - i64::from(first) + 1) as usize;
     let mut job = Job {
-        source: FrameSource::new(scene, options.stage, options.layers),
+        source: FrameSource::with_evaluator(scene, options.stage, options.layers, evaluator),
         first,
         last,
         progress: Progress { done: 0, total: frame_count * format.passes(), callback: progress },
     };
     job.progress.report()?;
+    let mut left_out = Vec::new();
     let files = match format {
         AnimationFormat::ObjSequence => write_obj_sequence(&mut job, output, options)?,
-        AnimationFormat::Pc2 | AnimationFormat::Mdd => write_point_cache(&mut job, output, format)?,
+        AnimationFormat::Pc2 | AnimationFormat::Mdd => write_point_cache(&mut job, output, format, &mut left_out)?,
         AnimationFormat::Glb | AnimationFormat::Gltf => gltf::write(&mut job, output, format == AnimationFormat::Glb)?,
         AnimationFormat::Usda => {
             check_directory(output)?;
@@ -254,6 +301,7 @@ pub fn export_animation_with(
         vertex_count: mesh.vertex_count(),
         triangle_count: mesh.triangle_count(),
         fps: scene.timeline.fps,
+        left_out,
     })
 }
 
@@ -315,9 +363,14 @@ pub struct FrameSource<'s> {
 
 impl<'s> FrameSource<'s> {
     pub fn new(scene: &'s Scene, stage: ExportStage, layers: bool) -> FrameSource<'s> {
+        FrameSource::with_evaluator(scene, stage, layers, Evaluator::new())
+    }
+
+    /// A source that evaluates through `evaluator` (its cached rest shapes are used, not rebuilt).
+    pub fn with_evaluator(scene: &'s Scene, stage: ExportStage, layers: bool, evaluator: Evaluator) -> FrameSource<'s> {
         let mesh =
             Mesh { cols: 0, rows: 0, positions: Vec::new(), normals: Vec::new(), uvs: Vec::new(), indices: Vec::new() };
-        FrameSource { scene, stage, layers, evaluator: Evaluator::new(), mesh }
+        FrameSource { scene, stage, layers, evaluator, mesh }
     }
 
     pub fn scene(&self) -> &'s Scene {
@@ -439,20 +492,38 @@ pub(crate) fn sibling(path: &Path, extension: &str) -> PathBuf {
 }
 
 /// PC2 or MDD, streamed, inside the atomic write of the base OBJ beside it, so
-/// that both files appear together or neither does.
-fn write_point_cache(job: &mut Job, output: &Path, format: AnimationFormat) -> Result<Vec<PathBuf>, ExportError> {
+/// that both files appear together or neither does. Into a device or FIFO
+/// (`-o /dev/null`) the cache is streamed alone: a base OBJ beside it would be
+/// a new file next to a device (`/dev/null.obj`), so it is left out and
+/// `left_out` says so.
+fn write_point_cache(
+    job: &mut Job,
+    output: &Path,
+    format: AnimationFormat,
+    left_out: &mut Vec<String>,
+) -> Result<Vec<PathBuf>, ExportError> {
     check_directory(output)?;
     let base_obj = sibling(output, "obj");
-    let mut obj = Vec::new();
-    let name = job.name_or("cloth").to_string();
-    write_obj(job.source.mesh(job.first), &name, &mut obj).map_err(|e| ExportError::write(&base_obj, e))?;
-    write_around(&base_obj, &obj, || {
+    let write_cache = |job: &mut Job| {
         write_atomically(output, |w| match format {
             AnimationFormat::Pc2 => pc2::write(job, w),
             _ => mdd::write(job, w),
         })
         .map_err(|e| ExportError::write(output, e))
-    })?;
+    };
+    if is_special_file(output) {
+        write_cache(job)?;
+        left_out.push(format!(
+            "the base mesh {}: {} is not a regular file, and no file is made beside a device or FIFO",
+            base_obj.display(),
+            output.display()
+        ));
+        return Ok(vec![output.to_path_buf()]);
+    }
+    let mut obj = Vec::new();
+    let name = job.name_or("cloth").to_string();
+    write_obj(job.source.mesh(job.first), &name, &mut obj).map_err(|e| ExportError::write(&base_obj, e))?;
+    write_around(&base_obj, &obj, || write_cache(job))?;
     Ok(vec![output.to_path_buf(), base_obj])
 }
 
@@ -494,7 +565,7 @@ fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> 
         let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         (dir, stem)
     } else {
-        if output.is_file() {
+        if output.exists() && !output.is_dir() {
             return Err(ExportError::NotADirectory { path: output.to_path_buf() });
         }
         created_dir = ensure_sequence_dir(output)?;

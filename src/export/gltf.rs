@@ -33,7 +33,7 @@ use glam::Vec3;
 use serde_json::{Value, json};
 
 use super::animation::{ExportError, Job, check_directory, write_around};
-use crate::atomic_file::write_atomically;
+use crate::atomic_file::{is_special_file, write_atomically};
 use crate::render::RenderOptions;
 use crate::scene::ClothTexture;
 
@@ -117,14 +117,25 @@ fn delta(p: Vec3, base: Vec3) -> Vec3 {
 /// Writes `output` as `.glb` (`binary`) or `.gltf` with its side files.
 pub(crate) fn write(job: &mut Job, output: &Path, binary: bool) -> Result<Vec<PathBuf>, ExportError> {
     check_directory(output)?;
-    let measured = measure(job).map_err(|e| ExportError::write(output, e))?;
+    if !binary && is_special_file(output) {
+        return Err(ExportError::SideFilesBesideSpecialFile { path: output.to_path_buf() });
+    }
     let scene = job.source.scene();
     let png = texture_png(scene.cloth.texture);
     // A .glb carries the texture in its buffer; a .gltf beside it.
     let embedded_png = if binary { png } else { None };
-    let index_count = job.source.mesh(job.first).indices.len();
+    // Every mesh of the grid has these counts (two triangles a cell).
+    let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
+    let index_count = (cols - 1) * (rows - 1) * 6;
     let image_len = embedded_png.map_or(0, <[u8]>::len);
-    let layout = Layout::new(measured.base_positions.len(), index_count, image_len, job.frame_count());
+    let vertices = cols * rows;
+    let layout = Layout::new(vertices, index_count, image_len, job.frame_count());
+    // The buffer's length is known before any frame is evaluated: a .glb too
+    // large for its 32-bit length is refused at once, not after the first pass.
+    if binary && layout.total as u64 > u64::from(u32::MAX) {
+        return Err(ExportError::TooLarge { path: output.to_path_buf(), size_bytes: layout.total as u64 });
+    }
+    let measured = measure(job).map_err(|e| ExportError::write(output, e))?;
     let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "cloth".into());
     let bin_path = output.with_file_name(format!("{stem}.bin"));
     let png_path = output.with_file_name(format!("{stem}_texture.png"));

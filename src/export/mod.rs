@@ -6,6 +6,9 @@
 //! mesh as OBJ), glTF 2.0 with one morph target per frame, USD or an OBJ
 //! sequence, streaming frame by frame with progress and cancel; see
 //! [`animation`] for its guarantees and each format's module for its layout.
+//! [`size`] estimates an export's size before it starts, and
+//! [`check_export_size`] refuses one past [`MAX_EXPORT_BYTES`] or the free
+//! space on its disk (the CLI's `--force` skips that check).
 //!
 //! The editor's File ▸ Export calls, for example:
 //!
@@ -33,13 +36,16 @@ pub mod mdd;
 pub mod obj;
 pub mod pc2;
 pub mod png;
+pub mod size;
 pub mod usd;
 
 pub use crate::atomic_file::write_atomically;
 pub use animation::{
     AnimationFormat, ExportError, ExportOptions, ExportStage, ExportSummary, FrameSource, check_frames,
-    check_sequence_dir, ensure_sequence_dir, export_animation, export_animation_with, sequence_file_name,
+    check_sequence_dir, ensure_sequence_dir, export_animation, export_animation_using, export_animation_with,
+    sequence_file_name,
 };
 pub use gif::GifWriter;
 pub use obj::write_obj;
 pub use png::write_png;
+pub use size::{MAX_EXPORT_BYTES, SizeEstimate, check_export_size};

@@ -12,6 +12,9 @@
 //! `extent.timeSamples`, `primvars:st` (interpolation `vertex`, with v up as
 //! USD's texture coordinates have it: `st = (u, 1 − v)`) and
 //! `primvars:displayColor` (the renderer's cloth colour, white when textured).
+//! The layer's `doc` string names the scene exactly, written with USD's
+//! string escapes ([`usd_string`]); the prim name is the name reduced to an
+//! identifier ([`prim_name`]).
 //!
 //! The points and the normals are two separate blocks, each with every
 //! frame, so the frames are evaluated twice: once for the points (and their
@@ -34,11 +37,10 @@ pub(crate) fn write(job: &mut Job, out: &mut dyn Write) -> io::Result<()> {
     writeln!(out, "#usda 1.0")?;
     writeln!(out, "(")?;
     writeln!(out, "    defaultPrim = \"{prim}\"")?;
-    writeln!(
-        out,
-        "    doc = \"Drape cloth animation: frames {}..{} at {fps} fps, metres, Y up\"",
-        job.first, job.last
-    )?;
+    // The name as it is, quotes, line breaks and all: the string escapes keep it one literal.
+    let named = if scene.name.trim().is_empty() { String::new() } else { format!(" of \"{}\"", scene.name) };
+    let doc = format!("Drape cloth animation{named}: frames {}..{} at {fps} fps, metres, Y up", job.first, job.last);
+    writeln!(out, "    doc = {}", usd_string(&doc))?;
     writeln!(out, "    endTimeCode = {}", job.last)?;
     writeln!(out, "    framesPerSecond = {fps}")?;
     writeln!(out, "    metersPerUnit = 1")?;
@@ -140,6 +142,32 @@ fn tuple(v: Vec3) -> String {
     format!("({}, {}, {})", v.x, v.y, v.z)
 }
 
+/// `text` as a USD string literal: in double quotes, with `\\`, `\"`, `\n`,
+/// `\r` and `\t` escaped, and every other control character and line or
+/// paragraph separator written as `\xHH` escapes of its UTF-8 bytes, so the
+/// literal stays on one line and USD reads back exactly `text`.
+pub fn usd_string(text: &str) -> String {
+    let mut quoted = String::with_capacity(text.len() + 2);
+    quoted.push('"');
+    for c in text.chars() {
+        match c {
+            '\\' => quoted.push_str("\\\\"),
+            '"' => quoted.push_str("\\\""),
+            '\n' => quoted.push_str("\\n"),
+            '\r' => quoted.push_str("\\r"),
+            '\t' => quoted.push_str("\\t"),
+            c if c.is_control() || c == '\u{2028}' || c == '\u{2029}' => {
+                for byte in c.encode_utf8(&mut [0; 4]).bytes() {
+                    let _ = write!(quoted, "\\x{byte:02x}");
+                }
+            }
+            c => quoted.push(c),
+        }
+    }
+    quoted.push('"');
+    quoted
+}
+
 /// A USD prim name from a scene name: letters, digits and `_`, not starting
 /// with a digit (`Magic carpet` → `Magic_carpet`).
 pub fn prim_name(name: &str) -> String {
@@ -157,6 +185,18 @@ pub fn prim_name(name: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn strings_are_escaped_onto_one_line() {
+        assert_eq!(usd_string("Magic carpet"), "\"Magic carpet\"");
+        assert_eq!(usd_string("a\"b\\c"), "\"a\\\"b\\\\c\"");
+        assert_eq!(usd_string("l1\nl2\r\tx"), "\"l1\\nl2\\r\\tx\"");
+        assert_eq!(
+            usd_string("nul\0 del\u{7f} nel\u{85} ls\u{2028}"),
+            "\"nul\\x00 del\\x7f nel\\xc2\\x85 ls\\xe2\\x80\\xa8\""
+        );
+        assert_eq!(usd_string("é ü ✓"), "\"é ü ✓\"");
+    }
 
     #[test]
     fn prim_names_are_identifiers() {

@@ -22,10 +22,24 @@ pub const MIN_GRID_SIDE: u32 = 2;
 pub const MAX_GRID_SIDE: u32 = 1024;
 /// Most grid points in total (512 × 512), which keeps relaxation interactive.
 pub const MAX_GRID_POINTS: u64 = 512 * 512;
-/// The timeline's start and end lie within ±this many frames (the editor's
-/// fields stop there too): enough for over an hour at 24 fps, and frame
-/// counts and durations stay far from overflowing.
+/// The timeline's start and end, every key's frame and every parameter key's
+/// frame lie within ±this many frames (the editor's fields stop there too):
+/// enough for over an hour at 24 fps, and frame counts, durations and the
+/// distances between keys stay far from overflowing.
 pub const MAX_TIMELINE_FRAME: i32 = 100_000;
+/// Most pins in one key. Every stage of the rest shape is at most linear in
+/// the pins beyond a few dozen (the approximation picks candidates from the
+/// pins' Delaunay subdivision), so a key at this limit stays well under a
+/// gigabyte; the limit keeps a file's numbers, not its size, from deciding
+/// how much memory and time a key takes.
+pub const MAX_PINS_PER_KEY: usize = 4096;
+/// Most rest-shape points in a scene: keys × grid points. Every key's rest
+/// shape is kept while the scene is evaluated (about 80 bytes a point), so
+/// this bounds that memory to well under a gigabyte: 32 keys at 512 × 512,
+/// over 10 000 on a 33 × 25 curtain.
+pub const MAX_KEY_POINTS: u64 = 1 << 23;
+/// Most layers in the stack; each costs a pass over the cloth every frame.
+pub const MAX_LAYERS: usize = 256;
 /// Highest frame rate, in frames per second.
 pub const MAX_FPS: f64 = 1000.0;
 /// Largest absolute pin coordinate along any axis, in metres.
@@ -78,7 +92,7 @@ impl Scene {
 }
 
 /// `4000000` → `4 000 000`.
-pub(crate) fn group_thousands(n: u64) -> String {
+pub fn group_thousands(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {
@@ -118,6 +132,22 @@ impl Checker {
         v.is_finite()
     }
 
+    /// Reports a frame beyond ±[`MAX_TIMELINE_FRAME`]; returns whether it was within.
+    fn frame_within_limit(&mut self, path: &str, what: &str, frame: i32) -> bool {
+        let within = (-MAX_TIMELINE_FRAME..=MAX_TIMELINE_FRAME).contains(&frame);
+        if !within {
+            self.push(
+                path,
+                format!(
+                    "{what} {} is out of range: it must be within ±{} frames",
+                    group_thousands_signed(frame.into()),
+                    group_thousands(MAX_TIMELINE_FRAME as u64)
+                ),
+            );
+        }
+        within
+    }
+
     fn scene(&mut self, scene: &Scene) {
         if scene.version != SUPPORTED_VERSION {
             self.push(
@@ -128,6 +158,15 @@ impl Checker {
         self.cloth(scene);
         self.timeline(scene);
         self.keys(scene);
+        if scene.layers.len() > MAX_LAYERS {
+            self.push(
+                format!("layers[{MAX_LAYERS}]"),
+                format!(
+                    "the scene has {} layers; the limit is {MAX_LAYERS}",
+                    group_thousands(scene.layers.len() as u64)
+                ),
+            );
+        }
         for (index, layer) in scene.layers.iter().enumerate() {
             self.layer(index, layer);
         }
@@ -250,9 +289,26 @@ impl Checker {
         if scene.keys.is_empty() {
             self.push("keys", "the scene has no keys: it needs at least one key with pins");
         }
+        let (cols, rows) = scene.cloth.grid;
+        let points = u64::from(cols) * u64::from(rows);
+        if (1..=MAX_GRID_POINTS).contains(&points) && scene.keys.len() as u64 * points > MAX_KEY_POINTS {
+            let most = MAX_KEY_POINTS / points;
+            self.push(
+                format!("keys[{most}]"),
+                format!(
+                    "the scene has {} keys on a {cols} × {rows} grid; at most {} fit, since keys × grid points \
+                     may not pass {}: use fewer keys or a coarser grid",
+                    group_thousands(scene.keys.len() as u64),
+                    group_thousands(most),
+                    group_thousands(MAX_KEY_POINTS)
+                ),
+            );
+        }
         for (index, key) in scene.keys.iter().enumerate() {
             let path = format!("keys[{index}]");
-            if index > 0 {
+            // A frame out of range says nothing more by its order.
+            let within = self.frame_within_limit(&format!("{path}.frame"), "key frame", key.frame);
+            if within && index > 0 {
                 let previous = scene.keys[index - 1].frame;
                 if key.frame == previous {
                     self.push(
@@ -281,8 +337,19 @@ impl Checker {
                 format!("key at frame {} has no pins: the cloth needs at least one pin to hang from", key.frame),
             );
         }
+        if key.pins.len() > MAX_PINS_PER_KEY {
+            self.push(
+                format!("{path}.pins[{MAX_PINS_PER_KEY}]"),
+                format!(
+                    "key at frame {} has {} pins; the limit is {} pins per key",
+                    key.frame,
+                    group_thousands(key.pins.len() as u64),
+                    group_thousands(MAX_PINS_PER_KEY as u64)
+                ),
+            );
+        }
         let mut pinned = HashSet::new();
-        for (index, pin) in key.pins.iter().enumerate() {
+        for (index, pin) in key.pins.iter().enumerate().take(MAX_PINS_PER_KEY) {
             self.pin(&format!("{path}.pins[{index}]"), pin, &at, scene, &mut pinned);
         }
 
@@ -450,7 +517,9 @@ impl Checker {
                 }
                 for (index, key) in keys.iter().enumerate() {
                     let key_path = format!("{path}[{index}]");
-                    if index > 0 {
+                    let within =
+                        self.frame_within_limit(&format!("{key_path}.frame"), &format!("{what} key frame"), key.frame);
+                    if within && index > 0 {
                         let previous = keys[index - 1].frame;
                         if key.frame == previous {
                             self.push(
@@ -585,6 +654,81 @@ mod tests {
     #[test]
     fn a_good_scene_passes() {
         assert_eq!(scene().validate(), Ok(()));
+    }
+
+    #[test]
+    fn pins_per_key_are_limited() {
+        let mut s = scene();
+        s.cloth.grid = (100, 100);
+        s.keys[0].pins =
+            (0..MAX_PINS_PER_KEY as u32).map(|k| Pin { grid: (k % 100, k / 100), pos: (0.0, 1.0, 0.0) }).collect();
+        assert_eq!(s.validate(), Ok(()), "exactly the limit is allowed");
+        s.keys[0].pins.push(Pin { grid: (99, 99), pos: (0.0, 1.0, 0.0) });
+        s.keys[0].pins.push(Pin { grid: (999, 0), pos: (0.0, 1.0, 0.0) });
+        assert_eq!(
+            messages(&s),
+            ["keys[0].pins[4096]: key at frame 0 has 4 098 pins; the limit is 4 096 pins per key"],
+            "the pins beyond the limit are not checked one by one"
+        );
+    }
+
+    #[test]
+    fn keys_times_grid_points_are_limited() {
+        let mut s = scene();
+        s.cloth.grid = (512, 512);
+        s.keys[0].pins[1].grid = (511, 0);
+        s.keys = (0..33).map(|frame| Key { frame, ..s.keys[0].clone() }).collect();
+        assert_eq!(
+            messages(&s),
+            ["keys[32]: the scene has 33 keys on a 512 × 512 grid; at most 32 fit, since keys × grid points \
+              may not pass 8 388 608: use fewer keys or a coarser grid"]
+        );
+        s.keys.pop();
+        assert_eq!(s.validate(), Ok(()));
+    }
+
+    #[test]
+    fn layers_are_limited() {
+        let mut s = scene();
+        let layer = Layer::FollowThrough(FollowThrough {
+            name: String::new(),
+            enabled: true,
+            weight: 1.0.into(),
+            lag: 0.1.into(),
+            falloff: 1.0.into(),
+        });
+        s.layers = vec![layer; MAX_LAYERS];
+        assert_eq!(s.validate(), Ok(()));
+        s.layers.push(s.layers[0].clone());
+        assert_eq!(messages(&s), ["layers[256]: the scene has 257 layers; the limit is 256"]);
+    }
+
+    #[test]
+    fn key_frames_lie_within_the_timeline_limit() {
+        let mut s = scene();
+        s.keys[0].frame = -100_000;
+        assert_eq!(s.validate(), Ok(()));
+        s.keys[0].frame = i32::MIN;
+        assert_eq!(
+            messages(&s),
+            ["keys[0].frame: key frame -2 147 483 648 is out of range: it must be within ±100 000 frames"]
+        );
+        s.keys[0].frame = 0;
+        s.layers.push(Layer::FollowThrough(FollowThrough {
+            name: "lag".into(),
+            enabled: true,
+            weight: 1.0.into(),
+            lag: Param::Keys(vec![
+                ParamKey { frame: 0, value: 0.1, ease: Ease::Linear },
+                ParamKey { frame: 100_001, value: 0.2, ease: Ease::Linear },
+            ]),
+            falloff: 1.0.into(),
+        }));
+        assert_eq!(
+            messages(&s),
+            ["layers[0].lag[1].frame: FollowThrough layer \"lag\": lag key frame 100 001 is out of range: \
+                 it must be within ±100 000 frames"]
+        );
     }
 
     #[test]

@@ -1,8 +1,10 @@
 """Checks a .usda that `drape export` wrote with Pixar's own USD library (the
-`usd-core` PyPI package): python3 check_usd.py FILE FIRST LAST VERTICES FPS.
+`usd-core` PyPI package): python3 check_usd.py FILE FIRST LAST VERTICES FPS [DOC_HEX].
 
 Opens the stage, runs every validator USD registers (what `usdchecker`
-runs) and checks the stage metadata, the mesh's time samples and their sizes.
+runs) and checks the stage metadata, the mesh's time samples and their sizes,
+and with DOC_HEX (the UTF-8 bytes of the expected layer doc string in hex, so
+any text, NULs included, fits on a command line) that USD reads that doc back.
 Prints a summary and exits 1 on any validation error or mismatch.
 """
 import sys
@@ -10,6 +12,7 @@ import sys
 from pxr import Usd, UsdGeom, UsdValidation
 
 path, first, last, vertices, fps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5])
+want_doc = bytes.fromhex(sys.argv[6]).decode("utf-8") if len(sys.argv) > 6 else None
 stage = Usd.Stage.Open(path)
 problems = []
 registry = UsdValidation.ValidationRegistry()
@@ -32,6 +35,8 @@ expect("timeCodesPerSecond", stage.GetTimeCodesPerSecond(), fps)
 expect("framesPerSecond", stage.GetFramesPerSecond(), fps)
 expect("startTimeCode", stage.GetStartTimeCode(), float(first))
 expect("endTimeCode", stage.GetEndTimeCode(), float(last))
+if want_doc is not None:
+    expect("layer doc", stage.GetRootLayer().documentation, want_doc)
 meshes = [UsdGeom.Mesh(p) for p in stage.Traverse() if p.IsA(UsdGeom.Mesh)]
 expect("meshes", len(meshes), 1)
 if meshes:

@@ -1,0 +1,108 @@
+//! Progress of long `check` and `export` work on stderr, only when stderr is
+//! a terminal: one status line overwritten in place (`\r`) and erased when
+//! the work is done, so the terminal keeps only the results. When stderr is
+//! a pipe or a file (scripts, tests) nothing at all is written.
+
+use std::io::{self, IsTerminal, Write};
+use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use drape::animate::{Evaluator, KeyShape};
+use drape::scene::{Cloth, Key};
+use drape::shape::RelaxProgress;
+
+/// Redraws at most this often: fast enough to read as live, rare enough to cost nothing.
+const REDRAW_EVERY: Duration = Duration::from_millis(100);
+
+/// One status line on stderr (see the module doc).
+pub struct StatusLine {
+    enabled: bool,
+    shown: bool,
+    last_drawn: Option<Instant>,
+}
+
+impl StatusLine {
+    /// A status line that draws only when stderr is a terminal.
+    pub fn on_stderr() -> StatusLine {
+        StatusLine { enabled: io::stderr().is_terminal(), shown: false, last_drawn: None }
+    }
+
+    /// Shows `text()` in place of the previous status, unless the last one is
+    /// younger than a tenth of a second (`text` is then not even called).
+    pub fn show(&mut self, text: impl FnOnce() -> String) {
+        if !self.enabled || self.last_drawn.is_some_and(|at| at.elapsed() < REDRAW_EVERY) {
+            return;
+        }
+        self.draw(&text());
+    }
+
+    /// Shows `text` now, however recently the line was drawn (a new phase of work).
+    pub fn show_now(&mut self, text: &str) {
+        if self.enabled {
+            self.draw(text);
+        }
+    }
+
+    fn draw(&mut self, text: &str) {
+        // `\x1b[K` erases what a longer earlier status left to the right.
+        let mut stderr = io::stderr().lock();
+        let _ = write!(stderr, "\r{text}\x1b[K");
+        let _ = stderr.flush();
+        self.shown = true;
+        self.last_drawn = Some(Instant::now());
+    }
+
+    /// Erases the status line, leaving the cursor where it began.
+    pub fn clear(&mut self) {
+        if self.shown {
+            let mut stderr = io::stderr().lock();
+            let _ = write!(stderr, "\r\x1b[K");
+            let _ = stderr.flush();
+            self.shown = false;
+            self.last_drawn = None;
+        }
+    }
+}
+
+impl Drop for StatusLine {
+    fn drop(&mut self) {
+        self.clear();
+    }
+}
+
+/// Builds the rest shapes of `keys` (those not cached yet) into `evaluator`'s
+/// cache, showing on `status` which key is being approximated and how far
+/// its relaxation has come: `relaxing key 2/5 (frame 48): sweep 1200/100000
+/// on the 1024 × 256 grid`. The shapes equal what the evaluator would build
+/// by itself; only the progress is new.
+pub fn build_key_shapes<'k>(
+    evaluator: &mut Evaluator,
+    cloth: &Cloth,
+    keys: impl ExactSizeIterator<Item = &'k Key>,
+    status: &mut StatusLine,
+) {
+    let count = keys.len();
+    for (index, key) in keys.enumerate() {
+        if evaluator.cache().get(cloth, key).is_some() {
+            continue;
+        }
+        let which = format!("key {}/{count} (frame {})", index + 1, key.frame);
+        let pins = key.pins.len();
+        status.show_now(&format!("approximating {which} from {pins} pin{}", if pins == 1 { "" } else { "s" }));
+        let mut report = |progress: RelaxProgress| {
+            status.show(|| {
+                format!(
+                    "relaxing {which}: sweep {}/{} on the {} × {} grid",
+                    progress.iteration, progress.max_iterations, progress.cols, progress.rows
+                )
+            });
+            ControlFlow::Continue(())
+        };
+        // The report never breaks, so the build is never cancelled.
+        if let Ok(shape) = KeyShape::build_with(cloth, key, &mut report) {
+            evaluator.cache_mut().insert(cloth, key, Arc::new(shape));
+        }
+    }
+    status.clear();
+}
