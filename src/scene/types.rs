@@ -191,7 +191,7 @@ pub struct RelaxSettings {
 
 impl Default for RelaxSettings {
     fn default() -> Self {
-        RelaxSettings { iterations: 2000, tolerance: 1e-5 }
+        RelaxSettings { iterations: 10000, tolerance: 1e-5 }
     }
 }
 
