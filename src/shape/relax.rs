@@ -141,7 +141,7 @@ const GRAVITY_BIAS: f64 = 1e-3;
 /// the cap cannot change the shape a converged relaxation reaches. Measured
 /// on a two-pin curtain: the lowest point moves 9 mm from 1000 to 3000
 /// sweeps and 1 mm from 3000 to 8000.
-pub const SETTLE_SWEEPS: u32 = 3000;
+const SETTLE_SWEEPS: u32 = 3000;
 
 /// Over-relaxation of the constraints' average move.
 const OVER_RELAXATION: f64 = 1.3;
@@ -642,7 +642,7 @@ impl Sweeper {
         // to nothing, so slack cloth hangs instead of staying where the approximation
         // left it; the remaining sweeps enforce the constraints alone.
         let settle_sweeps = if settle == Settle::Yes { SETTLE_SWEEPS } else { 0 };
-        for iteration in 0..settle_sweeps + params.max_iterations {
+        for iteration in 0..settle_sweeps.saturating_add(params.max_iterations) {
             let settling = iteration < settle_sweeps;
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
@@ -703,7 +703,7 @@ impl Sweeper {
                 cols: self.cols,
                 rows: self.rows,
                 iteration: iteration + 1,
-                max_iterations: settle_sweeps + params.max_iterations,
+                max_iterations: settle_sweeps.saturating_add(params.max_iterations),
             };
             if control(progress).is_break() {
                 return Err(Cancelled);
