@@ -11,8 +11,9 @@
 
 use glam::{DVec3, Vec2, Vec3};
 
-/// A grid cloth ready to draw or export.
-#[derive(Clone, Debug, PartialEq)]
+/// A grid cloth ready to draw or export. The default is the empty mesh
+/// (0 × 0, no vertices): a buffer for the evaluator to fill.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     pub cols: usize,
     pub rows: usize,

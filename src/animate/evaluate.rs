@@ -81,8 +81,7 @@ impl Evaluator {
     }
 
     pub fn evaluate_with(&mut self, scene: &Scene, t_secs: f64, options: EvaluateOptions) -> Mesh {
-        let mut mesh =
-            Mesh { cols: 0, rows: 0, positions: Vec::new(), normals: Vec::new(), uvs: Vec::new(), indices: Vec::new() };
+        let mut mesh = Mesh::default();
         self.evaluate_into(scene, t_secs, options, &mut mesh);
         mesh
     }

@@ -368,9 +368,7 @@ impl<'s> FrameSource<'s> {
 
     /// A source that evaluates through `evaluator` (its cached rest shapes are used, not rebuilt).
     pub fn with_evaluator(scene: &'s Scene, stage: ExportStage, layers: bool, evaluator: Evaluator) -> FrameSource<'s> {
-        let mesh =
-            Mesh { cols: 0, rows: 0, positions: Vec::new(), normals: Vec::new(), uvs: Vec::new(), indices: Vec::new() };
-        FrameSource { scene, stage, layers, evaluator, mesh }
+        FrameSource { scene, stage, layers, evaluator, mesh: Mesh::default() }
     }
 
     pub fn scene(&self) -> &'s Scene {
