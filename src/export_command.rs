@@ -8,8 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use clap::ValueEnum;
-use drape::animate::Evaluator;
-use drape::export::animation::ExportStage;
+use drape::animate::{self, Evaluator};
 use drape::export::{
     AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, SizeEstimate, check_frames,
     export_animation_using, write_atomically, write_obj,
@@ -59,12 +58,12 @@ pub enum Stage {
     Animated,
 }
 
-impl From<Stage> for ExportStage {
-    fn from(stage: Stage) -> ExportStage {
+impl From<Stage> for animate::Stage {
+    fn from(stage: Stage) -> animate::Stage {
         match stage {
-            Stage::Approx => ExportStage::Approx,
-            Stage::Relaxed => ExportStage::Relaxed,
-            Stage::Animated => ExportStage::Animated,
+            Stage::Approx => animate::Stage::Approx,
+            Stage::Relaxed => animate::Stage::Relaxed,
+            Stage::Animated => animate::Stage::Animated,
         }
     }
 }
@@ -181,10 +180,10 @@ fn export_one_obj(
 fn describe(scene: &Scene, options: &ExportOptions, frame: i32) -> String {
     let key_frame = || scene.key_in_effect(f64::from(frame)).frame;
     match options.stage {
-        ExportStage::Animated if options.layers => "animated".to_string(),
-        ExportStage::Animated => "animated, no layers".to_string(),
-        ExportStage::Approx => format!("approximated key at frame {}", key_frame()),
-        ExportStage::Relaxed => format!("relaxed key at frame {}", key_frame()),
+        animate::Stage::Animated if options.layers => "animated".to_string(),
+        animate::Stage::Animated => "animated, no layers".to_string(),
+        animate::Stage::Approx => format!("approximated key at frame {}", key_frame()),
+        animate::Stage::Relaxed => format!("relaxed key at frame {}", key_frame()),
     }
 }
 

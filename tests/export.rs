@@ -11,10 +11,8 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use drape::animate::{evaluate, frame_time_secs};
-use drape::export::{
-    AnimationFormat, ExportError, ExportOptions, ExportStage, export_animation, export_animation_with,
-};
+use drape::animate::{Stage, evaluate, frame_time_secs};
+use drape::export::{AnimationFormat, ExportError, ExportOptions, export_animation, export_animation_with};
 use drape::mesh::Mesh;
 use drape::scene::{self, ClothTexture, Scene};
 use glam::Vec3;
@@ -667,7 +665,7 @@ fn other_stages_export_the_key_in_effect() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, _) = carpet();
     let output = dir.path().join("relaxed.pc2");
-    let options = ExportOptions { stage: ExportStage::Relaxed, ..ExportOptions::default() };
+    let options = ExportOptions { stage: Stage::Relaxed, ..ExportOptions::default() };
     export_animation_with(&scene, 20..=30, &output, AnimationFormat::Pc2, &options, &mut |_, _| true).unwrap();
     let cache = read_pc2(&fs::read(&output).unwrap());
     let mut evaluator = drape::animate::Evaluator::new();
@@ -676,7 +674,7 @@ fn other_stages_export_the_key_in_effect() {
         let want: Vec<Vec3> = shape.rest.relaxed.iter().map(|p| p.as_vec3()).collect();
         assert_points_match(&format!("relaxed key at frame {frame}"), &cache.frames[k], &want, 0.0);
     }
-    let options = ExportOptions { stage: ExportStage::Approx, layers: false, ..ExportOptions::default() };
+    let options = ExportOptions { stage: Stage::Approx, layers: false, ..ExportOptions::default() };
     let error = export_animation_with(&scene, 0..=1, &output, AnimationFormat::Pc2, &options, &mut |_, _| true);
     assert!(matches!(error, Err(ExportError::LayersWithoutAnimation { .. })));
 }

@@ -36,6 +36,18 @@ impl Default for EvaluateOptions {
     }
 }
 
+/// Which shape of the cloth a mesh shows: a key's modelling stage, or the animation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stage {
+    /// The key in effect at the frame, approximated from its catenary network (before relaxation).
+    Approx,
+    /// The key in effect at the frame after relaxation.
+    Relaxed,
+    /// The full animation: blended rest shapes and (unless turned off) the layer stack.
+    #[default]
+    Animated,
+}
+
 /// The time in seconds of a (possibly fractional) frame: frame / fps.
 pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
     frame / timeline.fps
@@ -84,6 +96,39 @@ impl Evaluator {
         let mut mesh = Mesh::default();
         self.evaluate_into(scene, t_secs, options, &mut mesh);
         mesh
+    }
+
+    /// The mesh of `scene` at a (possibly fractional) `frame`, with every
+    /// layer: [`Evaluator::evaluate`] at [`frame_time_secs`].
+    pub fn evaluate_frame(&mut self, scene: &Scene, frame: f64) -> Mesh {
+        self.evaluate(scene, frame_time_secs(&scene.timeline, frame))
+    }
+
+    /// [`Evaluator::evaluate_into`] at `frame` (possibly fractional).
+    pub fn evaluate_frame_into(&mut self, scene: &Scene, frame: f64, options: EvaluateOptions, mesh: &mut Mesh) {
+        self.evaluate_into(scene, frame_time_secs(&scene.timeline, frame), options, mesh);
+    }
+
+    /// Writes the mesh `stage` shows at `frame` into `mesh`: the animation as
+    /// [`Evaluator::evaluate_frame_into`] gives it, or the approximated or
+    /// relaxed rest shape of the key in effect at `frame` (`options` only
+    /// matter to the animation). The one stage → mesh choice for the
+    /// editor's viewport and the exporters.
+    pub fn stage_mesh_into(
+        &mut self,
+        scene: &Scene,
+        frame: f64,
+        stage: Stage,
+        options: EvaluateOptions,
+        mesh: &mut Mesh,
+    ) {
+        if stage == Stage::Animated {
+            self.evaluate_frame_into(scene, frame, options, mesh);
+            return;
+        }
+        let shape = self.key_shape(&scene.cloth, scene.key_in_effect(frame));
+        let points = if stage == Stage::Approx { &shape.rest.approximated } else { &shape.rest.relaxed };
+        *mesh = Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), points);
     }
 
     /// Writes the mesh of `scene` at `t_secs` into `mesh`, reusing its

@@ -24,4 +24,4 @@ pub mod track;
 pub mod wave;
 
 pub use cache::{KeyShape, RestShapeCache};
-pub use evaluate::{EvaluateOptions, Evaluator, evaluate, frame_time_secs};
+pub use evaluate::{EvaluateOptions, Evaluator, Stage, evaluate, frame_time_secs};

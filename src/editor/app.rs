@@ -23,7 +23,7 @@ use super::recovery::default_state_dir;
 use super::shaper::Shaper;
 use super::viewport::{self, OnionGhost, ViewportFrame};
 use super::viewport_input::{AxisLock, PinDrag};
-use crate::animate::{Evaluator, frame_time_secs};
+use crate::animate::{self, Evaluator};
 use crate::mesh::Mesh;
 use crate::render::camera::bounds;
 use crate::render::headless::scene_bounds;
@@ -126,6 +126,15 @@ impl Stage {
             Stage::Relaxed => "Relaxed rest shape",
             Stage::Approximated => "Approximated surface",
             Stage::Catenaries => "Catenary network",
+        }
+    }
+
+    /// The cloth's shape under this stage's drawing.
+    pub fn mesh_stage(self) -> animate::Stage {
+        match self {
+            Stage::Animation => animate::Stage::Animated,
+            Stage::Relaxed => animate::Stage::Relaxed,
+            Stage::Approximated | Stage::Catenaries => animate::Stage::Approx,
         }
     }
 }
@@ -525,22 +534,10 @@ impl DrapeApp {
         if self.mesh_of == Some((self.frame, self.stage, self.solo_layer)) {
             return;
         }
-        let scene = &self.shown;
-        match self.stage {
-            Stage::Animation => {
-                let t_secs = frame_time_secs(&scene.timeline, self.frame);
-                let shown = soloed(scene, self.solo_layer);
-                // The last frame's paint callback has let go of the mesh by now, so this rarely copies.
-                let mesh = Arc::make_mut(&mut self.mesh);
-                self.evaluator.evaluate_into(&shown, t_secs, Default::default(), mesh);
-            }
-            Stage::Relaxed | Stage::Approximated | Stage::Catenaries => {
-                let key = scene.key_in_effect(self.frame);
-                let shape = self.evaluator.key_shape(&scene.cloth, key);
-                let points = if self.stage == Stage::Relaxed { &shape.rest.relaxed } else { &shape.rest.approximated };
-                self.mesh = Arc::new(Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), points));
-            }
-        }
+        let shown = soloed(&self.shown, self.solo_layer);
+        // The last frame's paint callback has let go of the mesh by now, so this rarely copies.
+        let mesh = Arc::make_mut(&mut self.mesh);
+        self.evaluator.stage_mesh_into(&shown, self.frame, self.stage.mesh_stage(), Default::default(), mesh);
         self.mesh_of = Some((self.frame, self.stage, self.solo_layer));
     }
 
@@ -573,7 +570,7 @@ impl DrapeApp {
                 if frame < f64::from(timeline.start) || frame > f64::from(timeline.end) {
                     continue;
                 }
-                let mesh = self.evaluator.evaluate(&shown, frame_time_secs(&timeline, frame));
+                let mesh = self.evaluator.evaluate_frame(&shown, frame);
                 ghosts.push(OnionGhost { mesh: Arc::new(mesh), tint, opacity });
             }
         }
@@ -1118,7 +1115,7 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::animate::evaluate;
+    use crate::animate::{evaluate, frame_time_secs};
 
     fn app() -> DrapeApp {
         let scene = crate::scene::parse(DEFAULT_SCENE, "magic_carpet.ron").unwrap();

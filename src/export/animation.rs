@@ -26,7 +26,7 @@ use std::io::{self, Write};
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
-use crate::animate::{EvaluateOptions, Evaluator, frame_time_secs};
+use crate::animate::{EvaluateOptions, Evaluator, Stage};
 use crate::atomic_file::{StagedFiles, io_reason, is_special_file, write_atomically};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
@@ -103,22 +103,10 @@ impl AnimationFormat {
     }
 }
 
-/// Which shape of the cloth each frame exports.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum ExportStage {
-    /// The key in effect at the frame, approximated from its catenary network (before relaxation).
-    Approx,
-    /// The key in effect at the frame after relaxation.
-    Relaxed,
-    /// The full animation: blended rest shapes and (unless turned off) the layer stack.
-    #[default]
-    Animated,
-}
-
 /// Choices beyond the format; the default exports the full animation.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ExportOptions {
-    pub stage: ExportStage,
+    pub stage: Stage,
     /// Apply the layer stack (animated stage only).
     pub layers: bool,
     /// The file-name stem of an OBJ sequence written into a directory
@@ -129,7 +117,7 @@ pub struct ExportOptions {
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { stage: ExportStage::Animated, layers: true, sequence_name: None }
+        ExportOptions { stage: Stage::Animated, layers: true, sequence_name: None }
     }
 }
 
@@ -161,7 +149,7 @@ pub enum ExportError {
     #[error("the frame range {first}..{last} ends before it starts: give the smaller frame first")]
     EmptyRange { first: i32, last: i32 },
     #[error("the layer stack can only be left out of the animated stage; the {stage:?} stage has no layers")]
-    LayersWithoutAnimation { stage: ExportStage },
+    LayersWithoutAnimation { stage: Stage },
     #[error("cannot write {path}: the directory {} does not exist", dir.display(), path = path.display())]
     MissingDirectory { path: PathBuf, dir: PathBuf },
     #[error(
@@ -269,7 +257,7 @@ pub fn export_animation_using(
 ) -> Result<ExportSummary, ExportError> {
     let (first, last) = (*frames.start(), *frames.end());
     check_frames(scene, first, last)?;
-    if !options.layers && options.stage != ExportStage::Animated {
+    if !options.layers && options.stage != Stage::Animated {
         return Err(ExportError::LayersWithoutAnimation { stage: options.stage });
     }
     let frame_count = (i64::from(last) - i64::from(first) + 1) as usize;
@@ -355,19 +343,19 @@ pub fn file_stem_for(name: &str) -> String {
 /// The meshes of the exported frames, through the one evaluator.
 pub struct FrameSource<'s> {
     scene: &'s Scene,
-    stage: ExportStage,
+    stage: Stage,
     layers: bool,
     evaluator: Evaluator,
     mesh: Mesh,
 }
 
 impl<'s> FrameSource<'s> {
-    pub fn new(scene: &'s Scene, stage: ExportStage, layers: bool) -> FrameSource<'s> {
+    pub fn new(scene: &'s Scene, stage: Stage, layers: bool) -> FrameSource<'s> {
         FrameSource::with_evaluator(scene, stage, layers, Evaluator::new())
     }
 
     /// A source that evaluates through `evaluator` (its cached rest shapes are used, not rebuilt).
-    pub fn with_evaluator(scene: &'s Scene, stage: ExportStage, layers: bool, evaluator: Evaluator) -> FrameSource<'s> {
+    pub fn with_evaluator(scene: &'s Scene, stage: Stage, layers: bool, evaluator: Evaluator) -> FrameSource<'s> {
         FrameSource { scene, stage, layers, evaluator, mesh: Mesh::default() }
     }
 
@@ -377,20 +365,8 @@ impl<'s> FrameSource<'s> {
 
     /// The mesh at `frame` (buffers reused between calls).
     pub fn mesh(&mut self, frame: i32) -> &Mesh {
-        let scene = self.scene;
-        match self.stage {
-            ExportStage::Animated => {
-                let t_secs = frame_time_secs(&scene.timeline, f64::from(frame));
-                let options = EvaluateOptions { layers: self.layers };
-                self.evaluator.evaluate_into(scene, t_secs, options, &mut self.mesh);
-            }
-            ExportStage::Approx | ExportStage::Relaxed => {
-                let shape = self.evaluator.key_shape(&scene.cloth, scene.key_in_effect(f64::from(frame)));
-                let points =
-                    if self.stage == ExportStage::Approx { &shape.rest.approximated } else { &shape.rest.relaxed };
-                self.mesh = Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), points);
-            }
-        }
+        let options = EvaluateOptions { layers: self.layers };
+        self.evaluator.stage_mesh_into(self.scene, f64::from(frame), self.stage, options, &mut self.mesh);
         &self.mesh
     }
 }

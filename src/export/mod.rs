@@ -41,9 +41,8 @@ pub mod usd;
 
 pub use crate::atomic_file::write_atomically;
 pub use animation::{
-    AnimationFormat, ExportError, ExportOptions, ExportStage, ExportSummary, FrameSource, check_frames,
-    check_sequence_dir, ensure_sequence_dir, export_animation, export_animation_using, export_animation_with,
-    sequence_file_name,
+    AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, check_frames, check_sequence_dir,
+    ensure_sequence_dir, export_animation, export_animation_using, export_animation_with, sequence_file_name,
 };
 pub use gif::GifWriter;
 pub use obj::write_obj;
