@@ -8,7 +8,7 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use drape::animate::evaluate;
 use drape::render::camera::bounds;
-use drape::render::image::read_texture;
+use drape::render::readback::read_texture;
 use drape::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
 use drape::scene::{Cloth, Key, Pin, RelaxSettings, Scene, Timeline};
 

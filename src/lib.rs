@@ -27,6 +27,8 @@ pub mod animate;
 pub mod atomic_file;
 pub mod editor;
 pub mod export;
+pub mod image;
+pub mod look;
 pub mod mesh;
 pub mod render;
 pub mod scene;

@@ -12,8 +12,9 @@ use drape::export::size::readable_bytes;
 use drape::export::{
     GifWriter, SizeEstimate, check_frames, check_sequence_dir, ensure_sequence_dir, write_atomically, write_png,
 };
+use drape::image::RgbaImage;
+use drape::render::GpuContext;
 use drape::render::headless::{SceneOverlays, SceneRenderer};
-use drape::render::{GpuContext, RgbaImage};
 use drape::scene::{self, Scene, group_thousands};
 
 use crate::{FrameRange, frame_number_width, padded_frame};

@@ -9,11 +9,12 @@ use std::sync::OnceLock;
 
 use drape::animate::{Evaluator, frame_time_secs};
 use drape::export::write_png;
+use drape::image::RgbaImage;
 use drape::mesh::Mesh;
 use drape::render::headless::{SceneOverlays, SceneRenderer, render_mesh, render_scene_frame};
 use drape::render::overlay::colors;
 use drape::render::pipelines::SHADER_SOURCES;
-use drape::render::{FrameInput, Ghost, GpuContext, OrbitCamera, Overlay, PinState, RenderOptions, RgbaImage};
+use drape::render::{FrameInput, Ghost, GpuContext, OrbitCamera, Overlay, PinState, RenderOptions};
 use drape::scene::{self, ClothTexture};
 
 const GOLDEN_SIZE: (u32, u32) = (320, 180);

@@ -2,7 +2,7 @@
 
 use std::io::{self, Write};
 
-use crate::render::RgbaImage;
+use crate::image::RgbaImage;
 
 /// Streams frames into an endlessly looping GIF at `fps`.
 pub struct GifWriter<W: Write> {

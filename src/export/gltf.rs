@@ -34,25 +34,13 @@ use serde_json::{Value, json};
 
 use super::animation::{ExportError, Job, check_directory, write_around};
 use crate::atomic_file::{is_special_file, write_atomically};
-use crate::render::RenderOptions;
+use crate::look::{self, texture_png};
 use crate::scene::ClothTexture;
-
-const CARPET_PNG: &[u8] = include_bytes!("../../assets/carpet.png");
-const CHECKER_PNG: &[u8] = include_bytes!("../../assets/checker.png");
 
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_INT: u32 = 5125;
-
-/// The PNG of a built-in texture as shipped in `assets/`; `None` for a plain cloth.
-pub fn texture_png(texture: ClothTexture) -> Option<&'static [u8]> {
-    match texture {
-        ClothTexture::Plain => None,
-        ClothTexture::Carpet => Some(CARPET_PNG),
-        ClothTexture::Checker => Some(CHECKER_PNG),
-    }
-}
 
 /// What the first pass learns: the base mesh and each target's position bounds.
 struct Measured {
@@ -338,7 +326,7 @@ fn document(
         pbr["baseColorFactor"] = json!([1.0, 1.0, 1.0, 1.0]);
         pbr["baseColorTexture"] = json!({"index": 0, "texCoord": 0});
     } else {
-        let [r, g, b] = RenderOptions::default().front_tint;
+        let [r, g, b] = look::PLAIN_FRONT_TINT;
         pbr["baseColorFactor"] = json!([number(r), number(g), number(b), 1.0]);
     }
     let mut document = json!({

@@ -2,7 +2,7 @@
 
 use std::io::{self, Write};
 
-use crate::render::RgbaImage;
+use crate::image::RgbaImage;
 
 /// Encodes `image` as a PNG into `out`, tagged sRGB. Fast compression: frames
 /// of a sequence are written as they are rendered.

@@ -12,8 +12,8 @@
 use std::path::{Path, PathBuf};
 
 use super::animation::{AnimationFormat, ExportError};
-use super::gltf::texture_png;
 use super::obj::object_name;
+use crate::look::texture_png;
 use crate::scene::{Scene, group_thousands};
 
 /// Largest export written without being asked for explicitly (`--force` on

@@ -26,8 +26,7 @@ use std::io::{self, Write};
 use glam::Vec3;
 
 use super::animation::Job;
-use crate::render::RenderOptions;
-use crate::scene::ClothTexture;
+use crate::look;
 
 /// Writes the whole stage, streaming the frames.
 pub(crate) fn write(job: &mut Job, out: &mut dyn Write) -> io::Result<()> {
@@ -89,8 +88,7 @@ pub(crate) fn write(job: &mut Job, out: &mut dyn Write) -> io::Result<()> {
     writeln!(out, "{line}")?;
     writeln!(out, "            interpolation = \"vertex\"")?;
     writeln!(out, "        )")?;
-    let [r, g, b] =
-        if scene.cloth.texture == ClothTexture::Plain { RenderOptions::default().front_tint } else { [1.0; 3] };
+    let [r, g, b] = look::front_tint(scene.cloth.texture);
     writeln!(out, "        color3f[] primvars:displayColor = [({r}, {g}, {b})] (")?;
     writeln!(out, "            interpolation = \"constant\"")?;
     writeln!(out, "        )")?;

@@ -4,11 +4,12 @@ use glam::Vec3;
 
 use super::camera::{OrbitCamera, bounds};
 use super::context::{ContextError, GpuContext};
-use super::image::{ImageError, RgbaImage, read_texture};
 use super::overlay::{Overlay, PinState};
+use super::readback::{ReadbackError, read_texture};
 use super::renderer::{FrameInput, Ground, RenderOptions, Renderer};
 use super::target::OffscreenTarget;
 use crate::animate::{Evaluator, frame_time_secs};
+use crate::image::RgbaImage;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 
@@ -17,7 +18,7 @@ pub enum RenderError {
     #[error(transparent)]
     Context(#[from] ContextError),
     #[error(transparent)]
-    Image(#[from] ImageError),
+    Readback(#[from] ReadbackError),
 }
 
 /// Renders one picture of `input` at `size_px` on `context`, or on a device of

@@ -14,9 +14,9 @@ pub mod compose;
 pub mod context;
 pub mod gpu_mesh;
 pub mod headless;
-pub mod image;
 pub mod overlay;
 pub mod pipelines;
+pub mod readback;
 pub mod renderer;
 pub mod target;
 pub mod textures;
@@ -24,7 +24,6 @@ pub mod uniforms;
 
 pub use camera::OrbitCamera;
 pub use context::{ContextError, GpuContext};
-pub use image::RgbaImage;
 pub use overlay::{Overlay, PinState};
 pub use renderer::{FrameInput, Ghost, Ground, RenderOptions, Renderer};
 pub use target::OffscreenTarget;

@@ -14,6 +14,7 @@ use super::pipelines::{Pipelines, SHADOW_FORMAT};
 use super::target::OffscreenTarget;
 use super::textures;
 use super::uniforms::{FrameUniform, MaterialUniform, SHADOW_MAP_PX, shadow_clip_from_world};
+use crate::look;
 use crate::mesh::Mesh;
 use crate::scene::ClothTexture;
 
@@ -33,8 +34,8 @@ impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
             texture: ClothTexture::Plain,
-            front_tint: [0.52, 0.45, 0.37],
-            back_tint: [0.3, 0.25, 0.21],
+            front_tint: look::PLAIN_FRONT_TINT,
+            back_tint: look::PLAIN_BACK_TINT,
             wireframe: false,
             wire_color: [0.02, 0.02, 0.03, 0.55],
             ground: Some(Ground::default()),
@@ -44,12 +45,12 @@ impl Default for RenderOptions {
 }
 
 impl RenderOptions {
-    /// Tints that suit a texture: white lets the picture show, the back a shade darker.
+    /// Tints that suit a texture (see [`look`]).
     pub fn with_texture(mut self, texture: ClothTexture) -> Self {
         self.texture = texture;
         if texture != ClothTexture::Plain {
-            self.front_tint = [1.0, 1.0, 1.0];
-            self.back_tint = [0.55, 0.52, 0.5];
+            self.front_tint = look::TEXTURED_FRONT_TINT;
+            self.back_tint = look::TEXTURED_BACK_TINT;
         }
         self
     }

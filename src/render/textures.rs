@@ -1,18 +1,14 @@
-//! The cloth textures Drape ships (`assets/`, drawn by `assets/make_textures.py`),
-//! uploaded once with a full mip chain so they stay calm when the cloth is small on screen.
+//! The cloth textures Drape ships ([`look::texture_png`]), uploaded once with
+//! a full mip chain so they stay calm when the cloth is small on screen.
 
-use super::image::RgbaImage;
+use crate::image::RgbaImage;
+use crate::look;
 use crate::scene::ClothTexture;
-
-const CARPET_PNG: &[u8] = include_bytes!("../../assets/carpet.png");
-const CHECKER_PNG: &[u8] = include_bytes!("../../assets/checker.png");
 
 /// The built-in picture for a texture choice; `Plain` is one white texel.
 pub fn builtin_image(texture: ClothTexture) -> RgbaImage {
-    let bytes = match texture {
-        ClothTexture::Plain => return RgbaImage { width: 1, height: 1, pixels: vec![255; 4] },
-        ClothTexture::Carpet => CARPET_PNG,
-        ClothTexture::Checker => CHECKER_PNG,
+    let Some(bytes) = look::texture_png(texture) else {
+        return RgbaImage { width: 1, height: 1, pixels: vec![255; 4] };
     };
     RgbaImage::decode_png(bytes).expect("the textures in assets/ are valid PNGs, checked by a test")
 }
