@@ -30,6 +30,7 @@ pub mod export;
 pub mod image;
 pub mod look;
 pub mod mesh;
+pub mod picture;
 pub mod render;
 pub mod scene;
 pub mod shape;

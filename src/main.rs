@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
 use drape::export::animation::padded_frame;
-use drape::render::headless::SceneOverlays;
+use drape::picture::SceneOverlays;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, shown_name};
 use drape::shape::relax::mean_structural_error;
 

@@ -13,8 +13,8 @@ use drape::export::{
     GifWriter, SizeEstimate, check_frames, check_sequence_dir, ensure_sequence_dir, write_atomically, write_png,
 };
 use drape::image::RgbaImage;
+use drape::picture::{SceneOverlays, SceneRenderer};
 use drape::render::GpuContext;
-use drape::render::headless::{SceneOverlays, SceneRenderer};
 use drape::scene::{self, Scene, group_thousands};
 
 use crate::{FrameRange, frame_number_width, padded_frame};

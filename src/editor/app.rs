@@ -25,9 +25,9 @@ use super::viewport::{self, OnionGhost, ViewportFrame};
 use super::viewport_input::{AxisLock, PinDrag};
 use crate::animate::{self, Evaluator};
 use crate::mesh::Mesh;
+use crate::picture::{SceneOverlays, key_overlay, scene_bounds};
 use crate::render::camera::bounds;
-use crate::render::headless::scene_bounds;
-use crate::render::overlay::{Marker, PinState, Segment, colors};
+use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
 use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions};
 use crate::scene::{Cloth, ClothTexture, Key, Scene};
 use crate::shape::RelaxReport;
@@ -625,29 +625,27 @@ impl DrapeApp {
     }
 
     fn overlay(&mut self) -> Overlay {
-        let mut overlay = Overlay::default();
-        let scene = &self.shown;
-        let key = scene.key_in_effect(self.frame).clone();
         let network = self.stage == Stage::Catenaries;
-        if self.toggles.catenaries || self.toggles.triangulation || network {
-            let shape = self.evaluator.key_shape(&scene.cloth, &key);
-            if self.toggles.triangulation || network {
-                overlay.add_triangulation(&self.mesh, &shape.rest.network);
+        let show = SceneOverlays {
+            wireframe: false,
+            // Dragged pins are drawn below, where the mouse put them.
+            pins: self.toggles.pins && self.pin_drag.is_none(),
+            catenaries: self.toggles.catenaries || network,
+            triangulation: self.toggles.triangulation || network,
+        };
+        let state = |grid: (u32, u32)| {
+            if self.selection.contains(&grid) {
+                PinState::Selected
+            } else if self.hovered == Some(grid) || self.grid_hovered == Some(grid) {
+                PinState::Hovered
+            } else {
+                PinState::Normal
             }
-            if self.toggles.catenaries || network {
-                overlay.add_catenary_network(&shape.rest.network);
-            }
-        }
+        };
+        let mut overlay = key_overlay(&mut self.evaluator, &self.shown, self.frame, &self.mesh, show, state);
+        let scene = &self.shown;
+        let key = scene.key_in_effect(self.frame);
         if self.toggles.pins {
-            let state = |grid: (u32, u32)| {
-                if self.selection.contains(&grid) {
-                    PinState::Selected
-                } else if self.hovered == Some(grid) || self.grid_hovered == Some(grid) {
-                    PinState::Hovered
-                } else {
-                    PinState::Normal
-                }
-            };
             if let Some(drag) = &self.pin_drag
                 && let Some(axis) = drag.lock
             {
@@ -666,11 +664,8 @@ impl DrapeApp {
                 for pin in &doc_key.pins {
                     let center = glam::Vec3::new(pin.pos.0 as f32, pin.pos.1 as f32, pin.pos.2 as f32);
                     let fill = if self.selection.contains(&pin.grid) { colors::PIN_SELECTED } else { colors::PIN };
-                    overlay.markers.push(Marker { center, radius_px: 6.0, fill, ring: colors::PIN_RING });
+                    overlay.markers.push(Marker { center, radius_px: PIN_RADIUS_PX, fill, ring: colors::PIN_RING });
                 }
-            } else {
-                let pins = key.pins.iter().map(|p| ((p.grid.0 as usize, p.grid.1 as usize), state(p.grid)));
-                overlay.add_pins(&self.mesh, pins);
             }
         }
         self.add_layer_arrow(&mut overlay);

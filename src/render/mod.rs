@@ -1,12 +1,14 @@
 //! Drawing the cloth with wgpu: the same code for the editor's viewport and
-//! for headless pictures (CLI, tests). No egui or window code lives here.
+//! for headless pictures (CLI, tests). It draws meshes, overlays and a camera
+//! into a texture and knows nothing of scenes' keys or their evaluation
+//! (that is [`crate::picture`]'s), nor of egui or windows.
 //!
 //! - [`context`]: a device without a window (Mesa's lavapipe or llvmpipe on GPU-less machines);
 //! - [`camera`]: the orbit camera and projection;
 //! - [`renderer`]: pipelines and buffers; draws a mesh, ghosts and overlays into a target;
 //! - [`target`]: the 4× MSAA offscreen target with depth, resolved to sRGB;
-//! - [`overlay`]: pins, catenary network and triangulation as drawable items;
-//! - [`headless`]: one call from a mesh or a scene frame to an image;
+//! - [`overlay`]: line segments and markers drawn over the cloth, pins among them;
+//! - [`headless`]: one call from a mesh to an image; [`readback`]: a texture back to the CPU;
 //! - [`compose`]: copies a finished picture into another render pass (the editor's window).
 
 pub mod camera;

@@ -1,0 +1,18 @@
+//! From a scene to a picture: everything between the evaluator and the
+//! renderer, shared by `drape render`, the editor's viewport and the tests.
+//!
+//! [`crate::render`] only draws meshes, overlays and a camera; this module
+//! decides what it draws:
+//!
+//! - [`framing`]: the camera and ground that show every key of a scene;
+//! - [`key_overlay`]: the overlays of the key in effect (pins, catenary
+//!   network, triangulation) as plain lines and markers;
+//! - [`scene_renderer`]: a scene at a frame to an image, frame after frame.
+
+pub mod framing;
+pub mod key_overlay;
+pub mod scene_renderer;
+
+pub use framing::scene_bounds;
+pub use key_overlay::{SceneOverlays, key_overlay};
+pub use scene_renderer::{SceneRenderer, render_scene_frame};

@@ -1,0 +1,95 @@
+//! A scene at a frame to an RGBA image without a window: `drape render`, the
+//! golden-image tests.
+
+use crate::animate::Evaluator;
+use crate::image::RgbaImage;
+use crate::mesh::Mesh;
+use crate::render::headless::RenderError;
+use crate::render::overlay::PinState;
+use crate::render::readback::read_texture;
+use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer};
+use crate::scene::Scene;
+
+use super::framing::Framing;
+use super::key_overlay::{SceneOverlays, key_overlay};
+
+/// One picture of `scene` at `frame`, framed as [`SceneRenderer::new`] does,
+/// on `context` or on a device of its own when none is given.
+pub fn render_scene_frame(
+    context: Option<&GpuContext>,
+    scene: &Scene,
+    frame: f64,
+    size_px: (u32, u32),
+    overlays: SceneOverlays,
+) -> Result<RgbaImage, RenderError> {
+    let context = match context {
+        Some(context) => context.clone(),
+        None => GpuContext::headless()?,
+    };
+    SceneRenderer::new(context, scene, size_px, overlays).render_frame(scene, frame)
+}
+
+/// Renders frames of one scene in turn, reusing the device, the renderer's
+/// buffers, the target and the evaluator's rest-shape cache: the way to render
+/// a sequence. Memory does not grow with the number of frames.
+pub struct SceneRenderer {
+    framing: Framing,
+    context: GpuContext,
+    renderer: Renderer,
+    target: OffscreenTarget,
+    evaluator: Evaluator,
+    options: RenderOptions,
+    overlays: SceneOverlays,
+    mesh: Mesh,
+}
+
+impl SceneRenderer {
+    /// Builds every key's rest shape and frames them as [`Framing::of_scene`] does.
+    pub fn new(context: GpuContext, scene: &Scene, size_px: (u32, u32), overlays: SceneOverlays) -> SceneRenderer {
+        let mut evaluator = Evaluator::new();
+        let aspect = size_px.0 as f32 / size_px.1.max(1) as f32;
+        let framing = Framing::of_scene(&mut evaluator, scene, aspect);
+        let options =
+            RenderOptions { wireframe: overlays.wireframe, ground: Some(framing.ground), ..RenderOptions::default() }
+                .with_texture(scene.cloth.texture);
+        let renderer = Renderer::new(&context.device, &context.queue);
+        let target = OffscreenTarget::new(&context.device, size_px);
+        let mesh = evaluator.evaluate_frame(scene, scene.timeline.start as f64);
+        SceneRenderer { framing, context, renderer, target, evaluator, options, overlays, mesh }
+    }
+
+    pub fn context(&self) -> &GpuContext {
+        &self.context
+    }
+
+    pub fn camera(&self) -> &OrbitCamera {
+        &self.framing.camera
+    }
+
+    pub fn size_px(&self) -> (u32, u32) {
+        self.target.size_px()
+    }
+
+    /// The mesh of the last rendered frame.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Renders `scene` (the one given to `new`, or an edit of it with the same
+    /// framing) at `frame` and reads the picture back.
+    pub fn render_frame(&mut self, scene: &Scene, frame: f64) -> Result<RgbaImage, RenderError> {
+        self.evaluator.evaluate_frame_into(scene, frame, Default::default(), &mut self.mesh);
+        self.framing.follow(&self.mesh);
+        self.options.ground = Some(self.framing.ground);
+        let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays, |_| PinState::Normal);
+        let input = FrameInput {
+            mesh: &self.mesh,
+            camera: &self.framing.camera,
+            options: &self.options,
+            ghosts: &[],
+            overlay: &overlay,
+        };
+        self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
+        Ok(read_texture(&self.context.device, &self.context.queue, self.target.resolved())?)
+    }
+}
