@@ -7,7 +7,7 @@ use anyhow::{Result, anyhow};
 use clap::{Parser, Subcommand};
 use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
-use drape::export::animation::padded_frame;
+use drape::export::sequence::padded_frame;
 use drape::picture::SceneOverlays;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, shown_name};
 use drape::shape::relax::mean_structural_error;
@@ -433,7 +433,7 @@ fn check_size(estimate: &drape::export::SizeEstimate, output: &Path, force: bool
 /// Digits for the frame numbers of a sequence: at least 4, more when needed,
 /// so files sort in frame order (the export's naming, shared by `drape render`).
 fn frame_number_width(range: FrameRange) -> usize {
-    drape::export::animation::frame_number_width(range.first, range.last)
+    drape::export::sequence::frame_number_width(range.first, range.last)
 }
 
 #[cfg(test)]

@@ -8,14 +8,13 @@ use std::time::Instant;
 use anyhow::{Context as _, Result, anyhow, bail};
 use drape::atomic_file::StagedFiles;
 use drape::atomic_file::io_reason;
-use drape::export::size::readable_bytes;
 use drape::export::{
     GifWriter, SizeEstimate, check_frames, check_sequence_dir, ensure_sequence_dir, write_atomically, write_png,
 };
 use drape::image::RgbaImage;
 use drape::picture::{SceneOverlays, SceneRenderer};
 use drape::render::GpuContext;
-use drape::scene::{self, Scene, group_thousands};
+use drape::scene::{self, Scene, group_thousands, readable_bytes};
 
 use crate::{FrameRange, frame_number_width, padded_frame};
 

@@ -16,11 +16,10 @@ use eframe::egui;
 
 use super::app::DrapeApp;
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use crate::export::size::readable_bytes;
 use crate::export::{
     AnimationFormat, ExportError, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, export_animation,
 };
-use crate::scene::Scene;
+use crate::scene::{Scene, readable_bytes};
 
 /// An export running on its worker.
 struct Job {

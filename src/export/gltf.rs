@@ -32,7 +32,9 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use serde_json::{Value, json};
 
-use super::animation::{ExportError, Job, check_directory, write_around};
+use super::error::ExportError;
+use super::job::Job;
+use super::output::{check_directory, write_around};
 use crate::atomic_file::{is_special_file, write_atomically};
 use crate::look::{self, texture_png};
 use crate::scene::ClothTexture;

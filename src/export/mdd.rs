@@ -7,7 +7,7 @@
 
 use std::io::{self, Write};
 
-use super::animation::Job;
+use super::job::Job;
 use crate::animate::frame_time_secs;
 
 /// Writes the header with every frame's time, then streams each frame's positions.
@@ -19,14 +19,5 @@ pub(crate) fn write(job: &mut Job, out: &mut dyn Write) -> io::Result<()> {
     for frame in job.frames() {
         out.write_all(&(frame_time_secs(&scene.timeline, f64::from(frame)) as f32).to_be_bytes())?;
     }
-    let mut bytes = Vec::with_capacity(points * 12);
-    job.for_each_frame(|_, _, mesh| {
-        bytes.clear();
-        for p in &mesh.positions {
-            for c in p.to_array() {
-                bytes.extend_from_slice(&c.to_be_bytes());
-            }
-        }
-        out.write_all(&bytes)
-    })
+    job.write_positions(out, f32::to_be_bytes)
 }

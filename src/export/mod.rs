@@ -10,6 +10,13 @@
 //! [`check_export_size`] refuses one past [`MAX_EXPORT_BYTES`] or the free
 //! space on its disk (the CLI's `--force` skips that check).
 //!
+//! The files stack in one direction, none importing one that imports it
+//! back: [`error`] at the bottom; [`job`] (the frames of an export, its
+//! progress and cancel) and the output helpers (directories, side files
+//! written atomically) on it; the formats ([`obj`], [`pc2`], [`mdd`],
+//! [`gltf`], [`usd`], [`png`], [`gif`]) and [`sequence`] naming beside them;
+//! the driver [`animation`] on top, with [`size`] reading its formats.
+//!
 //! The editor's File ▸ Export calls, for example:
 //!
 //! ```no_run
@@ -30,21 +37,28 @@
 //! ```
 
 pub mod animation;
+pub mod error;
 pub mod gif;
 pub mod gltf;
+pub mod job;
 pub mod mdd;
 pub mod obj;
+mod output;
 pub mod pc2;
 pub mod png;
+pub mod sequence;
 pub mod size;
 pub mod usd;
 
 pub use crate::atomic_file::write_atomically;
 pub use animation::{
-    AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, check_frames, check_sequence_dir,
-    ensure_sequence_dir, export_animation, export_animation_using, export_animation_with, sequence_file_name,
+    AnimationFormat, ExportOptions, ExportSummary, check_frames, export_animation, export_animation_using,
+    export_animation_with,
 };
+pub use error::ExportError;
 pub use gif::GifWriter;
+pub use job::FrameSource;
 pub use obj::write_obj;
 pub use png::write_png;
+pub use sequence::{check_sequence_dir, ensure_sequence_dir, sequence_file_name};
 pub use size::{MAX_EXPORT_BYTES, SizeEstimate, check_export_size};

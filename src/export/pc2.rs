@@ -8,7 +8,7 @@
 
 use std::io::{self, Write};
 
-use super::animation::{Job, write_f32_le};
+use super::job::Job;
 
 /// The 12-byte signature at the start of every PC2 file.
 pub const SIGNATURE: &[u8; 12] = b"POINTCACHE2\0";
@@ -21,17 +21,8 @@ pub(crate) fn write(job: &mut Job, out: &mut dyn Write) -> io::Result<()> {
     out.write_all(SIGNATURE)?;
     out.write_all(&1i32.to_le_bytes())?;
     out.write_all(&(points as i32).to_le_bytes())?;
-    write_f32_le(out, job.first as f32)?;
-    write_f32_le(out, 1.0)?;
+    out.write_all(&(job.first as f32).to_le_bytes())?;
+    out.write_all(&1f32.to_le_bytes())?;
     out.write_all(&(job.frame_count() as i32).to_le_bytes())?;
-    let mut bytes = Vec::with_capacity(points * 12);
-    job.for_each_frame(|_, _, mesh| {
-        bytes.clear();
-        for p in &mesh.positions {
-            for c in p.to_array() {
-                bytes.extend_from_slice(&c.to_le_bytes());
-            }
-        }
-        out.write_all(&bytes)
-    })
+    job.write_positions(out, f32::to_le_bytes)
 }

@@ -11,7 +11,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::animation::{AnimationFormat, ExportError};
+use super::animation::AnimationFormat;
+use super::error::ExportError;
 use super::obj::object_name;
 use crate::look::texture_png;
 use crate::scene::{Scene, group_thousands};
@@ -196,21 +197,6 @@ pub fn free_bytes(_dir: &Path) -> Option<u64> {
     None
 }
 
-/// `1536` → `1.5 KiB`, `9663676416` → `9.0 GiB`: binary units with one decimal.
-pub fn readable_bytes(bytes: u64) -> String {
-    const UNITS: [&str; 6] = ["KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
-    if bytes < 1024 {
-        return format!("{bytes} bytes");
-    }
-    let mut value = bytes as f64 / 1024.0;
-    let mut unit = 0;
-    while value >= 1024.0 && unit + 1 < UNITS.len() {
-        value /= 1024.0;
-        unit += 1;
-    }
-    format!("{value:.1} {}", UNITS[unit])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,14 +261,5 @@ mod tests {
         assert_eq!(holding_dir(Path::new("/dev/null")), None, "a device has no free space to speak of");
         let free = free_bytes(dir.path()).expect("statvfs works on a temporary directory");
         assert!(free > 0);
-    }
-
-    #[test]
-    fn bytes_read_in_binary_units() {
-        assert_eq!(readable_bytes(0), "0 bytes");
-        assert_eq!(readable_bytes(1023), "1023 bytes");
-        assert_eq!(readable_bytes(1536), "1.5 KiB");
-        assert_eq!(readable_bytes(9 << 30), "9.0 GiB");
-        assert_eq!(readable_bytes(u64::MAX), "16.0 EiB");
     }
 }

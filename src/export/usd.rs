@@ -25,7 +25,7 @@ use std::io::{self, Write};
 
 use glam::Vec3;
 
-use super::animation::Job;
+use super::job::Job;
 use crate::look;
 
 /// Writes the whole stage, streaming the frames.

@@ -39,6 +39,21 @@ pub fn truncated_name(name: &str) -> std::borrow::Cow<'_, str> {
     }
 }
 
+/// `1536` → `1.5 KiB`, `9663676416` → `9.0 GiB`: binary units with one decimal.
+pub fn readable_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 6] = ["KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    if bytes < 1024 {
+        return format!("{bytes} bytes");
+    }
+    let mut value = bytes as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    format!("{value:.1} {}", UNITS[unit])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +82,14 @@ mod tests {
         let shown = shown_name(&long);
         assert_eq!(shown.chars().count(), MAX_SHOWN_NAME_CHARS);
         assert!(shown.ends_with("é…"), "{shown}");
+    }
+
+    #[test]
+    fn bytes_read_in_binary_units() {
+        assert_eq!(readable_bytes(0), "0 bytes");
+        assert_eq!(readable_bytes(1023), "1023 bytes");
+        assert_eq!(readable_bytes(1536), "1.5 KiB");
+        assert_eq!(readable_bytes(9 << 30), "9.0 GiB");
+        assert_eq!(readable_bytes(u64::MAX), "16.0 EiB");
     }
 }

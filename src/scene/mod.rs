@@ -19,7 +19,7 @@ mod param;
 mod types;
 mod validate;
 
-pub use display::{MAX_SHOWN_NAME_CHARS, readable_number, shown_name, truncated_name};
+pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, shown_name, truncated_name};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
