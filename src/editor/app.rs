@@ -21,14 +21,14 @@ use super::grid_editor::GridEditor;
 use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
 use super::shaper::Shaper;
-use super::viewport::{self, OnionGhost, ViewportFrame};
+use super::viewport::{self, ViewportFrame};
 use super::viewport_input::{AxisLock, PinDrag};
 use crate::animate::{self, Evaluator};
 use crate::mesh::Mesh;
 use crate::picture::{SceneOverlays, key_overlay, scene_bounds};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
-use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions};
+use crate::render::{Ghost, Ground, OrbitCamera, Overlay, RenderOptions};
 use crate::scene::{Cloth, ClothTexture, Key, Scene};
 use crate::shape::RelaxReport;
 
@@ -161,7 +161,7 @@ pub struct DrapeApp {
     requested: Option<(Cloth, Vec<Key>)>,
     pub(super) mesh: Arc<Mesh>,
     /// Onion-skin ghosts and what they show.
-    ghosts: Arc<Vec<OnionGhost>>,
+    ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
     ghosts_of: Option<GhostsOf>,
     /// Counts changes of `shown`.
     shown_version: u64,
@@ -571,7 +571,7 @@ impl DrapeApp {
                     continue;
                 }
                 let mesh = self.evaluator.evaluate_frame(&shown, frame);
-                ghosts.push(OnionGhost { mesh: Arc::new(mesh), tint, opacity });
+                ghosts.push(Ghost { mesh: Arc::new(mesh), tint, opacity });
             }
         }
         self.ghosts = Arc::new(ghosts);

@@ -29,15 +29,6 @@ pub fn install(render_state: &egui_wgpu::RenderState) {
     render_state.renderer.write().callback_resources.insert(resources);
 }
 
-/// An onion-skin ghost the viewport owns: [`Ghost`] with its mesh kept alive.
-#[derive(Clone, Debug)]
-pub struct OnionGhost {
-    pub mesh: Arc<Mesh>,
-    /// Linear RGB.
-    pub tint: [f32; 3],
-    pub opacity: f32,
-}
-
 /// One frame of the viewport.
 pub struct ViewportFrame {
     pub mesh: Arc<Mesh>,
@@ -45,7 +36,7 @@ pub struct ViewportFrame {
     pub options: RenderOptions,
     pub overlay: Arc<Overlay>,
     /// Onion-skin ghosts.
-    pub ghosts: Arc<Vec<OnionGhost>>,
+    pub ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
     /// The viewport's size in physical pixels.
     pub size_px: (u32, u32),
 }
@@ -65,8 +56,7 @@ impl CallbackTrait for ViewportFrame {
         if resources.target.resize(device, self.size_px) {
             resources.compositor.set_source(device, &resources.target);
         }
-        let ghosts: Vec<Ghost> =
-            self.ghosts.iter().map(|g| Ghost { mesh: &g.mesh, tint: g.tint, opacity: g.opacity }).collect();
+        let ghosts: Vec<Ghost<&Mesh>> = self.ghosts.iter().map(Ghost::borrowed).collect();
         let input = FrameInput {
             mesh: &self.mesh,
             camera: &self.camera,

@@ -4,6 +4,8 @@
 //! calls [`Renderer::prepare`] and [`Renderer::encode`] from its paint
 //! callback, headless code through [`Renderer::render`].
 
+use std::ops::Deref;
+
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 
@@ -95,12 +97,22 @@ impl Ground {
     }
 }
 
-/// A translucent copy of the cloth at another time (onion skin).
-#[derive(Clone, Copy)]
-pub struct Ghost<'a> {
-    pub mesh: &'a Mesh,
+/// A translucent copy of the cloth at another time (onion skin). `M` holds
+/// the mesh: a reference for one picture ([`FrameInput`]), an `Arc` where the
+/// ghost is kept between frames (the editor's viewport).
+#[derive(Clone, Copy, Debug)]
+pub struct Ghost<M> {
+    pub mesh: M,
+    /// Linear RGB.
     pub tint: [f32; 3],
     pub opacity: f32,
+}
+
+impl<M: Deref<Target = Mesh>> Ghost<M> {
+    /// The same ghost with its mesh borrowed, as [`FrameInput`] takes it.
+    pub fn borrowed(&self) -> Ghost<&Mesh> {
+        Ghost { mesh: &self.mesh, tint: self.tint, opacity: self.opacity }
+    }
 }
 
 /// Everything one picture needs.
@@ -109,7 +121,7 @@ pub struct FrameInput<'a> {
     pub mesh: &'a Mesh,
     pub camera: &'a OrbitCamera,
     pub options: &'a RenderOptions,
-    pub ghosts: &'a [Ghost<'a>],
+    pub ghosts: &'a [Ghost<&'a Mesh>],
     pub overlay: &'a Overlay,
 }
 
