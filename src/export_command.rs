@@ -2,7 +2,6 @@
 //! MDD point cache, glTF 2.0, USD or an OBJ sequence, through
 //! [`drape::export::export_animation_with`].
 
-use std::io::{self, IsTerminal};
 use std::path::Path;
 use std::time::Instant;
 
@@ -16,7 +15,7 @@ use drape::export::{
 use drape::scene::{self, Key, Scene};
 
 use crate::FrameRange;
-use crate::terminal_progress::{StatusLine, build_key_shapes};
+use crate::terminal_progress::{StatusLine, build_key_shapes, frame_bar};
 
 /// `--format`: what to write when the output's extension does not say.
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
@@ -126,7 +125,7 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
     let evaluator = evaluator_with_key_shapes(&scene, request.stage, first, last);
     let mut bar: Option<indicatif::ProgressBar> = None;
     let mut progress = |done: usize, total: usize| {
-        let bar = bar.get_or_insert_with(|| progress_bar(total as u64));
+        let bar = bar.get_or_insert_with(|| frame_bar(total as u64, "frames evaluated"));
         bar.set_position(done as u64);
         true
     };
@@ -221,15 +220,4 @@ fn report(summary: &ExportSummary, output: &Path, what: &str, started: Instant) 
     for left_out in &summary.left_out {
         say!("  not written: {left_out}");
     }
-}
-
-fn progress_bar(total: u64) -> indicatif::ProgressBar {
-    if !io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(total);
-    let style = indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames evaluated  {per_sec}  eta {eta}")
-        .expect("the progress template is valid");
-    bar.set_style(style);
-    bar
 }

@@ -140,6 +140,13 @@ struct FrameRange {
     last: i32,
 }
 
+impl FrameRange {
+    /// How many frames the range holds, both ends included.
+    fn frame_count(self) -> u64 {
+        (i64::from(self.last) - i64::from(self.first) + 1) as u64
+    }
+}
+
 fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
     let (a, b) =
         text.split_once("..").ok_or_else(|| format!("`{text}` is not a range: write it as A..B, e.g. 0..120"))?;

@@ -1,6 +1,6 @@
 //! `drape render`: pictures of a scene as a PNG, a numbered PNG sequence or an animated GIF.
 
-use std::io::{self, IsTerminal};
+use std::io;
 use std::path::Path;
 use std::sync::mpsc;
 use std::time::Instant;
@@ -16,6 +16,7 @@ use drape::picture::{SceneOverlays, SceneRenderer};
 use drape::render::GpuContext;
 use drape::scene::{self, Scene, group_thousands, readable_bytes};
 
+use crate::terminal_progress;
 use crate::{FrameRange, frame_number_width, padded_frame};
 
 /// Sizes used when `--size` is not given: a full-HD-ish still, a lighter GIF.
@@ -92,7 +93,7 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         check_sequence_dir(output)?;
     }
 
-    let frame_count = (i64::from(range.last) - i64::from(range.first) + 1) as u64;
+    let frame_count = range.frame_count();
     if kind == Output::Gif {
         // A GIF frame is at most a palette and one LZW-coded byte a pixel; cloth compresses far better.
         let frame_bytes = u64::from(size_px.0) * u64::from(size_px.1) + 1024;
@@ -121,7 +122,7 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
             say!("wrote {} ({}×{}, frame {}, {adapter})", output.display(), size_px.0, size_px.1, range.first);
         }
         Output::Gif => {
-            let progress = progress_bar(range);
+            let progress = terminal_progress::frame_bar(range.frame_count(), "frames");
             write_atomically(output, |w| {
                 let mut gif = GifWriter::new(w, size_px, scene.timeline.fps)?;
                 for frame in range.first..=range.last {
@@ -164,7 +165,7 @@ fn render_sequence(
     let first_image = renderer.render_frame(scene, range.first as f64)?;
     let mut first_png = Vec::new();
     write_png(&first_image, &mut first_png).map_err(|e| anyhow!("cannot encode a PNG: {}", io_reason(&e)))?;
-    let frame_count = (i64::from(range.last) - i64::from(range.first) + 1) as u64;
+    let frame_count = range.frame_count();
     let estimate = SizeEstimate::new(
         frame_count.saturating_mul(first_png.len() as u64),
         format!(
@@ -197,7 +198,7 @@ fn render_staged(
     let mut staged =
         StagedFiles::new(dir, &stem).map_err(|e| anyhow!("cannot write into {}: {}", dir.display(), io_reason(&e)))?;
     let width = frame_number_width(range);
-    let progress = progress_bar(range);
+    let progress = terminal_progress::frame_bar(range.frame_count(), "frames");
     let (sender, receiver) = mpsc::sync_channel::<(String, RgbaImage)>(2);
     let target_dir = dir.to_path_buf();
     let writer = std::thread::spawn(move || -> Result<StagedFiles> {
@@ -233,20 +234,8 @@ fn render_staged(
     Ok(())
 }
 
-fn progress_bar(range: FrameRange) -> indicatif::ProgressBar {
-    let count = (i64::from(range.last) - i64::from(range.first) + 1) as u64;
-    if !io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(count);
-    let style = indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {per_sec}  eta {eta}")
-        .expect("the progress template is valid");
-    bar.set_style(style);
-    bar
-}
-
 fn report(output: &Path, range: FrameRange, size_px: (u32, u32), started: Instant, adapter: &str, what: &str) {
-    let count = i64::from(range.last) - i64::from(range.first) + 1;
+    let count = range.frame_count();
     let secs = started.elapsed().as_secs_f64();
     say!(
         "wrote {} ({what}, frames {}..{}, {count} frame{} at {}×{}) in {secs:.1} s: {:.1} frames/s on {adapter}",

@@ -1,7 +1,8 @@
-//! Progress of long `check` and `export` work on stderr, only when stderr is
-//! a terminal: one status line overwritten in place (`\r`) and erased when
-//! the work is done, so the terminal keeps only the results. When stderr is
-//! a pipe or a file (scripts, tests) nothing at all is written.
+//! Progress of long `check`, `export` and `render` work on stderr, only when
+//! stderr is a terminal: one status line overwritten in place (`\r`), or a
+//! bar of frames, erased when the work is done, so the terminal keeps only
+//! the results. When stderr is a pipe or a file (scripts, tests) nothing at
+//! all is written.
 
 use std::io::{self, IsTerminal, Write};
 use std::ops::ControlFlow;
@@ -69,6 +70,20 @@ impl Drop for StatusLine {
     fn drop(&mut self) {
         self.clear();
     }
+}
+
+/// A bar counting `total` frames, `what` naming them (`frames`, `frames
+/// evaluated`); hidden unless stderr is a terminal.
+pub fn frame_bar(total: u64, what: &'static str) -> indicatif::ProgressBar {
+    if !io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(total);
+    let style = indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}  {per_sec}  eta {eta}")
+        .expect("the progress template is valid");
+    bar.set_style(style);
+    bar.set_message(what);
+    bar
 }
 
 /// Builds the rest shapes of `keys` (those not cached yet) into `evaluator`'s
