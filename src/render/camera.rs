@@ -7,13 +7,13 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::scene::View;
+use crate::scene::{MAX_VIEW_DISTANCE_M, MAX_VIEW_PITCH_DEG, MIN_VIEW_DISTANCE_M, View};
 
-/// Pitch stays inside ±this many degrees: at ±90° the view's up vector would be undefined.
-pub const MAX_PITCH_DEG: f32 = 89.0;
-/// Dolly limits (metres): closer than this the near plane clips the target, farther the depth range degrades.
-pub const MIN_DISTANCE_M: f32 = 1e-3;
-pub const MAX_DISTANCE_M: f32 = 1e4;
+/// Pitch stays inside ±this many degrees, the limit of a saved view.
+pub const MAX_PITCH_DEG: f32 = MAX_VIEW_PITCH_DEG as f32;
+/// Dolly limits (metres), those of a saved view.
+pub const MIN_DISTANCE_M: f32 = MIN_VIEW_DISTANCE_M as f32;
+pub const MAX_DISTANCE_M: f32 = MAX_VIEW_DISTANCE_M as f32;
 /// Degrees of orbit per pixel of mouse motion.
 pub const ORBIT_DEG_PER_PX: f32 = 0.3;
 

@@ -44,6 +44,11 @@ pub const MAX_LAYERS: usize = 256;
 pub const MAX_FPS: f64 = 1000.0;
 /// Largest absolute pin coordinate along any axis, in metres.
 pub const MAX_PIN_COORD_M: f64 = 10_000.0;
+/// A view's pitch stays inside ±this many degrees: at ±90° its up vector would be undefined.
+pub const MAX_VIEW_PITCH_DEG: f64 = 89.0;
+/// A view's distance to its target, in metres: closer the near plane clips the target, farther depth degrades.
+pub const MIN_VIEW_DISTANCE_M: f64 = 1e-3;
+pub const MAX_VIEW_DISTANCE_M: f64 = 1e4;
 /// Lowest elasticity: 1 is the fabric's own length, never shorter.
 pub const MIN_ELASTICITY: f64 = 1.0;
 /// Highest elasticity (ten times the fabric's length).
@@ -185,8 +190,8 @@ impl Checker {
         }
         self.finite("view.yaw_deg", "view yaw", view.yaw_deg);
         let ranges = [
-            ("view.pitch_deg", "view pitch", view.pitch_deg, -89.0, 89.0, "°"),
-            ("view.distance_m", "view distance", view.distance_m, 0.001, 10_000.0, " m"),
+            ("view.pitch_deg", "view pitch", view.pitch_deg, -MAX_VIEW_PITCH_DEG, MAX_VIEW_PITCH_DEG, "°"),
+            ("view.distance_m", "view distance", view.distance_m, MIN_VIEW_DISTANCE_M, MAX_VIEW_DISTANCE_M, " m"),
             ("view.fov_y_deg", "view field of view", view.fov_y_deg, 5.0, 120.0, "°"),
         ];
         for (path, what, v, min, max, unit) in ranges {
