@@ -13,12 +13,18 @@
 //! shape:    catenaries between pins → surface approximation → relaxation  = RestShape
 //!   ▼
 //! animate:  blend the two rest shapes around t, apply the layer stack      = Mesh at t
-//!   ▼
-//! export (OBJ, …) · render · editor · tests
+//!   ├─► export:   OBJ, PC2/MDD, glTF, USD files of the meshes
+//!   └─► picture:  framing + key overlays ─► render (wgpu): meshes, overlays, camera → texture
+//!                 (for `drape render`, the editor's viewport and the tests)
 //! ```
 //!
 //! Module boundaries: [`scene`], [`shape`], [`animate`] and [`mesh`] are pure
-//! Rust with no GPU or UI; [`export`] writes files from a [`mesh::Mesh`].
+//! Rust with no GPU or UI. [`render`] draws meshes and plain overlays and
+//! imports neither [`shape`] nor [`animate`]; [`picture`] sits above it and
+//! turns a scene into what it draws. [`export`] writes files from a
+//! [`mesh::Mesh`] and does not import [`render`]: the picture type
+//! ([`image`]) and the cloth's look ([`look`]) sit below both.
+//!
 //! Conventions: right-handed, Y up, gravity along −Y, metres. Grid index
 //! `(i, j)` has `i` along the width and `j = 0` on the top edge; vertex order
 //! is always `j·cols + i`.

@@ -3,7 +3,7 @@
 //! format (PC2, MDD, glTF, USD, OBJ sequences).
 //!
 //! [`export_animation`] evaluates the frames one at a time through one
-//! [`Evaluator`] (a [`Job`]) and streams each into the output, so memory stays bounded by
+//! [`Evaluator`] (see [`super::job`]) and streams each into the output, so memory stays bounded by
 //! one mesh plus a few numbers per frame, however long the range. Formats
 //! whose layout needs something about every frame before the first frame's
 //! data (glTF's accessor bounds, USD's separate points and normals blocks)

@@ -5,7 +5,7 @@
 //! decides what it draws:
 //!
 //! - [`framing`]: the camera and ground that show every key of a scene;
-//! - [`key_overlay`]: the overlays of the key in effect (pins, catenary
+//! - [`key_overlay`](mod@key_overlay): the overlays of the key in effect (pins, catenary
 //!   network, triangulation) as plain lines and markers;
 //! - [`scene_renderer`]: a scene at a frame to an image, frame after frame.
 
