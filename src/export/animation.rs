@@ -195,7 +195,6 @@ pub fn export_animation_using(
     if !options.layers && options.stage != Stage::Animated {
         return Err(ExportError::LayersWithoutAnimation { stage: options.stage });
     }
-    let frame_count = (i64::from(last) - i64::from(first) + 1) as usize;
     let source = FrameSource::with_evaluator(scene, options.stage, options.layers, evaluator);
     let mut job = Job::start(source, frames, format.passes(), progress)?;
     let mut left_out = Vec::new();
@@ -209,6 +208,7 @@ pub fn export_animation_using(
             vec![output.to_path_buf()]
         }
     };
+    let frame_count = job.frame_count();
     let mesh = job.source.mesh(first);
     Ok(ExportSummary {
         format,
