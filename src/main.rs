@@ -10,6 +10,7 @@ use drape::animate::blend::relaxed_inbetween;
 use drape::export::sequence::padded_frame;
 use drape::picture::SceneOverlays;
 use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, shown_name};
+use drape::shape::contact::count_crossings;
 use drape::shape::relax::mean_structural_error;
 
 /// `println!` that ends the program quietly when stdout is closed (`drape
@@ -274,6 +275,13 @@ fn check(path: &Path) -> Result<()> {
             error * 100.0,
             report.verdict()
         );
+        let crossings = count_crossings(&rest.relaxed, cloth.cols(), cloth.rows());
+        if crossings > 0 {
+            say!(
+                "      warning: the rest shape passes through itself ({crossings} edge{} cross the cloth); Drape does not yet keep folds apart",
+                if crossings == 1 { "" } else { "s" }
+            );
+        }
         let (warnings, taut_pairs) = stretched_pin_warnings(&scene, key);
         for warning in &warnings {
             say!("      warning: {warning}");

@@ -999,3 +999,28 @@ fn three_hundred_pins_check_and_export_with_every_pin_in_place() {
         );
     }
 }
+
+/// `drape check` says when a rest shape passes through itself (a curtain
+/// gathered to a tenth of its width folds through itself until Drape keeps
+/// folds apart) and stays quiet for one that does not (the bundled curtain).
+#[test]
+fn check_warns_when_a_rest_shape_passes_through_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let gathered = dir.path().join("gathered.ron");
+    fs::write(
+        &gathered,
+        "(version: 1, cloth: (size: (1.0, 1.0), grid: (17, 17)), keys: [(frame: 0, pins: [\
+         (grid: (0, 0), pos: (-0.05, 2.0, 0.0)), (grid: (16, 0), pos: (0.05, 2.0, 0.0))])])",
+    )
+    .unwrap();
+    let drape = env!("CARGO_BIN_EXE_drape");
+    let check = |path: &Path| {
+        let run = Command::new(drape).arg("check").arg(path).output().unwrap();
+        assert!(run.status.success(), "check failed: {}", String::from_utf8_lossy(&run.stderr));
+        String::from_utf8_lossy(&run.stdout).into_owned()
+    };
+    let report = check(&gathered);
+    assert!(report.contains("passes through itself ("), "check says: {report}");
+    let report = check(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/curtain.ron")));
+    assert!(!report.contains("passes through itself"), "check says: {report}");
+}

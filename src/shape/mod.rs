@@ -3,6 +3,7 @@
 
 pub mod approximate;
 pub mod catenary;
+pub mod contact;
 pub mod relax;
 pub mod rest_shape;
 
