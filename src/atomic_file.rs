@@ -59,9 +59,99 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
     }
     file.sync_all()?;
     drop(file);
-    temp.rename_to(&target)?;
+    // Files waiting to appear with this one move in under the same hold of
+    // the registry, so a signal's clean-up sees all of them or none in place.
+    let companions = COMPANIONS.with(|c| std::mem::take(&mut *c.borrow_mut()));
+    let mut registry = registry();
+    temp.rename_locked(&target, &mut registry)?;
+    for companion in companions {
+        companion.commit_locked(&mut registry)?;
+    }
+    drop(registry);
     sync_dir(dir);
     Ok(())
+}
+
+thread_local! {
+    /// Files written by [`write_pending`] and staged with [`stage_companion`]:
+    /// the next [`write_atomically`] on this thread moves them into place with
+    /// its own file.
+    static COMPANIONS: std::cell::RefCell<Vec<PendingFile>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// A file written and synced beside its destination, not yet in place;
+/// dropped, it is removed.
+pub struct PendingFile {
+    /// `None` when the destination was a device or FIFO, written straight away.
+    temp: Option<Temporary>,
+    target: PathBuf,
+}
+
+impl PendingFile {
+    /// Moves the file into place.
+    pub fn commit(self) -> io::Result<()> {
+        let dir = parent_dir(&self.target).to_path_buf();
+        let mut registry = registry();
+        self.commit_locked(&mut registry)?;
+        drop(registry);
+        sync_dir(&dir);
+        Ok(())
+    }
+
+    fn commit_locked(self, registry: &mut Vec<PathBuf>) -> io::Result<()> {
+        let PendingFile { temp, target } = self;
+        match temp {
+            Some(temp) => temp.rename_locked(&target, registry),
+            None => Ok(()),
+        }
+    }
+}
+
+/// [`write_atomically`] up to the rename: the file is written and synced
+/// beside `path` and moves into place on [`PendingFile::commit`] (or with the
+/// next file written, see [`stage_companion`]). A device or FIFO is written
+/// straight away.
+pub fn write_pending(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<PendingFile> {
+    let target = match destination(path)? {
+        Destination::Special => {
+            stream_into(path, write)?;
+            return Ok(PendingFile { temp: None, target: path.to_path_buf() });
+        }
+        Destination::File(target) => target,
+    };
+    let dir = parent_dir(&target);
+    let Some(file_name) = target.file_name() else {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"));
+    };
+    let (temp, file) = Temporary::create_file(dir, &file_name.to_string_lossy())?;
+    let mut writer = BufWriter::new(file);
+    write(&mut writer)?;
+    let file = writer.into_inner().map_err(|e| e.into_error())?;
+    if let Ok(existing) = fs::metadata(&target) {
+        file.set_permissions(existing.permissions())?;
+    }
+    file.sync_all()?;
+    Ok(PendingFile { temp: Some(temp), target })
+}
+
+/// Stages `file` to move into place together with the next file this thread
+/// writes with [`write_atomically`]; returns how many were staged before, for
+/// [`unstage_companions`].
+pub fn stage_companion(file: PendingFile) -> usize {
+    COMPANIONS.with(|c| {
+        let mut c = c.borrow_mut();
+        c.push(file);
+        c.len() - 1
+    })
+}
+
+/// The staged files from position `from` on that no write has taken yet.
+pub fn unstage_companions(from: usize) -> Vec<PendingFile> {
+    COMPANIONS.with(|c| {
+        let mut c = c.borrow_mut();
+        let from = from.min(c.len());
+        c.split_off(from)
+    })
 }
 
 /// Whether `path` (through its symlinks) is a device, FIFO or socket: a
@@ -264,8 +354,8 @@ impl Temporary {
     }
 
     /// Renames the temporary file over `target`.
-    fn rename_to(mut self, target: &Path) -> io::Result<()> {
-        let mut registry = registry();
+    /// Moves the temporary to `target`, with the registry held by the caller.
+    fn rename_locked(mut self, target: &Path, registry: &mut Vec<PathBuf>) -> io::Result<()> {
         fs::rename(&self.path, target)?;
         self.renamed = true;
         registry.retain(|p| *p != self.path);
