@@ -42,34 +42,15 @@ const MAX_SYMLINK_HOPS: usize = 40;
 ///   for a reader, as any program writing to it would.
 /// - A directory or a socket: an error, and nothing is written.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
-    let target = match destination(path)? {
-        Destination::Special => return stream_into(path, write),
-        Destination::File(target) => target,
-    };
-    let dir = parent_dir(&target);
-    let Some(file_name) = target.file_name() else {
-        return Err(io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"));
-    };
-    let (temp, file) = Temporary::create_file(dir, &file_name.to_string_lossy())?;
-    let mut writer = BufWriter::new(file);
-    write(&mut writer)?;
-    let file = writer.into_inner().map_err(|e| e.into_error())?;
-    if let Ok(existing) = fs::metadata(&target) {
-        file.set_permissions(existing.permissions())?;
+    let file = write_pending(path, write)?;
+    if file.temp.is_none() {
+        // A device or FIFO, already written; staged companions wait for a file.
+        return Ok(());
     }
-    file.sync_all()?;
-    drop(file);
     // Files waiting to appear with this one move in under the same hold of
     // the registry, so a signal's clean-up sees all of them or none in place.
     let companions = COMPANIONS.with(|c| std::mem::take(&mut *c.borrow_mut()));
-    let mut registry = registry();
-    temp.rename_locked(&target, &mut registry)?;
-    for companion in companions {
-        companion.commit_locked(&mut registry)?;
-    }
-    drop(registry);
-    sync_dir(dir);
-    Ok(())
+    file.commit_with(companions)
 }
 
 thread_local! {
@@ -90,9 +71,18 @@ pub struct PendingFile {
 impl PendingFile {
     /// Moves the file into place.
     pub fn commit(self) -> io::Result<()> {
+        self.commit_with(Vec::new())
+    }
+
+    /// Moves the file, then `companions`, into place under one hold of the
+    /// registry (a signal's clean-up waits for all of them).
+    fn commit_with(self, companions: Vec<PendingFile>) -> io::Result<()> {
         let dir = parent_dir(&self.target).to_path_buf();
         let mut registry = registry();
         self.commit_locked(&mut registry)?;
+        for companion in companions {
+            companion.commit_locked(&mut registry)?;
+        }
         drop(registry);
         sync_dir(&dir);
         Ok(())
@@ -107,7 +97,8 @@ impl PendingFile {
     }
 }
 
-/// [`write_atomically`] up to the rename: the file is written and synced
+/// [`write_atomically`] up to the rename (see there for what a path may be):
+/// the file is written and synced
 /// beside `path` and moves into place on [`PendingFile::commit`] (or with the
 /// next file written, see [`stage_companion`]). A device or FIFO is written
 /// straight away.

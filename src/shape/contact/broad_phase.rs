@@ -5,20 +5,13 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-/// The grid's triangles, in [`crate::mesh::grid_triangle_indices`] order:
-/// quad (i, j) has triangles `2q` = (a, c, b) and `2q + 1` = (b, c, d) with
-/// a = (i, j), b = (i + 1, j), c = (i, j + 1), d = (i + 1, j + 1).
+use crate::mesh::grid_triangle_indices;
+
+/// The grid's triangles as the mesh has them ([`grid_triangle_indices`]):
+/// quad (i, j) gives (a, c, b) and (b, c, d) with a = (i, j), b = (i + 1, j),
+/// c = (i, j + 1), d = (i + 1, j + 1).
 pub fn grid_triangles(cols: usize, rows: usize) -> Vec<[u32; 3]> {
-    let mut triangles = Vec::with_capacity(2 * (cols - 1) * (rows - 1));
-    for j in 0..rows - 1 {
-        for i in 0..cols - 1 {
-            let a = (j * cols + i) as u32;
-            let (b, c) = (a + 1, a + cols as u32);
-            triangles.push([a, c, b]);
-            triangles.push([b, c, c + 1]);
-        }
-    }
-    triangles
+    grid_triangle_indices(cols, rows).chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
 }
 
 /// The grid's edges: rows, columns and each quad's b–c diagonal (the edges

@@ -43,7 +43,7 @@ pub fn count_crossings(positions: &[DVec3], cols: usize, rows: usize) -> usize {
 }
 
 /// Mean length of the finite edges (0 when there are none).
-pub(super) fn mean_edge_length(positions: &[DVec3], edges: &[[u32; 2]]) -> f64 {
+fn mean_edge_length(positions: &[DVec3], edges: &[[u32; 2]]) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
     for &[s, t] in edges {
         let d = positions[s as usize].distance(positions[t as usize]);
