@@ -51,8 +51,11 @@
 //! constraint asks any point to move by more than `tolerance` × the smaller
 //! rest spacing in a sweep. The carried momentum is not counted, so a slow
 //! slide along a near-isometric bend, which changes no edge length, does not
-//! keep a relaxed cloth sweeping until the cap. Pins never move. Output is
-//! bit-for-bit deterministic.
+//! keep a relaxed cloth sweeping until the cap. A level whose largest move
+//! has not fallen for [`STALL_SWEEPS`] sweeps (constraints that cannot all
+//! hold, trading over-relaxed moves in a cycle) finishes without momentum
+//! and with shorter steps, still judged on the whole step the constraints
+//! ask. Pins never move. Output is bit-for-bit deterministic.
 
 use std::ops::ControlFlow;
 
@@ -149,6 +152,16 @@ const OVER_RELAXATION: f64 = 1.3;
 /// the four-corner benchmark: 0.95 needs about a third of the sweeps of 0.9
 /// on 128² and more than ten times fewer than none; much higher oscillates.
 const MOMENTUM: f64 = 0.95;
+
+/// Sweeps without progress (the largest move not falling below
+/// [`STALL_PROGRESS`] of its smallest yet, squared) after which the carried
+/// momentum is dropped. Converging relaxations make progress far more often
+/// (bundled scenes' shapes are unchanged), so only a cycle that momentum
+/// keeps up is cut.
+const STALL_SWEEPS: u32 = 500;
+const STALL_PROGRESS: f64 = 0.9;
+/// Share of its step a point takes once the level has stalled.
+const CALM_STEP: f64 = 0.5;
 
 /// Largest move per sweep a point may carry on as momentum, relative to the
 /// rest spacing; faster points stop.
@@ -642,10 +655,19 @@ impl Sweeper {
         // to nothing, so slack cloth hangs instead of staying where the approximation
         // left it; the remaining sweeps enforce the constraints alone.
         let settle_sweeps = if settle == Settle::Yes { SETTLE_SWEEPS } else { 0 };
+        // The smallest largest-move after settling, and sweeps since it fell.
+        let (mut best_move2, mut stalled) = (f64::INFINITY, 0u32);
+        // After a stall: no momentum, shorter steps, for the rest of the level.
+        let mut calm = false;
         for iteration in 0..settle_sweeps.saturating_add(params.max_iterations) {
             let settling = iteration < settle_sweeps;
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
+            if calm {
+                for axis in &mut self.velocity {
+                    axis.data.fill(0.0);
+                }
+            }
             for colour in 0..4 {
                 for run in self.runs[colour].iter().chain(self.edge_runs[colour].iter().map(|e| &e.run)) {
                     coast(&mut self.position, &self.velocity, run);
@@ -669,6 +691,11 @@ impl Sweeper {
                 }
                 filled = self.edge_run_steps_from(colour, gravity, filled);
                 self.border_steps_from(colour, gravity, filled);
+                if calm {
+                    for steps in &mut self.steps {
+                        steps.iter_mut().for_each(|d| *d *= CALM_STEP);
+                    }
+                }
                 let mut done = 0;
                 for run in &self.runs[colour] {
                     let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
@@ -697,7 +724,8 @@ impl Sweeper {
             }
             // The settling sweeps are part of what the shape is, not of the cap's budget.
             report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
-            report.last_move_m = max_step2.max(max_edge2).sqrt();
+            // A calm step is a share of what the constraints ask; convergence is judged on the ask.
+            report.last_move_m = max_step2.max(max_edge2).sqrt() / if calm { CALM_STEP } else { 1.0 };
             report.last_move = report.last_move_m / min_rest;
             let progress = RelaxProgress {
                 cols: self.cols,
@@ -712,10 +740,24 @@ impl Sweeper {
                 report.converged = true;
                 break;
             }
+            if !settling {
+                let moved2 = max_step2.max(max_edge2);
+                if moved2 < best_move2 * STALL_PROGRESS {
+                    (best_move2, stalled) = (moved2, 0);
+                } else {
+                    stalled += 1;
+                }
+                if stalled >= STALL_SWEEPS {
+                    // Constraints that cannot all hold (a stiff cloth hung from one
+                    // pin) trade over-relaxed moves in a cycle: settle them calmly.
+                    calm = true;
+                    (best_move2, stalled) = (moved2, 0);
+                }
+            }
             // Only with an interior to compare against: on a grid that is all edge
             // (a lone cell) the extra sweeps would just fight the momentum.
             let has_interior = self.runs.iter().any(|runs| !runs.is_empty());
-            if !settling && has_interior && max_edge2 > max_step2 {
+            if !settling && !calm && has_interior && max_edge2 > max_step2 {
                 self.edge_sweep();
             }
         }
