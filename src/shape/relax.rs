@@ -52,7 +52,7 @@
 //! rest spacing in a sweep. The carried momentum is not counted, so a slow
 //! slide along a near-isometric bend, which changes no edge length, does not
 //! keep a relaxed cloth sweeping until the cap. A level whose largest move
-//! has not fallen for [`STALL_SWEEPS`] sweeps (constraints that cannot all
+//! has not fallen for 500 sweeps (constraints that cannot all
 //! hold, trading over-relaxed moves in a cycle) finishes without momentum
 //! and with shorter steps, still judged on the whole step the constraints
 //! ask. Pins never move. Output is bit-for-bit deterministic.
