@@ -51,11 +51,8 @@
 //! constraint asks any point to move by more than `tolerance` × the smaller
 //! rest spacing in a sweep. The carried momentum is not counted, so a slow
 //! slide along a near-isometric bend, which changes no edge length, does not
-//! keep a relaxed cloth sweeping until the cap. A level whose largest move
-//! has not fallen for 500 sweeps (constraints that cannot all
-//! hold, trading over-relaxed moves in a cycle) finishes without momentum
-//! and with shorter steps, still judged on the whole step the constraints
-//! ask. Pins never move. Output is bit-for-bit deterministic.
+//! keep a relaxed cloth sweeping until the cap. Pins never move. Output is
+//! bit-for-bit deterministic.
 
 use std::ops::ControlFlow;
 
@@ -113,6 +110,10 @@ pub struct RelaxReport {
     /// The same in metres.
     pub last_move_m: f64,
     pub converged: bool,
+    /// A coarser grid level stopped at the cap, so the finest one started
+    /// from a shape the cap chose (the relaxation then has not converged,
+    /// whatever the finest level did).
+    pub coarse_capped: bool,
 }
 
 impl RelaxReport {
@@ -123,6 +124,11 @@ impl RelaxReport {
         let moved = format_small_mm(self.last_move_m * 1e3);
         if self.converged {
             format!("settled in {sweeps} (last sweep moved points at most {moved})")
+        } else if self.coarse_capped {
+            format!(
+                "NOT settled: a coarser level of the grid stopped at the sweep cap, so the shape depends on the cap \
+                 (the finest level then ran {sweeps}, its last moving points at most {moved}); raise Iterations"
+            )
         } else {
             format!(
                 "NOT settled: stopped by the cap of {sweeps} with points still moving {moved} a sweep; raise Iterations"
@@ -158,16 +164,6 @@ const OVER_RELAXATION: f64 = 1.3;
 /// the four-corner benchmark: 0.95 needs about a third of the sweeps of 0.9
 /// on 128² and more than ten times fewer than none; much higher oscillates.
 const MOMENTUM: f64 = 0.95;
-
-/// Sweeps without progress (the largest move not falling below
-/// [`STALL_PROGRESS`] of its smallest yet, squared) after which the carried
-/// momentum is dropped. Converging relaxations make progress far more often
-/// (bundled scenes' shapes are unchanged), so only a cycle that momentum
-/// keeps up is cut.
-const STALL_SWEEPS: u32 = 500;
-const STALL_PROGRESS: f64 = 0.9;
-/// Share of its step a point takes once the level has stalled.
-const CALM_STEP: f64 = 0.5;
 
 /// Largest move per sweep a point may carry on as momentum, relative to the
 /// rest spacing; faster points stop.
@@ -213,6 +209,7 @@ pub fn relax_with(
         let coarse = solve_on_coarser_grid(positions, cols, rows, pinned, params, control)?;
         let mut report = Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::No, control)?;
         // A coarse level stopped by the cap hands on a start that depends on the cap.
+        report.coarse_capped = !coarse.converged;
         report.converged &= coarse.converged;
         Ok(report)
     } else {
@@ -394,12 +391,26 @@ mod tests {
 
     #[test]
     fn the_verdict_says_whether_it_settled_and_by_how_much() {
-        let settled = RelaxReport { iterations: 135, last_move: 1e-6, last_move_m: 1.2e-7, converged: true };
+        let settled = RelaxReport {
+            iterations: 135,
+            last_move: 1e-6,
+            last_move_m: 1.2e-7,
+            converged: true,
+            coarse_capped: false,
+        };
         assert_eq!(settled.verdict(), "settled in 135 sweeps (last sweep moved points at most 0.00012 mm)");
-        let capped = RelaxReport { iterations: 1, last_move: 0.1, last_move_m: 3.71e-5, converged: false };
+        let capped =
+            RelaxReport { iterations: 1, last_move: 0.1, last_move_m: 3.71e-5, converged: false, coarse_capped: false };
         assert_eq!(
             capped.verdict(),
             "NOT settled: stopped by the cap of 1 sweep with points still moving 0.037 mm a sweep; raise Iterations"
+        );
+        // The finest level settled, a coarser one did not: the cap is not the finest level's sweep count.
+        let coarse = RelaxReport { iterations: 3977, last_move_m: 3.4e-7, coarse_capped: true, ..capped };
+        assert_eq!(
+            coarse.verdict(),
+            "NOT settled: a coarser level of the grid stopped at the sweep cap, so the shape depends on the cap \
+             (the finest level then ran 3977 sweeps, its last moving points at most 0.00034 mm); raise Iterations"
         );
         assert_eq!(format_small_mm(f64::NAN), "an unknown distance");
         assert_eq!(format_small_mm(25.4), "25 mm");

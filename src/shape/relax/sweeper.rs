@@ -1,5 +1,5 @@
 //! A grid's sweeps: the points split by colour into runs and edge chunks,
-//! the settling schedule, momentum, the stall rule and the convergence test,
+//! the settling schedule, momentum and the convergence test,
 //! in a build for each vector unit (the same result on every x86-64 path).
 
 use std::ops::ControlFlow;
@@ -9,8 +9,8 @@ use super::layout::{BorderChunk, EdgeRun, LANES, Lanes, NEIGHBOURS, Run, STEPS, 
 use glam::DVec3;
 
 use super::{
-    CALM_STEP, Cancelled, GRAVITY_BIAS, MAX_SHEAR_DEG, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport,
-    SETTLE_SWEEPS, STALL_PROGRESS, STALL_SWEEPS, STIFF_RADIUS_FRACTION, Settle,
+    Cancelled, GRAVITY_BIAS, MAX_SHEAR_DEG, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport,
+    SETTLE_SWEEPS, STIFF_RADIUS_FRACTION, Settle,
 };
 
 /// The free points of one grid split by colour into runs of interior points
@@ -213,19 +213,10 @@ impl Sweeper {
         // to nothing, so slack cloth hangs instead of staying where the approximation
         // left it; the remaining sweeps enforce the constraints alone.
         let settle_sweeps = if settle == Settle::Yes { SETTLE_SWEEPS } else { 0 };
-        // The smallest largest-move after settling, and sweeps since it fell.
-        let (mut best_move2, mut stalled) = (f64::INFINITY, 0u32);
-        // After a stall: no momentum, shorter steps, for the rest of the level.
-        let mut calm = false;
         for iteration in 0..settle_sweeps.saturating_add(params.max_iterations) {
             let settling = iteration < settle_sweeps;
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
-            if calm {
-                for axis in &mut self.velocity {
-                    axis.data.fill(0.0);
-                }
-            }
             for colour in 0..4 {
                 for run in self.runs[colour].iter().chain(self.edge_runs[colour].iter().map(|e| &e.run)) {
                     coast(&mut self.position, &self.velocity, run);
@@ -249,11 +240,6 @@ impl Sweeper {
                 }
                 filled = self.edge_run_steps_from(colour, gravity, filled);
                 self.border_steps_from(colour, gravity, filled);
-                if calm {
-                    for steps in &mut self.steps {
-                        steps.iter_mut().for_each(|d| *d *= CALM_STEP);
-                    }
-                }
                 let mut done = 0;
                 for run in &self.runs[colour] {
                     let step2 = apply(&mut self.position, &mut self.velocity, run, &self.steps, done, max_speed2);
@@ -282,8 +268,7 @@ impl Sweeper {
             }
             // The settling sweeps are part of what the shape is, not of the cap's budget.
             report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
-            // A calm step is a share of what the constraints ask; convergence is judged on the ask.
-            report.last_move_m = max_step2.max(max_edge2).sqrt() / if calm { CALM_STEP } else { 1.0 };
+            report.last_move_m = max_step2.max(max_edge2).sqrt();
             report.last_move = report.last_move_m / min_rest;
             let progress = RelaxProgress {
                 cols: self.cols,
@@ -298,24 +283,10 @@ impl Sweeper {
                 report.converged = true;
                 break;
             }
-            if !settling {
-                let moved2 = max_step2.max(max_edge2);
-                if moved2 < best_move2 * STALL_PROGRESS {
-                    (best_move2, stalled) = (moved2, 0);
-                } else {
-                    stalled += 1;
-                }
-                if stalled >= STALL_SWEEPS {
-                    // Constraints that cannot all hold (a stiff cloth hung from one
-                    // pin) trade over-relaxed moves in a cycle: settle them calmly.
-                    calm = true;
-                    (best_move2, stalled) = (moved2, 0);
-                }
-            }
             // Only with an interior to compare against: on a grid that is all edge
             // (a lone cell) the extra sweeps would just fight the momentum.
             let has_interior = self.runs.iter().any(|runs| !runs.is_empty());
-            if !settling && !calm && has_interior && max_edge2 > max_step2 {
+            if !settling && has_interior && max_edge2 > max_step2 {
                 self.edge_sweep();
             }
         }
