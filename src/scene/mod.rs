@@ -1,6 +1,9 @@
 //! The scene document: serde types, RON load/save, validation and errors.
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
+//! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
+//!   each parameter listed once with its unit, range, default and doc
+//!   ([`ParamSpec`]); reading, validation, the editor and `drape check` follow it.
 //! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`]
 //!   (files up to [`MAX_SCENE_FILE_BYTES`]).
 //! - [`to_ron_string`], [`save`]: [`Scene`] → pretty RON; `save` is atomic.
@@ -14,8 +17,10 @@ mod display;
 mod error;
 mod format;
 mod io;
+mod layers;
 mod locate;
 mod param;
+mod schema;
 mod types;
 mod validate;
 
@@ -23,7 +28,9 @@ pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, shown_n
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
+pub use layers::*;
 pub use locate::{TextPosition, locate};
 pub use param::{Param, ParamKey};
+pub use schema::{Access, AxisSpec, CountSpec, DirectionSpec, NumberSpec, ParamRange, ParamSpec, ParamValue};
 pub use types::*;
 pub use validate::*;
