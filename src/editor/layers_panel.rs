@@ -16,10 +16,6 @@ pub(super) fn new_layer(kind: &str) -> Layer {
     Layer::with_start_values(kind).unwrap_or_else(|| Layer::FollowThrough(FollowThrough::with_start_values()))
 }
 
-fn name_mut(layer: &mut Layer) -> &mut String {
-    layer.name_mut()
-}
-
 /// The small drawn icons of the layer panel (the default fonts have no such glyphs).
 #[derive(Clone, Copy)]
 enum Icon {
@@ -190,7 +186,7 @@ impl DrapeApp {
             let label = ui.label("Name").id;
             let edit = ui.add(egui::TextEdit::singleline(&mut name).desired_width(140.0)).labelled_by(label);
             if edit.changed() {
-                self.apply("Rename layer", |s| *name_mut(&mut s.layers[index]) = name.clone());
+                self.apply("Rename layer", |s| *s.layers[index].name_mut() = name.clone());
             }
         });
         ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
