@@ -647,13 +647,7 @@ mod tests {
     #[test]
     fn layers_are_limited() {
         let mut s = scene();
-        let layer = Layer::FollowThrough(FollowThrough {
-            name: String::new(),
-            enabled: true,
-            weight: 1.0.into(),
-            lag: 0.1.into(),
-            falloff: 1.0.into(),
-        });
+        let layer = Layer::FollowThrough(FollowThrough { lag: 0.1.into(), ..FollowThrough::with_start_values() });
         s.layers = vec![layer; MAX_LAYERS];
         assert_eq!(s.validate(), Ok(()));
         s.layers.push(s.layers[0].clone());
@@ -673,13 +667,11 @@ mod tests {
         s.keys[0].frame = 0;
         s.layers.push(Layer::FollowThrough(FollowThrough {
             name: "lag".into(),
-            enabled: true,
-            weight: 1.0.into(),
             lag: Param::Keys(vec![
                 ParamKey { frame: 0, value: 0.1, ease: Ease::Linear },
                 ParamKey { frame: 100_001, value: 0.2, ease: Ease::Linear },
             ]),
-            falloff: 1.0.into(),
+            ..FollowThrough::with_start_values()
         }));
         assert_eq!(
             messages(&s),
@@ -713,19 +705,13 @@ mod tests {
         s.keys[0].elasticity = f64::NAN;
         s.keys[0].pins[1].grid = (0, 0);
         s.layers.push(Layer::Wave(Wave {
-            name: String::new(),
-            enabled: true,
             weight: Param::Constant(f64::INFINITY),
             magnitude: Param::Keys(vec![
                 ParamKey { frame: 5, value: 0.0, ease: Ease::Linear },
                 ParamKey { frame: 5, value: 1.0, ease: Ease::Bezier(0.0, 0.0, -0.5, 1.0) },
             ]),
-            frequency: 1.0.into(),
-            phase: 0.0.into(),
-            speed: 1.0.into(),
-            direction_deg: 0.0.into(),
             axis: WaveAxis::Fixed((0.0, 0.0, 0.0)),
-            falloff: 1.0.into(),
+            ..Wave::with_start_values()
         }));
         assert_eq!(
             messages(&s),
