@@ -9,7 +9,9 @@ use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
 use drape::export::sequence::padded_frame;
 use drape::picture::SceneOverlays;
-use drape::scene::{self, Key, Layer, Param, ParamSpec, ParamValue, Scene, WaveAxis, readable_number, shown_name};
+use drape::scene::{
+    self, Key, Layer, Param, ParamSpec, ParamValue, Scene, WaveAxis, readable_number, readable_vec3, shown_name,
+};
 use drape::shape::contact::count_crossings;
 use drape::shape::relax::mean_structural_error;
 
@@ -368,16 +370,13 @@ fn describe_param(param: &Param, unit: &str) -> String {
 
 /// Every parameter of `layer` in file order, each as `name value`.
 fn layer_parameters(layer: &Layer) -> String {
-    let vector = |(x, y, z): (f64, f64, f64)| {
-        format!("({}, {}, {})", readable_number(x), readable_number(y), readable_number(z))
-    };
     let shown = |spec: &ParamSpec| -> Option<String> {
         Some(match spec.value {
             ParamValue::Number(number) => describe_param(number.access.get(layer)?, number.unit),
-            ParamValue::Direction(direction) => vector(*direction.access.get(layer)?),
+            ParamValue::Direction(direction) => readable_vec3(*direction.access.get(layer)?),
             ParamValue::Axis(axis) => match axis.access.get(layer)? {
                 WaveAxis::Normal => "normal".to_string(),
-                WaveAxis::Fixed(v) => vector(*v),
+                WaveAxis::Fixed(v) => readable_vec3(*v),
             },
             ParamValue::Count(count) => count.access.get(layer)?.to_string(),
         })

@@ -10,7 +10,7 @@
 //! - [`Scene::validate`]: the rules serde cannot express, every limit a named
 //!   constant (e.g. [`MAX_GRID_POINTS`]); each [`Issue`] names its value's path.
 //! - [`SceneError`]: `FILE:LINE:COL: message` in the user's terms.
-//! - [`readable_number`], [`shown_name`]: numbers and names as messages show them.
+//! - [`readable_number`], [`readable_vec3`], [`shown_name`]: numbers and names as messages show them.
 //! - [`locate`]: where a value path such as `keys[0].pins[2].grid` starts in the text.
 
 mod display;
@@ -24,7 +24,7 @@ mod schema;
 mod types;
 mod validate;
 
-pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, shown_name, truncated_name};
+pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};

@@ -8,7 +8,7 @@
 use std::collections::HashSet;
 use std::fmt;
 
-use super::display::readable_number;
+use super::display::{readable_number, readable_vec3};
 use super::layers::{Layer, MAX_LAYER_VALUE};
 use super::param::Param;
 use super::schema::{ParamRange, ParamValue};
@@ -109,10 +109,6 @@ fn group_thousands_signed(n: i64) -> String {
     format!("{sign}{}", group_thousands(n.unsigned_abs()))
 }
 
-fn fmt_vec3(v: (f64, f64, f64)) -> String {
-    format!("({}, {}, {})", readable_number(v.0), readable_number(v.1), readable_number(v.2))
-}
-
 #[derive(Default)]
 struct Checker {
     issues: Vec<Issue>,
@@ -179,7 +175,7 @@ impl Checker {
         if ![x, y, z].iter().all(|c| c.is_finite() && c.abs() <= MAX_PIN_COORD_M) {
             self.push(
                 "view.target",
-                format!("view target {} must be finite and within ±10 000 m", fmt_vec3(view.target)),
+                format!("view target {} must be finite and within ±10 000 m", readable_vec3(view.target)),
             );
         }
         self.finite("view.yaw_deg", "view yaw", view.yaw_deg);
@@ -435,7 +431,7 @@ impl Checker {
                 pos_path,
                 format!(
                     "pin ({i}, {j}) in {at} is at {}, too far out: each coordinate must be within ±{} m",
-                    fmt_vec3(pos),
+                    readable_vec3(pos),
                     group_thousands(MAX_PIN_COORD_M as u64)
                 ),
             );
@@ -538,11 +534,11 @@ impl Checker {
 
     fn direction(&mut self, path: &str, what: &str, v: (f64, f64, f64), purpose: &str) {
         if ![v.0, v.1, v.2].iter().all(|c| c.is_finite()) {
-            self.push(path, format!("{what} {} must be finite numbers", fmt_vec3(v)));
+            self.push(path, format!("{what} {} must be finite numbers", readable_vec3(v)));
         } else if v.0 == 0.0 && v.1 == 0.0 && v.2 == 0.0 {
             self.push(path, format!("{what} is zero: give a direction to {purpose}"));
         } else if !(v.0 * v.0 + v.1 * v.1 + v.2 * v.2).sqrt().is_finite() {
-            self.push(path, format!("{what} {} is too long to normalise", fmt_vec3(v)));
+            self.push(path, format!("{what} {} is too long to normalise", readable_vec3(v)));
         }
     }
 
