@@ -14,7 +14,7 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::editor::DrapeApp;
 use drape::scene::{
-    Cloth, Ease, FollowThrough, Key, Layer, Noise, Param, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
+    Cloth, Ease, FollowThrough, Gusts, Key, Layer, Param, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
 };
 use egui_kittest::Harness;
 
@@ -94,7 +94,7 @@ fn animated_tablecloth(n: u32) -> Scene {
             axis: WaveAxis::Normal,
             falloff: c(1.0),
         }),
-        Layer::Noise(Noise {
+        Layer::Gusts(Gusts {
             name: "gusts".to_owned(),
             enabled: true,
             weight: c(1.0),

@@ -1,5 +1,5 @@
 //! `evaluate` with the rest shapes cached, as the animation issue's targets
-//! state them: a 128² and a 256² cloth with a sway, two waves and a noise
+//! state them: a 128² and a 256² cloth with a sway, two waves and a gusts
 //! layer, and frame 100 000 against frame 1 (the cost must not grow with t),
 //! also timed in alternation for a ratio the machine's drift cannot skew.
 //! On a CPU with AVX2 this times evaluate's AVX2 build of its per-vertex
@@ -9,7 +9,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::animate::{EvaluateOptions, Evaluator};
 use drape::mesh::Mesh;
 use drape::scene::{
-    Cloth, Ease, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
+    Cloth, Ease, Gusts, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
 };
 use std::hint::black_box;
 use std::time::Duration;
@@ -72,7 +72,7 @@ fn scene(n: u32) -> Scene {
             }),
             wave("long", 0.05, 4.0, 0.0),
             wave("short", 0.01, 15.0, 30.0),
-            Layer::Noise(Noise {
+            Layer::Gusts(Gusts {
                 name: "gusts".into(),
                 enabled: true,
                 weight: 1.0.into(),

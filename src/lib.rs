@@ -6,24 +6,50 @@
 //! and layered deformers add motion. Every frame is computed directly from the
 //! scene, never from earlier frames.
 //!
+//! # The folders as the paper's pipeline
+//!
 //! ```text
-//! Scene (the document, RON file)
-//!   │  per key: cloth grid + pins + fabric (elasticity, stiffness, relaxation)
+//! scene/     the document (a RON file): cloth, keys with pins and fabric, the layer stack
+//!   │          (each layer parameter listed once: scene/layers.rs)
 //!   ▼
-//! shape:    catenaries between pins → surface approximation → relaxation  = RestShape
+//! shape/     modelling (paper §3.1): catenaries between pins → surface approximation
+//!   │          → relaxation = RestShape, one per key
 //!   ▼
-//! animate:  blend the two rest shapes around t, apply the layer stack      = Mesh at t
-//!   ├─► export:   OBJ, PC2/MDD, glTF, USD files of the meshes
-//!   └─► picture:  framing + key overlays ─► render (wgpu): meshes, overlays, camera → texture
-//!                 (for `drape render`, the editor's viewport and the tests)
+//! animate/   animation (§3.2–3.3): blend the rest shapes around t with the segment's
+//!   │          easing, then the layer stack in order = mesh::Mesh at t
+//!   ├─► export/    OBJ, PC2/MDD, glTF, USD, PNG/GIF files of the meshes
+//!   └─► picture/   framing and key overlays ─► render/ (wgpu): meshes, overlays, camera → texture
+//!
+//! editor/    the desktop editor (egui): changes the scene through undoable edits,
+//!              shows it through picture/, writes it through export/
+//! main.rs    the command line: `drape check | export | render`, or the editor
 //! ```
 //!
-//! Module boundaries: [`scene`], [`shape`], [`animate`] and [`mesh`] are pure
-//! Rust with no GPU or UI. [`render`] draws meshes and plain overlays and
-//! imports neither [`shape`] nor [`animate`]; [`picture`] sits above it and
-//! turns a scene into what it draws. [`export`] writes files from a
-//! [`mesh::Mesh`] and does not import [`render`]: the picture type
-//! ([`image`]) and the cloth's look ([`look`]) sit below both.
+//! Beside the pipeline: [`mesh`] (the grid as triangles), [`image`] (an RGBA
+//! picture and PNG decoding), [`look`] (the cloth's tints and textures, so a
+//! picture and an export agree) and [`atomic_file`] (writes that never leave
+//! a partial file).
+//!
+//! # Who may import whom
+//!
+//! A module imports only what its row names, so the math never depends on a
+//! GPU or a window, and `tests/architecture.rs` checks every `crate::` path
+//! in `src/` against this table:
+//!
+//! | module | may import |
+//! |---|---|
+//! | `atomic_file`, `mesh`, `image` | nothing of Drape |
+//! | `scene` | `atomic_file` |
+//! | `shape` | `scene`, `mesh` |
+//! | `animate` | `scene`, `shape`, `mesh` |
+//! | `look` | `scene` |
+//! | `render` | `scene`, `mesh`, `image`, `look` |
+//! | `picture` | `scene`, `shape`, `animate`, `mesh`, `image`, `render` |
+//! | `export` | `scene`, `animate`, `mesh`, `image`, `look`, `atomic_file` |
+//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `picture`, `render`, `export`, `atomic_file` |
+//!
+//! Only [`render`] and [`editor`] touch wgpu, only [`editor`] egui; the
+//! command line (`main.rs`) may use everything.
 //!
 //! Conventions: right-handed, Y up, gravity along −Y, metres. Grid index
 //! `(i, j)` has `i` along the width and `j = 0` on the top edge; vertex order

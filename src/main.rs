@@ -9,7 +9,9 @@ use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
 use drape::export::sequence::padded_frame;
 use drape::picture::SceneOverlays;
-use drape::scene::{self, Key, Layer, Param, Scene, WaveAxis, readable_number, shown_name};
+use drape::scene::{
+    self, Key, Layer, Param, ParamSpec, ParamValue, Scene, WaveAxis, readable_number, readable_vec3, shown_name,
+};
 use drape::shape::contact::count_crossings;
 use drape::shape::relax::mean_structural_error;
 
@@ -338,68 +340,50 @@ fn segment_summary(scene: &Scene, from: usize, shapes: &[std::sync::Arc<drape::a
     text
 }
 
+/// A number with its unit: `0.2 m`, `65°`, `1` for a plain factor.
+fn with_unit(number: f64, unit: &str) -> String {
+    match unit {
+        "" => readable_number(number),
+        "°" => format!("{}°", readable_number(number)),
+        unit => format!("{} {unit}", readable_number(number)),
+    }
+}
+
 /// A parameter with its unit, as `0.2 m` or `0 → 0.05 m (frames 0..48, 2 keys)`.
 fn describe_param(param: &Param, unit: &str) -> String {
     match param {
-        Param::Constant(v) => format!("{}{unit}", readable_number(*v)),
+        Param::Constant(v) => with_unit(*v, unit),
         Param::Keys(keys) => match (keys.first(), keys.last()) {
             (Some(first), Some(last)) if keys.len() > 1 => format!(
-                "{} → {}{unit} (frames {}..{}, {} keys)",
+                "{} → {} (frames {}..{}, {} keys)",
                 readable_number(first.value),
-                readable_number(last.value),
+                with_unit(last.value, unit),
                 first.frame,
                 last.frame,
                 keys.len()
             ),
-            (Some(only), _) => format!("{}{unit}", readable_number(only.value)),
+            (Some(only), _) => with_unit(only.value, unit),
             _ => "no keys".to_string(),
         },
     }
 }
 
+/// Every parameter of `layer` in file order, each as `name value`.
 fn layer_parameters(layer: &Layer) -> String {
-    let p = describe_param;
-    let v =
-        |d: (f64, f64, f64)| format!("({}, {}, {})", readable_number(d.0), readable_number(d.1), readable_number(d.2));
-    let weight = p(layer.weight(), "");
-    let specific = match layer {
-        Layer::Sway(s) => format!(
-            "magnitude {}, direction {}, speed {}, frequency {}, phase {}, falloff {}",
-            p(&s.magnitude, " m"),
-            v(s.direction),
-            p(&s.speed, ""),
-            p(&s.frequency, " Hz"),
-            p(&s.phase, " rad"),
-            p(&s.falloff, "")
-        ),
-        Layer::Wave(w) => format!(
-            "magnitude {}, frequency {}, phase {}, speed {}, direction {}, axis {}, falloff {}",
-            p(&w.magnitude, " m"),
-            p(&w.frequency, " rad/m"),
-            p(&w.phase, " rad"),
-            p(&w.speed, " rad/s"),
-            p(&w.direction_deg, "°"),
-            match w.axis {
+    let shown = |spec: &ParamSpec| -> Option<String> {
+        Some(match spec.value {
+            ParamValue::Number(number) => describe_param(number.access.get(layer)?, number.unit),
+            ParamValue::Direction(direction) => readable_vec3(*direction.access.get(layer)?),
+            ParamValue::Axis(axis) => match axis.access.get(layer)? {
                 WaveAxis::Normal => "normal".to_string(),
-                WaveAxis::Fixed(d) => v(d),
+                WaveAxis::Fixed(v) => readable_vec3(*v),
             },
-            p(&w.falloff, "")
-        ),
-        Layer::Noise(n) => format!(
-            "amplitude {}, scale {}, speed {}, direction {}, turbulence {}, {} octave{}, seed {}, falloff {}",
-            p(&n.amplitude, " m"),
-            p(&n.scale, " m"),
-            p(&n.speed, " m/s"),
-            v(n.direction),
-            p(&n.turbulence, ""),
-            n.octaves,
-            if n.octaves == 1 { "" } else { "s" },
-            n.seed,
-            p(&n.falloff, "")
-        ),
-        Layer::FollowThrough(f) => format!("lag {}, falloff {}", p(&f.lag, " s"), p(&f.falloff, "")),
+            ParamValue::Count(count) => count.access.get(layer)?.to_string(),
+        })
     };
-    format!("weight {weight}, {specific}")
+    let parts: Vec<String> =
+        layer.params().iter().filter_map(|spec| Some(format!("{} {}", spec.name, shown(spec)?))).collect();
+    parts.join(", ")
 }
 
 /// Most "pulled taut" warnings `check` prints for one key; the other pairs

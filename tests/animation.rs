@@ -7,7 +7,7 @@ use drape::animate::falloff::pin_distance_ratio;
 use drape::animate::{EvaluateOptions, Evaluator, evaluate};
 use drape::mesh::Mesh;
 use drape::scene::{
-    self, Cloth, Ease, FollowThrough, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Timeline,
+    self, Cloth, Ease, FollowThrough, Gusts, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Timeline,
     Wave, WaveAxis,
 };
 use drape::shape::relax::mean_structural_error;
@@ -84,8 +84,8 @@ fn wave(axis: WaveAxis) -> Wave {
     }
 }
 
-fn noise(turbulence: f64, seed: u32) -> Noise {
-    Noise {
+fn gusts(turbulence: f64, seed: u32) -> Gusts {
+    Gusts {
         name: "gusts".into(),
         enabled: true,
         weight: 1.0.into(),
@@ -109,7 +109,7 @@ fn every_layer() -> Vec<Layer> {
         Layer::Sway(sway(0.1.into(), 0.8, 1.0)),
         Layer::Wave(wave(WaveAxis::Normal)),
         Layer::Wave(wave(WaveAxis::Fixed((0.0, 1.0, 1.0)))),
-        Layer::Noise(noise(0.5, 3)),
+        Layer::Gusts(gusts(0.5, 3)),
         Layer::FollowThrough(follow(0.3)),
     ]
 }
@@ -227,7 +227,7 @@ fn zero_weight_and_disabled_layers_change_nothing() {
         match layer {
             Layer::Sway(l) => l.weight = 0.0.into(),
             Layer::Wave(l) => l.enabled = false,
-            Layer::Noise(l) => {
+            Layer::Gusts(l) => {
                 l.weight = Param::Keys(vec![ParamKey { frame: 0, value: 0.0, ease: Ease::Linear }]);
             }
             Layer::FollowThrough(l) => l.enabled = false,
@@ -284,7 +284,7 @@ fn gusts_are_seeded_and_blow_downwind() {
         s
     };
     let mut evaluator = Evaluator::new();
-    let s = one_key(vec![Layer::Noise(noise(0.0, 5))]);
+    let s = one_key(vec![Layer::Gusts(gusts(0.0, 5))]);
     let base = no_layers(&mut evaluator, &s, 1.0);
     for t in [1.0, 2.5, 4.0] {
         let base_t = no_layers(&mut evaluator, &s, t);
@@ -297,7 +297,7 @@ fn gusts_are_seeded_and_blow_downwind() {
     }
     let gusty = evaluator.evaluate(&s, 1.0);
     assert!(gusty.positions.iter().zip(&base.positions).any(|(p, q)| (*p - *q).length() > 1e-3));
-    let other_seed = evaluator.evaluate(&one_key(vec![Layer::Noise(noise(0.0, 6))]), 1.0);
+    let other_seed = evaluator.evaluate(&one_key(vec![Layer::Gusts(gusts(0.0, 6))]), 1.0);
     assert_ne!(gusty, other_seed, "seeds give different gusts");
     assert_eq!(gusty, evaluator.evaluate(&s, 1.0), "the same seed gives the same gusts");
     // Gusts travel: a later time gives a different pattern.

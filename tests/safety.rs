@@ -290,9 +290,9 @@ fn check_shortens_long_names_and_huge_numbers() {
     let dir = tempfile::tempdir().unwrap();
     let mut scene: Scene = scene::load(&scene_path("flag.ron")).unwrap();
     scene.name = format!("Flag{}", "g".repeat(5_000_000));
-    let drape::scene::Layer::Noise(noise) = &mut scene.layers[2] else { panic!("the flag's third layer is noise") };
-    noise.direction = (1e150, 0.0, 0.0);
-    noise.name = "\u{1b}[2J".to_string() + &"gusts".repeat(100);
+    let drape::scene::Layer::Gusts(gusts) = &mut scene.layers[2] else { panic!("the flag's third layer is gusts") };
+    gusts.direction = (1e150, 0.0, 0.0);
+    gusts.name = "\u{1b}[2J".to_string() + &"gusts".repeat(100);
     let path = dir.path().join("flag.ron");
     scene::save(&scene, &path).unwrap();
     let output = drape().arg("check").arg(&path).output().unwrap();
@@ -303,7 +303,7 @@ fn check_shortens_long_names_and_huge_numbers() {
     assert!(first.contains(": Flaggg") && first.contains("g… — valid"), "{first}");
     assert!(text.contains("direction (1e150, 0, 0)"), "{text}");
     assert!(!text.contains('\u{1b}'), "no terminal escape printed raw: {text}");
-    assert!(text.contains("Noise layer \"\\u{1b}[2Jgustsgusts"), "{text}");
+    assert!(text.contains("Gusts layer \"\\u{1b}[2Jgustsgusts"), "{text}");
     // Validation messages too: not 309 digits for a width of 1e308 m.
     scene.cloth.size.0 = 1e308;
     scene::save(&scene, &path).unwrap();

@@ -6,7 +6,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, ClothTexture, Ease, FollowThrough, Key, Layer, Noise, Param, ParamKey, Pin, RelaxSettings, Scene,
+    self, Cloth, ClothTexture, Ease, FollowThrough, Gusts, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene,
     SceneError, Sway, Timeline, View, Wave, WaveAxis,
 };
 use proptest::prelude::*;
@@ -176,7 +176,7 @@ const MALFORMED: &[(&str, &str)] = &[
     ),
     (
         "noise_zero_scale.ron",
-        "tests/data/malformed/noise_zero_scale.ron:15:55: Noise layer \"gusts\": scale is 0: it must be greater than 0 and at most 1e6",
+        "tests/data/malformed/noise_zero_scale.ron:15:55: Gusts layer \"gusts\": scale is 0: it must be greater than 0 and at most 1e6",
     ),
     (
         "negative_falloff.ron",
@@ -184,7 +184,7 @@ const MALFORMED: &[(&str, &str)] = &[
     ),
     (
         "noise_octaves.ron",
-        "tests/data/malformed/noise_octaves.ron:15:70: Noise layer 1: octaves is 9: it must be between 1 and 6",
+        "tests/data/malformed/noise_octaves.ron:15:70: Gusts layer 1: octaves is 9: it must be between 1 and 6",
     ),
     (
         "negative_lag.ron",
@@ -269,19 +269,8 @@ fn reference() -> Scene {
 
 fn eases(scene: &Scene) -> Vec<Ease> {
     let mut eases: Vec<Ease> = scene.keys.iter().map(|k| k.ease).collect();
-    let mut params: Vec<&Param> = Vec::new();
-    for layer in &scene.layers {
-        match layer {
-            Layer::Sway(s) => params.extend([&s.weight, &s.magnitude, &s.speed, &s.frequency, &s.phase, &s.falloff]),
-            Layer::Wave(w) => {
-                params.extend([&w.weight, &w.magnitude, &w.frequency, &w.phase, &w.speed, &w.direction_deg, &w.falloff])
-            }
-            Layer::Noise(n) => {
-                params.extend([&n.weight, &n.amplitude, &n.scale, &n.speed, &n.turbulence, &n.falloff]);
-            }
-            Layer::FollowThrough(f) => params.extend([&f.weight, &f.lag, &f.falloff]),
-        }
-    }
+    let params: Vec<&Param> =
+        scene.layers.iter().flat_map(|layer| layer.params().iter().filter_map(|spec| spec.number(layer))).collect();
     for param in params {
         if let Param::Keys(keys) = param {
             eases.extend(keys.iter().map(|k| k.ease));
@@ -305,7 +294,7 @@ fn the_reference_scene_exercises_every_variant() {
     assert!(axes.contains(&WaveAxis::Normal));
     assert!(axes.iter().any(|a| matches!(a, WaveAxis::Fixed(_))));
     assert!(scene.layers.iter().any(|l| matches!(l, Layer::Sway(s) if !s.enabled)));
-    for kind in ["Sway", "Wave", "Noise", "FollowThrough"] {
+    for kind in ["Sway", "Wave", "Gusts", "FollowThrough"] {
         assert!(scene.layers.iter().any(|l| l.kind() == kind), "no {kind} layer in {VALID_FULL}");
     }
     assert_eq!(scene.keys[0].inbetween_relax, 20);
@@ -336,19 +325,38 @@ fn a_minimal_scene_gets_the_documented_defaults() {
     assert!(scene.layers.is_empty());
     let layers = "(version: 1, cloth: (size: (1.0, 1.0), grid: (2, 2)), \
                   keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 1.0, 0.0))])], \
-                  layers: [Noise((amplitude: 0.1, direction: (1.0, 0.0, 0.0))), FollowThrough(())])";
+                  layers: [Gusts((amplitude: 0.1, direction: (1.0, 0.0, 0.0))), FollowThrough(())])";
     let scene = scene::parse(layers, "layers").unwrap_or_else(|e| panic!("{e}"));
-    let Layer::Noise(noise) = &scene.layers[0] else { panic!("a Noise layer") };
+    let Layer::Gusts(gusts) = &scene.layers[0] else { panic!("a Gusts layer") };
     assert_eq!(
-        (noise.scale.clone(), noise.speed.clone(), noise.turbulence.clone()),
+        (gusts.scale.clone(), gusts.speed.clone(), gusts.turbulence.clone()),
         (0.5.into(), 1.0.into(), 0.3.into())
     );
-    assert_eq!((noise.octaves, noise.seed, noise.enabled), (2, 0, true));
+    assert_eq!((gusts.octaves, gusts.seed, gusts.enabled), (2, 0, true));
     let Layer::FollowThrough(follow) = &scene.layers[1] else { panic!("a FollowThrough layer") };
     assert_eq!(
         (follow.lag.clone(), follow.falloff.clone(), follow.weight.clone()),
         (0.25.into(), 1.0.into(), 1.0.into())
     );
+}
+
+/// Drape wrote the gusts layer as `Noise` before it was named `Gusts`:
+/// such files still load, and are written back with the new name.
+#[test]
+fn a_gusts_layer_written_as_noise_still_loads() {
+    let with = |kind: &str| {
+        format!(
+            "(version: 1, cloth: (size: (1.0, 1.0), grid: (2, 2)), \
+             keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 1.0, 0.0))])], \
+             layers: [{kind}((name: \"wind\", amplitude: 0.1, direction: (1.0, 0.0, 0.0), seed: 3))])"
+        )
+    };
+    let old = scene::parse(&with("Noise"), "old.ron").unwrap_or_else(|e| panic!("{e}"));
+    let new = scene::parse(&with("Gusts"), "new.ron").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(old, new);
+    assert_eq!(old.layers[0].label(0), "Gusts layer \"wind\"");
+    let text = scene::to_ron_string(&old);
+    assert!(text.contains("Gusts((") && !text.contains("Noise"), "{text}");
 }
 
 #[test]
@@ -520,7 +528,7 @@ fn layer() -> impl Strategy<Value = Layer> {
                 falloff,
             })
         });
-    let noise = (
+    let gusts = (
         any::<String>(),
         any::<bool>(),
         [param(), param(), param(), param(), param(), param()],
@@ -529,7 +537,7 @@ fn layer() -> impl Strategy<Value = Layer> {
     )
         .prop_map(
             |(name, enabled, [weight, amplitude, scale, speed, turbulence, falloff], direction, (octaves, seed))| {
-                Layer::Noise(Noise {
+                Layer::Gusts(Gusts {
                     name,
                     enabled,
                     weight,
@@ -549,7 +557,7 @@ fn layer() -> impl Strategy<Value = Layer> {
             Layer::FollowThrough(FollowThrough { name, enabled, weight, lag, falloff })
         },
     );
-    prop_oneof![sway, wave, noise, follow]
+    prop_oneof![sway, wave, gusts, follow]
 }
 
 fn key() -> impl Strategy<Value = Key> {

@@ -209,8 +209,8 @@ impl Evaluator {
                             &mut self.wave_tables,
                             &mut self.normal_rows,
                         ),
-                        Layer::Noise(n) => {
-                            gusts::apply(n, frame, t_secs, weight, ratio, attenuation, points, &mut self.sampler)
+                        Layer::Gusts(g) => {
+                            gusts::apply(g, frame, t_secs, weight, ratio, attenuation, points, &mut self.sampler)
                         }
                         Layer::FollowThrough(f) => follow_through::apply(
                             f,
@@ -253,7 +253,7 @@ mod tests {
     use super::*;
 
     /// Every layer kind on an odd-sized grid (loop tails in every pass), with
-    /// falloffs other than 1 and a 3-octave noise.
+    /// falloffs other than 1 and 3-octave gusts.
     const EVERY_LAYER: &str = r#"(
         version: 1,
         cloth: (size: (1.3, 0.9), grid: (23, 14)),
@@ -266,7 +266,7 @@ mod tests {
             Sway((name: "sway", magnitude: 0.1, direction: (1.0, 0.5, 2.0), speed: 1.5, frequency: 0.8, falloff: 2.0)),
             Wave((name: "normal", magnitude: 0.04, frequency: 9.0, speed: 3.0, direction_deg: 30.0, falloff: 1.5)),
             Wave((name: "fixed", magnitude: 0.02, frequency: 5.0, speed: 1.0, axis: Fixed((0.0, 1.0, 1.0)))),
-            Noise((name: "gusts", amplitude: 0.05, scale: 0.3, speed: 2.0, direction: (0.3, 0.1, 1.0),
+            Gusts((name: "gusts", amplitude: 0.05, scale: 0.3, speed: 2.0, direction: (0.3, 0.1, 1.0),
                    turbulence: 0.6, octaves: 3, seed: 7, falloff: 0.7)),
             FollowThrough((name: "trail", lag: 0.3)),
         ],

@@ -1,4 +1,4 @@
-//! The Noise layer: wind gusts as smooth, seeded turbulence scrolling with the wind.
+//! The Gusts layer: wind as smooth, seeded turbulence scrolling with the wind.
 //!
 //! displacement = a · amplitude · ((1 − turbulence) · gust · wind + turbulence · swirl)
 //! where `wind` is the unit wind direction, gust = ½ + ½·n₀ ∈ [0, 1] pushes
@@ -11,7 +11,7 @@ use super::falloff::AttenuationField;
 use super::noise::FractalSampler;
 use super::track::sample;
 use crate::mesh::PointArrays;
-use crate::scene::Noise;
+use crate::scene::Gusts;
 
 /// Adds the gusts to `points` (the layer's input mesh, whose points also
 /// sample the noise), attenuated per vertex by `ratio` (d_cp/d_max).
@@ -19,7 +19,7 @@ use crate::scene::Noise;
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn apply(
-    noise: &Noise,
+    gusts: &Gusts,
     frame: f64,
     t_secs: f64,
     weight: f64,
@@ -28,17 +28,17 @@ pub fn apply(
     points: &mut PointArrays,
     sampler: &mut FractalSampler,
 ) {
-    let amplitude = weight * sample(&noise.amplitude, frame);
-    let scale_m = sample(&noise.scale, frame);
-    let wind = DVec3::new(noise.direction.0, noise.direction.1, noise.direction.2).normalize_or_zero();
+    let amplitude = weight * sample(&gusts.amplitude, frame);
+    let scale_m = sample(&gusts.scale, frame);
+    let wind = DVec3::new(gusts.direction.0, gusts.direction.1, gusts.direction.2).normalize_or_zero();
     if amplitude == 0.0 || !amplitude.is_finite() || !(scale_m > 0.0) || wind == DVec3::ZERO {
         return;
     }
-    let turbulence = sample(&noise.turbulence, frame).clamp(0.0, 1.0) as f32;
-    let falloff = sample(&noise.falloff, frame) as f32;
+    let turbulence = sample(&gusts.turbulence, frame).clamp(0.0, 1.0) as f32;
+    let falloff = sample(&gusts.falloff, frame) as f32;
     // The scroll in lattice cells, split into whole cells and a small rest in
     // f64, so long shots keep their precision.
-    let scroll = wind * (sample(&noise.speed, frame) * t_secs / scale_m);
+    let scroll = wind * (sample(&gusts.speed, frame) * t_secs / scale_m);
     let whole = scroll.floor();
     let cell_offset = if whole.abs().max_element() < f64::from(i32::MAX) {
         IVec3::new(-(whole.x as i32), -(whole.y as i32), -(whole.z as i32))
@@ -49,7 +49,7 @@ pub fn apply(
     let inverse_scale = (1.0 / scale_m) as f32;
     let push = wind.as_vec3() * (1.0 - turbulence);
     let amplitude = amplitude as f32;
-    sampler.reset(noise.octaves, noise.seed, cell_offset);
+    sampler.reset(gusts.octaves, gusts.seed, cell_offset);
     let a = attenuation.of(ratio, falloff);
     // displacement = (push · gust + swirl · turbulence) · (amplitude · a),
     // gust = ½ + ½·n₀, swirl = (n₁, n₂, n₃): per lane or per point alike.

@@ -1,13 +1,14 @@
 //! The animation phase (paper §3.2–3.3), pure math: easing, animated
 //! parameters, pin-distance falloff, key blending and the layer stack,
-//! joined by [`evaluate`].
+//! joined by [`evaluate()`].
 //!
 //! - [`ease`]: the interpolation curves of segments and parameter keys.
 //! - [`track`]: the value of an animated parameter at a frame.
 //! - [`falloff`]: a = (d_cp/d_max)^falloff in material space.
 //! - [`cache`]: rest shapes cached per key by content.
 //! - [`blend`]: in-betweens: which keys surround a frame, and their blend.
-//! - [`sway`], [`wave`], [`gusts`], [`follow_through`]: the layers.
+//! - [`sway`], [`wave`], [`gusts`], [`follow_through`]: the layers, whose parameters
+//!   are listed once in `scene/layers.rs`.
 //! - [`noise`]: the seeded value noise behind the gusts.
 //! - [`evaluate`](mod@evaluate): scene + time → mesh.
 

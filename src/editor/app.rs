@@ -701,7 +701,7 @@ impl DrapeApp {
         let centre = at(ci, cj);
         let direction = match layer {
             Layer::Sway(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
-            Layer::Noise(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
+            Layer::Gusts(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
             Layer::Wave(l) => {
                 let angle = crate::animate::track::sample(&l.direction_deg, self.frame).to_radians() as f32;
                 let along_u = (at(ci + 1, cj) - at(ci - 1, cj)).normalize_or_zero();

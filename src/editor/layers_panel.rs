@@ -1,4 +1,4 @@
-//! The layer stack on the right: add Sway / Wave / Noise / Follow-through,
+//! The layer stack on the right: add Sway / Wave / Gusts / Follow-through,
 //! rename, reorder, enable, and every parameter with a key toggle (a diamond) beside
 //! it. Values show what the parameter is at the playhead; editing a keyed
 //! parameter keys it there.
@@ -8,65 +8,12 @@ use eframe::egui::{self, DragValue};
 use super::app::DrapeApp;
 use super::param_edit::{key_at, param_mut, param_names, set_at, toggle_key};
 use crate::animate::track::sample;
-use crate::scene::{FollowThrough, Layer, Noise, Param, Sway, Wave, WaveAxis};
+use crate::scene::{FollowThrough, Layer, Param, WaveAxis};
 
-/// A new layer of `kind` with gentle defaults that show its effect at once.
+/// A new layer of `kind` with gentle defaults that show its effect at once
+/// (the schema's start values); an unknown kind gives a follow-through.
 pub(super) fn new_layer(kind: &str) -> Layer {
-    let c = Param::Constant;
-    match kind {
-        "Sway" => Layer::Sway(Sway {
-            name: String::new(),
-            enabled: true,
-            weight: c(1.0),
-            magnitude: c(0.1),
-            direction: (1.0, 0.0, 0.0),
-            speed: c(1.0),
-            frequency: c(0.5),
-            phase: c(0.0),
-            falloff: c(1.0),
-        }),
-        "Wave" => Layer::Wave(Wave {
-            name: String::new(),
-            enabled: true,
-            weight: c(1.0),
-            magnitude: c(0.03),
-            frequency: c(8.0),
-            phase: c(0.0),
-            speed: c(4.0),
-            direction_deg: c(0.0),
-            axis: WaveAxis::Normal,
-            falloff: c(1.0),
-        }),
-        "Noise" => Layer::Noise(Noise {
-            name: String::new(),
-            enabled: true,
-            weight: c(1.0),
-            amplitude: c(0.05),
-            scale: c(0.5),
-            speed: c(1.0),
-            direction: (1.0, 0.0, 0.0),
-            turbulence: c(0.3),
-            octaves: 2,
-            seed: 0,
-            falloff: c(1.0),
-        }),
-        _ => Layer::FollowThrough(FollowThrough {
-            name: String::new(),
-            enabled: true,
-            weight: c(1.0),
-            lag: c(0.25),
-            falloff: c(1.0),
-        }),
-    }
-}
-
-fn name_mut(layer: &mut Layer) -> &mut String {
-    match layer {
-        Layer::Sway(l) => &mut l.name,
-        Layer::Wave(l) => &mut l.name,
-        Layer::Noise(l) => &mut l.name,
-        Layer::FollowThrough(l) => &mut l.name,
-    }
+    Layer::with_start_values(kind).unwrap_or_else(|| Layer::FollowThrough(FollowThrough::with_start_values()))
 }
 
 /// The small drawn icons of the layer panel (the default fonts have no such glyphs).
@@ -124,7 +71,7 @@ impl DrapeApp {
         ui.heading("Layers");
         ui.menu_button("Add layer", |ui| {
             for (kind, label) in
-                [("Sway", "Sway"), ("Wave", "Wave"), ("Noise", "Noise (gusts)"), ("FollowThrough", "Follow-through")]
+                [("Sway", "Sway"), ("Wave", "Wave"), ("Gusts", "Gusts"), ("FollowThrough", "Follow-through")]
             {
                 if ui.button(label).clicked() {
                     let at = self.doc.scene().layers.len();
@@ -239,7 +186,7 @@ impl DrapeApp {
             let label = ui.label("Name").id;
             let edit = ui.add(egui::TextEdit::singleline(&mut name).desired_width(140.0)).labelled_by(label);
             if edit.changed() {
-                self.apply("Rename layer", |s| *name_mut(&mut s.layers[index]) = name.clone());
+                self.apply("Rename layer", |s| *s.layers[index].name_mut() = name.clone());
             }
         });
         ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
@@ -291,7 +238,7 @@ impl DrapeApp {
     fn layer_vectors(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
         let direction = match layer {
             Layer::Sway(l) => Some(l.direction),
-            Layer::Noise(l) => Some(l.direction),
+            Layer::Gusts(l) => Some(l.direction),
             _ => None,
         };
         if let Some(mut d) = direction {
@@ -304,7 +251,7 @@ impl DrapeApp {
                 if changed {
                     self.apply("Layer direction", |s| match &mut s.layers[index] {
                         Layer::Sway(l) => l.direction = d,
-                        Layer::Noise(l) => l.direction = d,
+                        Layer::Gusts(l) => l.direction = d,
                         _ => {}
                     });
                 }
@@ -334,16 +281,16 @@ impl DrapeApp {
                 }
             });
         }
-        if let Layer::Noise(noise) = layer {
-            let (mut octaves, mut seed) = (noise.octaves, noise.seed);
+        if let Layer::Gusts(gusts) = layer {
+            let (mut octaves, mut seed) = (gusts.octaves, gusts.seed);
             ui.horizontal(|ui| {
                 ui.label("Octaves");
-                let a = ui.add(DragValue::new(&mut octaves).range(1..=crate::scene::MAX_NOISE_OCTAVES)).changed();
+                let a = ui.add(DragValue::new(&mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
                 ui.label("Seed");
                 let b = ui.add(DragValue::new(&mut seed)).changed();
                 if a || b {
                     self.apply("Gusts", |s| {
-                        if let Layer::Noise(l) = &mut s.layers[index] {
+                        if let Layer::Gusts(l) = &mut s.layers[index] {
                             l.octaves = octaves;
                             l.seed = seed;
                         }

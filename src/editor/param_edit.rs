@@ -4,7 +4,7 @@
 //! playhead.
 
 use crate::animate::track::sample;
-use crate::scene::{Ease, Layer, Param, ParamKey};
+use crate::scene::{Ease, Layer, Param, ParamKey, ParamValue};
 
 /// The index of the key at `frame`, if the parameter is keyed there.
 pub fn key_at(param: &Param, frame: i32) -> Option<usize> {
@@ -49,63 +49,28 @@ fn insert(keys: &mut Vec<ParamKey>, key: ParamKey) {
     keys.insert(at, key);
 }
 
-/// The animatable parameters of a layer with their units, in panel order.
-pub fn param_names(layer: &Layer) -> &'static [(&'static str, &'static str)] {
-    match layer {
-        Layer::Sway(_) => {
-            &[("weight", ""), ("magnitude", "m"), ("speed", ""), ("frequency", "Hz"), ("phase", "rad"), ("falloff", "")]
-        }
-        Layer::Wave(_) => &[
-            ("weight", ""),
-            ("magnitude", "m"),
-            ("frequency", "rad/m"),
-            ("phase", "rad"),
-            ("speed", "rad/s"),
-            ("direction_deg", "°"),
-            ("falloff", ""),
-        ],
-        Layer::Noise(_) => {
-            &[("weight", ""), ("amplitude", "m"), ("scale", "m"), ("speed", "m/s"), ("turbulence", ""), ("falloff", "")]
-        }
-        Layer::FollowThrough(_) => &[("weight", ""), ("lag", "s"), ("falloff", "")],
-    }
+/// The animatable parameters of a layer with their units, in panel order:
+/// its schema's numbers ([`Layer::params`]).
+pub fn param_names(layer: &Layer) -> Vec<(&'static str, &'static str)> {
+    layer
+        .params()
+        .iter()
+        .filter(|spec| matches!(spec.value, ParamValue::Number(_)))
+        .map(|spec| (spec.name, spec.unit()))
+        .collect()
 }
 
-/// The parameter `name` of `layer` (a name from [`param_names`]).
+/// The parameter `name` of `layer` (a name from [`param_names`]); `None`
+/// for any other name.
 pub fn param_mut<'a>(layer: &'a mut Layer, name: &str) -> Option<&'a mut Param> {
-    Some(match (layer, name) {
-        (Layer::Sway(l), "weight") => &mut l.weight,
-        (Layer::Sway(l), "magnitude") => &mut l.magnitude,
-        (Layer::Sway(l), "speed") => &mut l.speed,
-        (Layer::Sway(l), "frequency") => &mut l.frequency,
-        (Layer::Sway(l), "phase") => &mut l.phase,
-        (Layer::Sway(l), "falloff") => &mut l.falloff,
-        (Layer::Wave(l), "weight") => &mut l.weight,
-        (Layer::Wave(l), "magnitude") => &mut l.magnitude,
-        (Layer::Wave(l), "frequency") => &mut l.frequency,
-        (Layer::Wave(l), "phase") => &mut l.phase,
-        (Layer::Wave(l), "speed") => &mut l.speed,
-        (Layer::Wave(l), "direction_deg") => &mut l.direction_deg,
-        (Layer::Wave(l), "falloff") => &mut l.falloff,
-        (Layer::Noise(l), "weight") => &mut l.weight,
-        (Layer::Noise(l), "amplitude") => &mut l.amplitude,
-        (Layer::Noise(l), "scale") => &mut l.scale,
-        (Layer::Noise(l), "speed") => &mut l.speed,
-        (Layer::Noise(l), "turbulence") => &mut l.turbulence,
-        (Layer::Noise(l), "falloff") => &mut l.falloff,
-        (Layer::FollowThrough(l), "weight") => &mut l.weight,
-        (Layer::FollowThrough(l), "lag") => &mut l.lag,
-        (Layer::FollowThrough(l), "falloff") => &mut l.falloff,
-        _ => return None,
-    })
+    layer.param_mut(name)
 }
 
 /// Every frame at which some parameter of `layer` has a key, in order, once each.
 pub fn key_frames(layer: &Layer) -> Vec<i32> {
-    let mut layer = layer.clone();
     let mut frames = Vec::new();
-    for (name, _) in param_names(&layer) {
-        if let Some(Param::Keys(keys)) = param_mut(&mut layer, name) {
+    for spec in layer.params() {
+        if let Some(Param::Keys(keys)) = spec.number(layer) {
             frames.extend(keys.iter().map(|k| k.frame));
         }
     }
@@ -131,8 +96,8 @@ pub fn retime_range(layer: &Layer, from: i32) -> Option<(i32, i32)> {
 pub fn move_keys(layer: &mut Layer, from: i32, to: i32) -> i32 {
     let Some((low, high)) = retime_range(layer, from) else { return from };
     let to = to.clamp(low, high);
-    for (name, _) in param_names(layer) {
-        if let Some(Param::Keys(keys)) = param_mut(layer, name) {
+    for spec in layer.params() {
+        if let Some(Param::Keys(keys)) = spec.number_mut(layer) {
             for key in keys.iter_mut().filter(|k| k.frame == from) {
                 key.frame = to;
             }
@@ -144,7 +109,6 @@ pub fn move_keys(layer: &mut Layer, from: i32, to: i32) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{FollowThrough, Noise, Sway, Wave, WaveAxis};
 
     fn keys(pairs: &[(i32, f64)]) -> Param {
         Param::Keys(pairs.iter().map(|&(frame, value)| ParamKey { frame, value, ease: Ease::default() }).collect())
@@ -196,58 +160,18 @@ mod tests {
 
     #[test]
     fn every_listed_parameter_can_be_reached() {
-        let one = || Param::Constant(1.0);
-        let layers = [
-            Layer::Sway(Sway {
-                name: String::new(),
-                enabled: true,
-                weight: one(),
-                magnitude: one(),
-                direction: (1.0, 0.0, 0.0),
-                speed: one(),
-                frequency: one(),
-                phase: one(),
-                falloff: one(),
-            }),
-            Layer::Wave(Wave {
-                name: String::new(),
-                enabled: true,
-                weight: one(),
-                magnitude: one(),
-                frequency: one(),
-                phase: one(),
-                speed: one(),
-                direction_deg: one(),
-                axis: WaveAxis::Normal,
-                falloff: one(),
-            }),
-            Layer::Noise(Noise {
-                name: String::new(),
-                enabled: true,
-                weight: one(),
-                amplitude: one(),
-                scale: one(),
-                speed: one(),
-                direction: (1.0, 0.0, 0.0),
-                turbulence: one(),
-                octaves: 2,
-                seed: 0,
-                falloff: one(),
-            }),
-            Layer::FollowThrough(FollowThrough {
-                name: String::new(),
-                enabled: true,
-                weight: one(),
-                lag: one(),
-                falloff: one(),
-            }),
-        ];
-        for mut layer in layers {
-            for (name, _) in param_names(&layer) {
-                assert!(param_mut(&mut layer, name).is_some(), "{} {name}", layer.kind());
+        for kind in Layer::KINDS {
+            let Some(mut layer) = Layer::with_start_values(kind) else { panic!("no {kind}") };
+            let names = param_names(&layer);
+            assert_eq!(names.first(), Some(&("weight", "")), "{kind}");
+            for (name, _) in names {
+                assert!(param_mut(&mut layer, name).is_some(), "{kind} {name}");
             }
             assert!(param_mut(&mut layer, "nonsense").is_none());
         }
+        let Some(mut wave) = Layer::with_start_values("Wave") else { panic!("no Wave") };
+        assert!(param_names(&wave).contains(&("direction_deg", "°")));
+        assert!(param_mut(&mut wave, "axis").is_none(), "not an animatable number");
     }
 
     #[test]

@@ -12,6 +12,11 @@ pub fn readable_number(v: f64) -> String {
     if v.is_finite() && v != 0.0 && !(1e-6..1e12).contains(&magnitude) { format!("{v:e}") } else { format!("{v}") }
 }
 
+/// A vector as `(x, y, z)`, each number as [`readable_number`] writes it.
+pub fn readable_vec3((x, y, z): (f64, f64, f64)) -> String {
+    format!("({}, {}, {})", readable_number(x), readable_number(y), readable_number(z))
+}
+
 /// A name (a scene's, a layer's) to print on one line: control characters
 /// (line breaks, tabs, terminal escapes) written as escapes (`\n`, `\u{1b}`),
 /// and cut as [`truncated_name`] cuts it.

@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use crate::atomic_file::io_reason;
 
+use super::layers::Layer;
 use super::locate::{
     Found, TextPosition, TokenKind, closing, found_at, position_after, unclosed_bracket, unclosed_comment,
 };
@@ -165,17 +166,19 @@ fn located(file: &str, position: &Option<TextPosition>, message: &str) -> String
     }
 }
 
-/// The user's word for a struct or enum of the scene file.
-fn user_name(type_name: &str) -> &str {
-    match type_name {
+/// The user's word for a struct or enum of the scene file: a layer kind
+/// (`Sway`) is "Sway layer".
+fn user_name(type_name: &str) -> String {
+    if Layer::KINDS.contains(&type_name) {
+        return format!("{type_name} layer");
+    }
+    let name = match type_name {
         "Scene" => "the scene",
         "Cloth" => "cloth",
         "Timeline" => "timeline",
         "Key" => "key",
         "Pin" => "pin",
         "RelaxSettings" => "relax",
-        "Sway" => "Sway layer",
-        "Wave" => "Wave layer",
         "ParamKey" => "parameter key",
         "Ease" => "ease",
         "Layer" => "layer",
@@ -183,13 +186,20 @@ fn user_name(type_name: &str) -> &str {
         "ClothTexture" => "cloth texture",
         "View" => "view",
         other => other,
-    }
+    };
+    name.to_owned()
 }
 
 /// Which struct a list of field names belongs to, when ron does not say.
-fn struct_from_fields(fields: &[&str]) -> Option<&'static str> {
+fn struct_from_fields(fields: &[&str]) -> Option<String> {
+    if let Some((kind, _)) = Layer::KIND_PARAMS
+        .iter()
+        .find(|(_, params)| fields.len() == params.len() + 2 && params.iter().all(|spec| fields.contains(&spec.name)))
+    {
+        return Some(format!("{kind} layer"));
+    }
     let has = |f: &str| fields.contains(&f);
-    Some(if has("version") {
+    let name = if has("version") {
         "the scene"
     } else if has("pins") {
         "key"
@@ -201,17 +211,14 @@ fn struct_from_fields(fields: &[&str]) -> Option<&'static str> {
         "timeline"
     } else if has("iterations") {
         "relax"
-    } else if has("axis") {
-        "Wave layer"
-    } else if has("direction") {
-        "Sway layer"
     } else if has("value") {
         "parameter key"
     } else if has("yaw_deg") {
         "view"
     } else {
         return None;
-    })
+    };
+    Some(name.to_owned())
 }
 
 fn in_struct(outer: &Option<String>, fields: &[&str]) -> String {
@@ -299,8 +306,14 @@ pub(crate) fn describe_ron_error(code: &ron::Error) -> String {
             format!("expected {} but found {found}", expected_in_user_terms(expected))
         }
         E::NoSuchEnumVariant { expected, found, outer } => {
-            let what = outer.as_deref().map_or("variant", user_name);
-            format!("unknown {what} `{found}` (expected one of: {})", list(expected))
+            let what = outer.as_deref().map_or_else(|| "variant".to_owned(), user_name);
+            // A layer kind's former name still reads, but is not offered.
+            let offered: Vec<&str> = expected
+                .iter()
+                .copied()
+                .filter(|name| !Layer::FORMER_KINDS.iter().any(|(old, _)| old == name))
+                .collect();
+            format!("unknown {what} `{found}` (expected one of: {})", list(&offered))
         }
         E::NoSuchStructField { expected, found, outer } => {
             format!("unknown field `{found}`{} (expected one of: {})", in_struct(outer, expected), list(expected))

@@ -161,40 +161,32 @@ mod tests {
             timeline: Timeline { fps: 29.97, start: -10, end: 200 },
             keys: EVERY_EASE.iter().enumerate().map(|(i, &ease)| key(20 * i as i32, ease)).collect(),
             layers: vec![
+                // Fields left out are at their start values; every one is written all the same.
                 Layer::Sway(Sway {
                     name: "breeze".into(),
                     enabled: false,
                     weight: Param::Constant(0.75),
                     magnitude: animated.clone(),
                     direction: (0.0, 0.0, 1.0),
-                    speed: 1.0.into(),
-                    frequency: 0.5.into(),
                     phase: std::f64::consts::FRAC_PI_2.into(),
                     falloff: 2.0.into(),
+                    ..Sway::with_start_values()
                 }),
                 Layer::Wave(Wave {
-                    name: String::new(),
-                    enabled: true,
                     weight: animated,
                     magnitude: 0.05.into(),
                     frequency: 6.0.into(),
-                    phase: 0.0.into(),
                     speed: (-2.0).into(),
                     direction_deg: 45.0.into(),
                     axis: WaveAxis::Fixed((0.0, 1.0, 0.0)),
-                    falloff: 1.0.into(),
+                    ..Wave::with_start_values()
                 }),
                 Layer::Wave(Wave {
                     name: "normal".into(),
-                    enabled: true,
-                    weight: 1.0.into(),
                     magnitude: 0.01.into(),
                     frequency: 1.0.into(),
-                    phase: 0.0.into(),
                     speed: 1.0.into(),
-                    direction_deg: 0.0.into(),
-                    axis: WaveAxis::Normal,
-                    falloff: 1.0.into(),
+                    ..Wave::with_start_values()
                 }),
             ],
             view: Some(View {

@@ -140,7 +140,16 @@ mod tests {
         );
         assert_eq!(
             message(&with_layer("Swirl((magnitude: 1.0))")),
-            "t.ron:1:130: unknown layer `Swirl` (expected one of: Sway, Wave, Noise, FollowThrough)"
+            "t.ron:1:130: unknown layer `Swirl` (expected one of: Sway, Wave, Gusts, FollowThrough)"
+        );
+        assert_eq!(
+            message(&with_layer("Noise((ampltude: 0.1, direction: (1.0, 0.0, 0.0)))")),
+            "t.ron:1:137: unknown field `ampltude` in Gusts layer (expected one of: name, enabled, weight, \
+             amplitude, scale, speed, direction, turbulence, octaves, seed, falloff)"
+        );
+        assert_eq!(
+            message(&with_layer("Gusts((amplitude: 0.1))")),
+            "t.ron:1:151: missing field `direction` in Gusts layer"
         );
         assert_eq!(
             message(&with_layer("Wave((magnitude: 1.0, axis: Fixed((1.0, 0.0))))")),

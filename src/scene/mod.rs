@@ -1,29 +1,36 @@
 //! The scene document: serde types, RON load/save, validation and errors.
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
+//! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
+//!   each parameter listed once with its unit, range, default and doc
+//!   ([`ParamSpec`]); reading, validation, the editor and `drape check` follow it.
 //! - [`parse`], [`parse_bytes`], [`load`]: text or file → validated [`Scene`]
 //!   (files up to [`MAX_SCENE_FILE_BYTES`]).
 //! - [`to_ron_string`], [`save`]: [`Scene`] → pretty RON; `save` is atomic.
 //! - [`Scene::validate`]: the rules serde cannot express, every limit a named
 //!   constant (e.g. [`MAX_GRID_POINTS`]); each [`Issue`] names its value's path.
 //! - [`SceneError`]: `FILE:LINE:COL: message` in the user's terms.
-//! - [`readable_number`], [`shown_name`]: numbers and names as messages show them.
+//! - [`readable_number`], [`readable_vec3`], [`shown_name`]: numbers and names as messages show them.
 //! - [`locate`]: where a value path such as `keys[0].pins[2].grid` starts in the text.
 
 mod display;
 mod error;
 mod format;
 mod io;
+mod layers;
 mod locate;
 mod param;
+mod schema;
 mod types;
 mod validate;
 
-pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, shown_name, truncated_name};
+pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
+pub use layers::*;
 pub use locate::{TextPosition, locate};
 pub use param::{Param, ParamKey};
+pub use schema::{Access, AxisSpec, CountSpec, DirectionSpec, NumberSpec, ParamRange, ParamSpec, ParamValue};
 pub use types::*;
 pub use validate::*;

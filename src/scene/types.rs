@@ -3,11 +3,12 @@
 //! Field names are fixed by DESIGN.md so that scenes written by other tools keep
 //! loading: never rename them. New fields must carry a serde default. Unknown
 //! fields are rejected (`deny_unknown_fields`) so a typo such as `elastisity`
-//! is reported instead of silently ignored.
+//! is reported instead of silently ignored. The layer kinds and their
+//! parameters are in [`super::layers`].
 
 use serde::{Deserialize, Serialize};
 
-use super::param::Param;
+use super::layers::Layer;
 
 /// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -213,154 +214,6 @@ pub enum Ease {
     Bounce,
 }
 
-/// One deformer of the layer stack, applied in order.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Layer {
-    Sway(Sway),
-    Wave(Wave),
-    Noise(Noise),
-    FollowThrough(FollowThrough),
-}
-
-impl Layer {
-    /// The kind as written in the scene file (`Sway`, `Wave`, …).
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Layer::Sway(_) => "Sway",
-            Layer::Wave(_) => "Wave",
-            Layer::Noise(_) => "Noise",
-            Layer::FollowThrough(_) => "FollowThrough",
-        }
-    }
-
-    pub fn name(&self) -> &str {
-        match self {
-            Layer::Sway(l) => &l.name,
-            Layer::Wave(l) => &l.name,
-            Layer::Noise(l) => &l.name,
-            Layer::FollowThrough(l) => &l.name,
-        }
-    }
-
-    pub fn enabled(&self) -> bool {
-        match self {
-            Layer::Sway(l) => l.enabled,
-            Layer::Wave(l) => l.enabled,
-            Layer::Noise(l) => l.enabled,
-            Layer::FollowThrough(l) => l.enabled,
-        }
-    }
-
-    pub fn enabled_mut(&mut self) -> &mut bool {
-        match self {
-            Layer::Sway(l) => &mut l.enabled,
-            Layer::Wave(l) => &mut l.enabled,
-            Layer::Noise(l) => &mut l.enabled,
-            Layer::FollowThrough(l) => &mut l.enabled,
-        }
-    }
-
-    pub fn weight(&self) -> &Param {
-        match self {
-            Layer::Sway(l) => &l.weight,
-            Layer::Wave(l) => &l.weight,
-            Layer::Noise(l) => &l.weight,
-            Layer::FollowThrough(l) => &l.weight,
-        }
-    }
-
-    /// The label used in messages: `Wave layer "ripple"`, or `Wave layer 2`
-    /// when unnamed; a long name is cut with `…` ([`super::truncated_name`]),
-    /// control characters are escaped.
-    pub fn label(&self, index: usize) -> String {
-        let (kind, name) = (self.kind(), self.name());
-        if name.is_empty() {
-            format!("{kind} layer {}", index + 1)
-        } else {
-            format!("{kind} layer {:?}", super::truncated_name(name))
-        }
-    }
-}
-
-fn default_true() -> bool {
-    true
-}
-fn default_one() -> Param {
-    Param::Constant(1.0)
-}
-fn default_zero() -> Param {
-    Param::Constant(0.0)
-}
-fn default_noise_scale() -> Param {
-    Param::Constant(0.5)
-}
-fn default_turbulence() -> Param {
-    Param::Constant(0.3)
-}
-fn default_octaves() -> u32 {
-    2
-}
-fn default_lag() -> Param {
-    Param::Constant(0.25)
-}
-
-/// Paper eq. 2: displacement = a · magnitude · speed · normalize(direction) · osc(t).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Sway {
-    #[serde(default)]
-    pub name: String,
-    #[serde(default = "default_true")]
-    pub enabled: bool,
-    #[serde(default = "default_one")]
-    pub weight: Param,
-    /// Metres.
-    pub magnitude: Param,
-    /// World direction; must not be zero.
-    pub direction: (f64, f64, f64),
-    #[serde(default = "default_one")]
-    pub speed: Param,
-    /// Hz; ≤ 0 means no built-in oscillation (osc = 1).
-    #[serde(default = "default_zero")]
-    pub frequency: Param,
-    /// Radians, used with `frequency`.
-    #[serde(default = "default_zero")]
-    pub phase: Param,
-    /// Exponent of the pin-distance attenuation a = (d_cp/d_max)^falloff.
-    #[serde(default = "default_one")]
-    pub falloff: Param,
-}
-
-/// Paper eqs. 3–4: displacement = a · magnitude · sin(x·frequency + phase + t·speed) along `axis`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Wave {
-    #[serde(default)]
-    pub name: String,
-    #[serde(default = "default_true")]
-    pub enabled: bool,
-    #[serde(default = "default_one")]
-    pub weight: Param,
-    /// Metres.
-    pub magnitude: Param,
-    /// Radians per metre of material distance along the wave.
-    #[serde(default = "default_one")]
-    pub frequency: Param,
-    /// Radians.
-    #[serde(default = "default_zero")]
-    pub phase: Param,
-    /// Radians per second.
-    #[serde(default = "default_one")]
-    pub speed: Param,
-    /// Direction of travel in material space, degrees from +u towards +v.
-    #[serde(default = "default_zero")]
-    pub direction_deg: Param,
-    #[serde(default)]
-    pub axis: WaveAxis,
-    #[serde(default = "default_one")]
-    pub falloff: Param,
-}
-
 /// What a wave displaces along.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub enum WaveAxis {
@@ -369,62 +222,4 @@ pub enum WaveAxis {
     Normal,
     /// A fixed world vector (normalised when used); must not be zero.
     Fixed((f64, f64, f64)),
-}
-
-/// Wind gusts: smooth, seeded turbulence scrolling with the wind.
-///
-/// displacement = a · amplitude · ((1 − turbulence) · gust · normalize(direction)
-///                + turbulence · swirl), where gust ∈ [0, 1] and swirl ∈ [−1, 1]³
-/// are smooth noise sampled at (p − normalize(direction) · speed · t) / scale,
-/// p the point's position in the layer's input mesh. The same `seed` gives the
-/// same gusts on every machine.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Noise {
-    #[serde(default)]
-    pub name: String,
-    #[serde(default = "default_true")]
-    pub enabled: bool,
-    #[serde(default = "default_one")]
-    pub weight: Param,
-    /// Metres.
-    pub amplitude: Param,
-    /// Size of a gust in metres; greater than 0.
-    #[serde(default = "default_noise_scale")]
-    pub scale: Param,
-    /// Metres per second the gusts travel along `direction`.
-    #[serde(default = "default_one")]
-    pub speed: Param,
-    /// World wind direction; must not be zero.
-    pub direction: (f64, f64, f64),
-    /// Share in [0, 1] of the displacement that swirls in every direction
-    /// rather than pushing downwind.
-    #[serde(default = "default_turbulence")]
-    pub turbulence: Param,
-    /// Layers of detail, each at half the size and half the strength of the previous: 1 to 6.
-    #[serde(default = "default_octaves")]
-    pub octaves: u32,
-    #[serde(default)]
-    pub seed: u32,
-    #[serde(default = "default_one")]
-    pub falloff: Param,
-}
-
-/// Overlapping action without physics: a point far from the pins follows the
-/// keyed motion late. It moves by key_blend(t − lag · a) − key_blend(t), where
-/// key_blend is the vertex blend of the rest shapes and a = (d_cp/d_max)^falloff.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FollowThrough {
-    #[serde(default)]
-    pub name: String,
-    #[serde(default = "default_true")]
-    pub enabled: bool,
-    #[serde(default = "default_one")]
-    pub weight: Param,
-    /// Seconds the farthest point trails behind the pins; at least 0.
-    #[serde(default = "default_lag")]
-    pub lag: Param,
-    #[serde(default = "default_one")]
-    pub falloff: Param,
 }

@@ -8,9 +8,11 @@
 use std::collections::HashSet;
 use std::fmt;
 
-use super::display::readable_number;
+use super::display::{readable_number, readable_vec3};
+use super::layers::{Layer, MAX_LAYER_VALUE};
 use super::param::Param;
-use super::types::{Ease, FollowThrough, Key, Layer, Noise, Pin, Scene, Sway, View, Wave, WaveAxis};
+use super::schema::{ParamRange, ParamValue};
+use super::types::{Ease, Key, Pin, Scene, View, WaveAxis};
 
 /// The only scene file version this Drape reads.
 pub const SUPPORTED_VERSION: u32 = 1;
@@ -62,14 +64,6 @@ pub const MAX_RELAX_ITERATIONS: u32 = 100_000;
 pub const MAX_RELAX_TOLERANCE: f64 = 1.0;
 /// Most re-relaxation sweeps per in-between (each costs one sweep over the cloth per frame).
 pub const MAX_INBETWEEN_RELAX: u32 = 1000;
-/// Largest magnitude of any layer parameter: beyond it a value is a typo, not a look.
-pub const MAX_LAYER_VALUE: f64 = 1e6;
-/// Largest falloff exponent; it must also be ≥ 0.
-pub const MAX_FALLOFF: f64 = 16.0;
-/// Noise octaves lie in 1..=[`MAX_NOISE_OCTAVES`].
-pub const MAX_NOISE_OCTAVES: u32 = 6;
-/// Longest follow-through lag, in seconds.
-pub const MAX_LAG_SECS: f64 = 60.0;
 
 /// One problem found in a scene: the path of the offending value
 /// (`keys[0].pins[2].grid`, `layers[1].magnitude[0].value`) and a message in
@@ -113,10 +107,6 @@ pub fn group_thousands(n: u64) -> String {
 fn group_thousands_signed(n: i64) -> String {
     let sign = if n < 0 { "-" } else { "" };
     format!("{sign}{}", group_thousands(n.unsigned_abs()))
-}
-
-fn fmt_vec3(v: (f64, f64, f64)) -> String {
-    format!("({}, {}, {})", readable_number(v.0), readable_number(v.1), readable_number(v.2))
 }
 
 #[derive(Default)]
@@ -185,7 +175,7 @@ impl Checker {
         if ![x, y, z].iter().all(|c| c.is_finite() && c.abs() <= MAX_PIN_COORD_M) {
             self.push(
                 "view.target",
-                format!("view target {} must be finite and within ±10 000 m", fmt_vec3(view.target)),
+                format!("view target {} must be finite and within ±10 000 m", readable_vec3(view.target)),
             );
         }
         self.finite("view.yaw_deg", "view yaw", view.yaw_deg);
@@ -441,7 +431,7 @@ impl Checker {
                 pos_path,
                 format!(
                     "pin ({i}, {j}) in {at} is at {}, too far out: each coordinate must be within ±{} m",
-                    fmt_vec3(pos),
+                    readable_vec3(pos),
                     group_thousands(MAX_PIN_COORD_M as u64)
                 ),
             );
@@ -470,8 +460,8 @@ impl Checker {
         }
     }
 
-    /// A layer parameter: finite, within ±[`MAX_LAYER_VALUE`] and within `range` at every key.
-    fn layer_param(&mut self, path: &str, what: &str, param: &Param, range: Range) {
+    /// A layer parameter: finite and within `range` at every key.
+    fn layer_param(&mut self, path: &str, what: &str, param: &Param, range: ParamRange) {
         self.param(path, what, param);
         let values: Vec<(String, String, f64)> = match param {
             Param::Constant(v) => vec![(path.to_string(), what.to_string(), *v)],
@@ -483,28 +473,19 @@ impl Checker {
                 })
                 .collect(),
         };
-        for (value_path, what, v) in values {
-            if !v.is_finite() {
-                continue;
-            }
+        // A non-finite value is already reported.
+        for (value_path, what, v) in values.into_iter().filter(|(_, _, v)| v.is_finite() && !range.contains(*v)) {
             let message = match range {
-                Range::Any if v.abs() > MAX_LAYER_VALUE => {
-                    Some(format!("{what} is {v:e}: it must be within ±{MAX_LAYER_VALUE:e}"))
+                ParamRange::Any => format!("{what} is {v:e}: it must be within ±{MAX_LAYER_VALUE:e}"),
+                ParamRange::Within(lo, hi, why) => {
+                    format!("{what} is {}: it must be between {lo} and {hi}{why}", readable_number(v))
                 }
-                Range::Any => None,
-                Range::Within(lo, hi, why) if !(lo..=hi).contains(&v) => {
-                    Some(format!("{what} is {}: it must be between {lo} and {hi}{why}", readable_number(v)))
-                }
-                Range::Within(..) => None,
-                Range::Positive(hi) if !(v > 0.0 && v <= hi) => {
+                ParamRange::Positive(hi) => {
                     let shown = if v.abs() > hi { format!("{v:e}") } else { readable_number(v) };
-                    Some(format!("{what} is {shown}: it must be greater than 0 and at most {hi:e}"))
+                    format!("{what} is {shown}: it must be greater than 0 and at most {hi:e}")
                 }
-                Range::Positive(_) => None,
             };
-            if let Some(message) = message {
-                self.push(value_path, message);
-            }
+            self.push(value_path, message);
         }
     }
 
@@ -553,84 +534,51 @@ impl Checker {
 
     fn direction(&mut self, path: &str, what: &str, v: (f64, f64, f64), purpose: &str) {
         if ![v.0, v.1, v.2].iter().all(|c| c.is_finite()) {
-            self.push(path, format!("{what} {} must be finite numbers", fmt_vec3(v)));
+            self.push(path, format!("{what} {} must be finite numbers", readable_vec3(v)));
         } else if v.0 == 0.0 && v.1 == 0.0 && v.2 == 0.0 {
             self.push(path, format!("{what} is zero: give a direction to {purpose}"));
         } else if !(v.0 * v.0 + v.1 * v.1 + v.2 * v.2).sqrt().is_finite() {
-            self.push(path, format!("{what} {} is too long to normalise", fmt_vec3(v)));
+            self.push(path, format!("{what} {} is too long to normalise", readable_vec3(v)));
         }
     }
 
+    /// Every parameter of the layer, as its schema entry allows.
     fn layer(&mut self, index: usize, layer: &Layer) {
-        let path = format!("layers[{index}]");
         let label = layer.label(index);
-        let param = |this: &mut Self, field: &str, value: &Param, range: Range| {
-            this.layer_param(&format!("{path}.{field}"), &format!("{label}: {field}"), value, range);
-        };
-        param(self, "weight", layer.weight(), Range::Any);
-        let falloff = Range::Within(0.0, MAX_FALLOFF, "");
-        match layer {
-            Layer::Sway(Sway { magnitude, direction, speed, frequency, phase, falloff: f, .. }) => {
-                param(self, "magnitude", magnitude, Range::Any);
-                self.direction(&format!("{path}.direction"), &format!("{label}: direction"), *direction, "sway along");
-                param(self, "speed", speed, Range::Any);
-                param(self, "frequency", frequency, Range::Any);
-                param(self, "phase", phase, Range::Any);
-                param(self, "falloff", f, falloff);
-            }
-            Layer::Wave(Wave { magnitude, frequency, phase, speed, direction_deg, axis, falloff: f, .. }) => {
-                param(self, "magnitude", magnitude, Range::Any);
-                param(self, "frequency", frequency, Range::Any);
-                param(self, "phase", phase, Range::Any);
-                param(self, "speed", speed, Range::Any);
-                param(self, "direction_deg", direction_deg, Range::Any);
-                if let WaveAxis::Fixed(v) = axis {
-                    self.direction(&format!("{path}.axis"), &format!("{label}: axis"), *v, "displace along");
+        for spec in layer.params() {
+            let (path, what) = (format!("layers[{index}].{}", spec.name), format!("{label}: {}", spec.name));
+            match spec.value {
+                ParamValue::Number(number) => {
+                    if let Some(param) = number.access.get(layer) {
+                        self.layer_param(&path, &what, param, number.range);
+                    }
                 }
-                param(self, "falloff", f, falloff);
-            }
-            Layer::Noise(Noise { amplitude, scale, speed, direction, turbulence, octaves, falloff: f, .. }) => {
-                param(self, "amplitude", amplitude, Range::Any);
-                param(self, "scale", scale, Range::Positive(MAX_LAYER_VALUE));
-                param(self, "speed", speed, Range::Any);
-                self.direction(&format!("{path}.direction"), &format!("{label}: direction"), *direction, "blow along");
-                param(
-                    self,
-                    "turbulence",
-                    turbulence,
-                    Range::Within(0.0, 1.0, " (0 pushes downwind only, 1 swirls only)"),
-                );
-                if !(1..=MAX_NOISE_OCTAVES).contains(octaves) {
-                    self.push(
-                        format!("{path}.octaves"),
-                        format!("{label}: octaves is {octaves}: it must be between 1 and {MAX_NOISE_OCTAVES}"),
-                    );
+                ParamValue::Direction(direction) => {
+                    if let Some(v) = direction.access.get(layer) {
+                        self.direction(&path, &what, *v, direction.purpose);
+                    }
                 }
-                param(self, "falloff", f, falloff);
-            }
-            Layer::FollowThrough(FollowThrough { lag, falloff: f, .. }) => {
-                param(self, "lag", lag, Range::Within(0.0, MAX_LAG_SECS, " seconds"));
-                param(self, "falloff", f, falloff);
+                ParamValue::Axis(axis) => {
+                    if let Some(WaveAxis::Fixed(v)) = axis.access.get(layer) {
+                        self.direction(&path, &what, *v, axis.purpose);
+                    }
+                }
+                ParamValue::Count(count) => {
+                    if let Some(n) = count.access.get(layer)
+                        && !(count.min..=count.max).contains(n)
+                    {
+                        self.push(path, format!("{what} is {n}: it must be between {} and {}", count.min, count.max));
+                    }
+                }
             }
         }
     }
-}
-
-/// Allowed values of a layer parameter.
-#[derive(Clone, Copy)]
-enum Range {
-    /// Within ±[`MAX_LAYER_VALUE`].
-    Any,
-    /// In [lo, hi]; the text explains the range.
-    Within(f64, f64, &'static str),
-    /// In (0, hi].
-    Positive(f64),
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Cloth, ParamKey, RelaxSettings, Timeline};
+    use crate::scene::{Cloth, FollowThrough, ParamKey, RelaxSettings, Timeline, Wave};
 
     fn scene() -> Scene {
         Scene {
@@ -695,13 +643,7 @@ mod tests {
     #[test]
     fn layers_are_limited() {
         let mut s = scene();
-        let layer = Layer::FollowThrough(FollowThrough {
-            name: String::new(),
-            enabled: true,
-            weight: 1.0.into(),
-            lag: 0.1.into(),
-            falloff: 1.0.into(),
-        });
+        let layer = Layer::FollowThrough(FollowThrough { lag: 0.1.into(), ..FollowThrough::with_start_values() });
         s.layers = vec![layer; MAX_LAYERS];
         assert_eq!(s.validate(), Ok(()));
         s.layers.push(s.layers[0].clone());
@@ -721,13 +663,11 @@ mod tests {
         s.keys[0].frame = 0;
         s.layers.push(Layer::FollowThrough(FollowThrough {
             name: "lag".into(),
-            enabled: true,
-            weight: 1.0.into(),
             lag: Param::Keys(vec![
                 ParamKey { frame: 0, value: 0.1, ease: Ease::Linear },
                 ParamKey { frame: 100_001, value: 0.2, ease: Ease::Linear },
             ]),
-            falloff: 1.0.into(),
+            ..FollowThrough::with_start_values()
         }));
         assert_eq!(
             messages(&s),
@@ -761,19 +701,13 @@ mod tests {
         s.keys[0].elasticity = f64::NAN;
         s.keys[0].pins[1].grid = (0, 0);
         s.layers.push(Layer::Wave(Wave {
-            name: String::new(),
-            enabled: true,
             weight: Param::Constant(f64::INFINITY),
             magnitude: Param::Keys(vec![
                 ParamKey { frame: 5, value: 0.0, ease: Ease::Linear },
                 ParamKey { frame: 5, value: 1.0, ease: Ease::Bezier(0.0, 0.0, -0.5, 1.0) },
             ]),
-            frequency: 1.0.into(),
-            phase: 0.0.into(),
-            speed: 1.0.into(),
-            direction_deg: 0.0.into(),
             axis: WaveAxis::Fixed((0.0, 0.0, 0.0)),
-            falloff: 1.0.into(),
+            ..Wave::with_start_values()
         }));
         assert_eq!(
             messages(&s),

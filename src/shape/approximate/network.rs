@@ -6,8 +6,8 @@
 //! Up to [`ALL_PAIRS_MAX_PINS`] pins every unblocked pair of pins is a
 //! candidate and every two candidates are tested for a crossing, as the paper
 //! describes: O(P²) candidates, O(P⁴) time and, in the worst case, memory for
-//! their crossings (the issue measured 45 s and gigabytes for a 17 × 17 lattice). Above it
-//! the candidates are local (see [`local_candidates`]): the edges of the pins'
+//! their crossings (45 s and gigabytes for a 17 × 17 lattice of pins). Above
+//! it the candidates are local (see [`local_candidates`]): the edges of the pins'
 //! Delaunay subdivision and the alternatives across them — O(P) candidates
 //! whose only possible crossings are known from the subdivision, so selection
 //! takes O(P log P) time and O(P) memory. The paper's rule (at a crossing the
