@@ -1110,7 +1110,7 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::animate::{evaluate, frame_time_secs};
+    use crate::animate::Evaluator;
 
     fn app() -> DrapeApp {
         let scene = crate::scene::parse(DEFAULT_SCENE, "magic_carpet.ron").unwrap();
@@ -1123,7 +1123,7 @@ mod tests {
         for frame in [37.0, 5.0, 120.0, 37.0] {
             app.set_frame(frame);
             app.refresh_mesh();
-            let expected = evaluate(app.scene(), frame_time_secs(&app.scene().timeline, frame));
+            let expected = Evaluator::default().evaluate_frame(app.scene(), frame);
             assert_eq!(*app.mesh(), expected, "frame {frame}");
         }
     }
@@ -1146,7 +1146,7 @@ mod tests {
         assert_eq!(*app.mesh(), before);
         assert!(app.wait_for_shapes(Duration::from_secs(60)));
         assert_eq!(app.shown_scene(), app.scene());
-        let expected = evaluate(app.scene(), frame_time_secs(&app.scene().timeline, app.frame()));
+        let expected = Evaluator::default().evaluate_frame(app.scene(), app.frame());
         assert_eq!(*app.mesh(), expected);
     }
 

@@ -398,8 +398,7 @@ impl DrapeApp {
         let mut key = scene.key_in_effect(f64::from(frame)).clone();
         key.frame = frame;
         // The evaluated mesh at a whole frame holds the pins where this frame puts them.
-        let t_secs = crate::animate::frame_time_secs(&scene.timeline, f64::from(frame));
-        let mesh = self.evaluator.evaluate(&scene, t_secs);
+        let mesh = self.evaluator.evaluate_frame(&scene, f64::from(frame));
         let cols = scene.cloth.cols();
         for pin in &mut key.pins {
             let p = mesh.positions[pin.grid.1 as usize * cols + pin.grid.0 as usize];
