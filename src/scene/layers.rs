@@ -11,9 +11,10 @@
 //! Field and kind names are the scene file's (DESIGN.md): never rename one
 //! without `formerly`, which keeps older files loading.
 
+use serde::{Deserialize, Serialize};
+
 use super::param::Param;
 use super::schema::{Access, AxisSpec, CountSpec, DirectionSpec, NumberSpec, ParamRange, ParamSpec, layer_kinds};
-use super::types::WaveAxis;
 
 /// Largest magnitude of any layer parameter: beyond it a value is a typo, not a look.
 pub const MAX_LAYER_VALUE: f64 = 1e6;
@@ -118,6 +119,16 @@ impl Layer {
         let spec = self.params().iter().find(|spec| spec.name == name)?;
         spec.number_mut(self)
     }
+}
+
+/// What a wave displaces along.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum WaveAxis {
+    /// The surface normal of the layer's input mesh.
+    #[default]
+    Normal,
+    /// A fixed world vector (normalised when used); must not be zero.
+    Fixed((f64, f64, f64)),
 }
 
 #[cfg(test)]

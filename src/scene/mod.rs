@@ -30,7 +30,7 @@ pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
 pub use layers::*;
 pub use locate::{TextPosition, locate};
-pub use param::{Param, ParamKey};
+pub use param::{Ease, Param, ParamKey};
 pub use schema::{Access, AxisSpec, CountSpec, DirectionSpec, NumberSpec, ParamRange, ParamSpec, ParamValue};
 pub use types::*;
 pub use validate::*;

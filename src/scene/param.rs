@@ -9,8 +9,6 @@ use std::fmt;
 use serde::de::{self, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use super::types::Ease;
-
 /// A number that may change over time.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Param {
@@ -89,5 +87,65 @@ impl<'de> Deserialize<'de> for Param {
             }
         }
         deserializer.deserialize_any(ParamVisitor)
+    }
+}
+
+/// Interpolation curve of a segment (between two keys) or of a parameter key.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum Ease {
+    Linear,
+    /// Hold the earlier value until the next key.
+    Step,
+    EaseIn,
+    EaseOut,
+    #[default]
+    EaseInOut,
+    /// CSS `cubic-bezier(x1, y1, x2, y2)`; x1 and x2 in [0, 1].
+    Bezier(f64, f64, f64, f64),
+    /// Anticipation/overshoot past the target, then settle.
+    Back,
+    Elastic,
+    Bounce,
+}
+
+impl Ease {
+    /// Every easing, in menu order; Bézier with CSS's ease-in-out handles.
+    pub const ALL: [Ease; 9] = [
+        Ease::Linear,
+        Ease::Step,
+        Ease::EaseIn,
+        Ease::EaseOut,
+        Ease::EaseInOut,
+        Ease::Bezier(0.42, 0.0, 0.58, 1.0),
+        Ease::Back,
+        Ease::Elastic,
+        Ease::Bounce,
+    ];
+
+    /// The easing's name in menus and on the timeline.
+    pub fn label(self) -> &'static str {
+        match self {
+            Ease::Linear => "Linear",
+            Ease::Step => "Step",
+            Ease::EaseIn => "Ease in",
+            Ease::EaseOut => "Ease out",
+            Ease::EaseInOut => "Ease in-out",
+            Ease::Bezier(..) => "Bézier",
+            Ease::Back => "Back",
+            Ease::Elastic => "Elastic",
+            Ease::Bounce => "Bounce",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_easing_is_listed_once_under_its_own_name() {
+        let names: std::collections::BTreeSet<_> = Ease::ALL.iter().map(|e| e.label()).collect();
+        assert_eq!(names.len(), Ease::ALL.len());
+        assert_eq!(Ease::Bezier(0.1, 0.2, 0.3, 0.4).label(), "Bézier");
     }
 }

@@ -21,9 +21,8 @@ use std::marker::PhantomData;
 use serde::de::{self, DeserializeSeed, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
-use super::layers::{Layer, MAX_LAYER_VALUE};
+use super::layers::{Layer, MAX_LAYER_VALUE, WaveAxis};
 use super::param::Param;
-use super::types::WaveAxis;
 
 /// A world vector (x, y, z) as the file writes it.
 pub type Vec3 = (f64, f64, f64);

@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::layers::Layer;
+use super::param::Ease;
 
 /// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -194,32 +195,4 @@ impl Default for RelaxSettings {
     fn default() -> Self {
         RelaxSettings { iterations: 10000, tolerance: 1e-5 }
     }
-}
-
-/// Interpolation curve of a segment (between two keys) or of a parameter key.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub enum Ease {
-    Linear,
-    /// Hold the earlier value until the next key.
-    Step,
-    EaseIn,
-    EaseOut,
-    #[default]
-    EaseInOut,
-    /// CSS `cubic-bezier(x1, y1, x2, y2)`; x1 and x2 in [0, 1].
-    Bezier(f64, f64, f64, f64),
-    /// Anticipation/overshoot past the target, then settle.
-    Back,
-    Elastic,
-    Bounce,
-}
-
-/// What a wave displaces along.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub enum WaveAxis {
-    /// The surface normal of the layer's input mesh.
-    #[default]
-    Normal,
-    /// A fixed world vector (normalised when used); must not be zero.
-    Fixed((f64, f64, f64)),
 }

@@ -9,10 +9,12 @@ use std::collections::HashSet;
 use std::fmt;
 
 use super::display::{readable_number, readable_vec3};
+use super::layers::WaveAxis;
 use super::layers::{Layer, MAX_LAYER_VALUE};
+use super::param::Ease;
 use super::param::Param;
 use super::schema::{ParamRange, ParamValue};
-use super::types::{Ease, Key, Pin, Scene, View, WaveAxis};
+use super::types::{Key, Pin, Scene, View};
 
 /// The only scene file version this Drape reads.
 pub const SUPPORTED_VERSION: u32 = 1;
