@@ -15,10 +15,13 @@
 //! lie on a hull edge stay hull vertices, so every hull edge joins two
 //! neighbouring pins.
 
-use super::network::cross_i64;
-
 /// No twin: the half-edge lies on the hull.
 pub(super) const NONE: usize = usize::MAX;
+
+/// Twice the signed area of (o, a, b) on integer grid points: positive when counter-clockwise, exact.
+pub(super) fn cross_i64(o: (i64, i64), a: (i64, i64), b: (i64, i64)) -> i64 {
+    (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+}
 
 /// A triangulation as half-edges, three per triangle: half-edge `e` runs from
 /// vertex `start[e]` to `start[next(e)]`; its triangle's vertices turn

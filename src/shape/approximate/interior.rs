@@ -6,7 +6,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::{DVec2, DVec3};
 
-use super::network::cross_i64;
+use super::delaunay::cross_i64;
 use super::{CatenaryEdge, CatenaryNetwork, GridSpec, PinPoint, Placement};
 use crate::shape::catenary::Catenary;
 

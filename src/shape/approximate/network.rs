@@ -20,7 +20,7 @@ use std::collections::{HashMap, HashSet};
 
 use glam::DVec2;
 
-use super::delaunay::{self, NONE};
+use super::delaunay::{self, NONE, cross_i64};
 use super::{GridSpec, PinLayout, PinPoint};
 use crate::shape::catenary::Catenary;
 
@@ -31,10 +31,6 @@ pub(super) const ALL_PAIRS_MAX_PINS: usize = 24;
 
 pub(super) fn grid_i64(p: &PinPoint) -> (i64, i64) {
     (p.grid.0 as i64, p.grid.1 as i64)
-}
-
-pub(super) fn cross_i64(o: (i64, i64), a: (i64, i64), b: (i64, i64)) -> i64 {
-    (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
 }
 
 pub(super) fn crossing_material(grid: GridSpec, pins: &[PinPoint], (a, b): (usize, usize), t: f64) -> DVec2 {
