@@ -4,219 +4,227 @@
 
 use eframe::egui::{self, DragValue, Response, Slider};
 
-use super::app::DrapeApp;
 use super::edits;
 use super::grid_editor::GridAction;
+use super::grid_editor::GridEditor;
+use super::workspace::Workspace;
 use crate::scene::{
     ClothTexture, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MIN_ELASTICITY,
     MIN_GRID_SIDE, Scene,
 };
 
-impl DrapeApp {
-    /// Applies `change` when `response` changed the value; a drag on the widget is one undo step.
-    fn field(&mut self, response: &Response, label: &str, change: impl FnOnce(&mut Scene)) {
-        if response.drag_started() {
-            self.doc.begin_gesture(label);
-        }
-        if response.changed() {
-            self.apply(label, change);
-        }
-    }
+/// The Cloth panel's own state: the grid editor's view.
+#[derive(Default)]
+pub struct ClothPanel {
+    grid_editor: GridEditor,
+}
 
-    pub(super) fn cloth_panel(&mut self, ui: &mut egui::Ui) {
+impl ClothPanel {
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.heading("Cloth");
-            self.cloth_section(ui);
+            cloth_section(ui, w);
             ui.separator();
-            self.fabric_section(ui);
+            fabric_section(ui, w);
             ui.separator();
-            self.pins_section(ui);
+            self.pins_section(ui, w);
         });
     }
 
-    fn cloth_section(&mut self, ui: &mut egui::Ui) {
-        let cloth = self.doc.scene().cloth.clone();
-        egui::Grid::new("cloth").num_columns(2).show(ui, |ui| {
-            let (mut width, mut height) = cloth.size;
-            let label = ui.label("Width").id;
-            let r = ui.add(DragValue::new(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
-            self.field(&r, "Cloth size", |s| s.cloth.size.0 = width);
-            ui.end_row();
-            let label = ui.label("Height").id;
-            let r =
-                ui.add(DragValue::new(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
-            self.field(&r, "Cloth size", |s| s.cloth.size.1 = height);
-            ui.end_row();
-
-            let (mut cols, mut rows) = cloth.grid;
-            ui.label("Grid");
-            ui.horizontal(|ui| {
-                let range = MIN_GRID_SIDE..=MAX_GRID_SIDE;
-                let r = ui.add(DragValue::new(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
-                r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid columns"));
-                self.field(&r, "Grid", |s| edits::set_grid(s, (cols, s.cloth.grid.1)));
-                ui.label("×");
-                let r = ui.add(DragValue::new(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
-                r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid rows"));
-                self.field(&r, "Grid", |s| edits::set_grid(s, (s.cloth.grid.0, rows)));
-            });
-            ui.end_row();
-
-            let label = ui.label("Texture").id;
-            let mut texture = cloth.texture;
-            let combo =
-                egui::ComboBox::from_id_salt("texture").selected_text(format!("{texture:?}")).show_ui(ui, |ui| {
-                    for option in [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker] {
-                        ui.selectable_value(&mut texture, option, format!("{option:?}"));
-                    }
-                });
-            let _ = combo.response.labelled_by(label);
-            if texture != cloth.texture {
-                self.apply("Texture", |s| s.cloth.texture = texture);
-            }
-            ui.end_row();
-        });
-    }
-
-    fn fabric_section(&mut self, ui: &mut egui::Ui) {
-        let index = self.edit_key_index();
-        let key = self.doc.scene().keys[index].clone();
-        ui.strong(format!("Fabric — key at frame {}", key.frame))
-            .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
-        let playhead = self.frame().round() as i32;
-        if playhead != key.frame {
-            // Off a key, edits would change the key back at its own frame: offer a key here instead.
-            ui.horizontal_wrapped(|ui| {
-                ui.weak(format!("The playhead is at frame {playhead}; edits change the key at frame {}.", key.frame));
-                if ui.small_button(format!("Add a key at {playhead}")).on_hover_text("K").clicked() {
-                    self.add_key_here();
-                }
-            });
-        }
-        egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
-            let mut elasticity = key.elasticity;
-            let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";
-            let label = ui.label("Elasticity").on_hover_text(hint).id;
-            let slider = Slider::new(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
-            let r = ui.add(slider).labelled_by(label);
-            self.field(&r, "Elasticity", |s| s.keys[index].elasticity = elasticity);
-            ui.end_row();
-
-            let mut stiffness = key.stiffness;
-            let label = ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.").id;
-            let r = ui.add(Slider::new(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
-            self.field(&r, "Stiffness", |s| s.keys[index].stiffness = stiffness);
-            ui.end_row();
-
-            let mut iterations = key.relax.iterations;
-            let label = ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.").id;
-            let drag = DragValue::new(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
-            let r = ui.add(drag).labelled_by(label);
-            self.field(&r, "Relaxation iterations", |s| s.keys[index].relax.iterations = iterations);
-            ui.end_row();
-
-            let mut tolerance = key.relax.tolerance;
-            let hint = "Relaxation stops once no point moves more than this × the spacing in a sweep.";
-            let label = ui.label("Tolerance").on_hover_text(hint).id;
-            let slider = Slider::new(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
-            let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
-            self.field(&r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
-            ui.end_row();
-        });
-        if let Some(report) = self.shown_relax_report() {
-            let verdict = format!("Rest shape {}", report.verdict());
-            if report.converged {
-                ui.weak(verdict)
-            } else {
-                ui.colored_label(ui.visuals().warn_fg_color, verdict)
-            };
-        }
-    }
-
-    fn pins_section(&mut self, ui: &mut egui::Ui) {
-        let index = self.edit_key_index();
-        let scene = self.doc.scene().clone();
+    fn pins_section(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+        let index = w.edit_key_index();
+        let scene = w.doc.scene().clone();
         let key = &scene.keys[index];
         ui.strong(format!("Pins ({})", key.pins.len()));
         ui.weak("Click: pin / unpin · Shift+click: select · Drag: box-select");
-        let (actions, hovered) =
-            self.grid_editor.show(ui, &scene.cloth, key, &self.selection, self.hovered.or(self.grid_hovered));
-        self.grid_hovered = hovered;
+        let (actions, hovered) = self.grid_editor.show(
+            ui,
+            &scene.cloth,
+            key,
+            &w.session.selection,
+            w.session.hovered.or(w.session.grid_hovered),
+        );
+        w.session.grid_hovered = hovered;
         for action in actions {
             match action {
-                GridAction::TogglePin(point) => self.toggle_pin(point),
+                GridAction::TogglePin(point) => w.toggle_pin(point),
                 GridAction::ToggleSelected(point) => {
-                    if let Some(at) = self.selection.iter().position(|p| *p == point) {
-                        self.selection.remove(at);
+                    if let Some(at) = w.session.selection.iter().position(|p| *p == point) {
+                        w.session.selection.remove(at);
                     } else {
-                        self.selection.push(point);
+                        w.session.selection.push(point);
                     }
                 }
                 GridAction::SelectBox { pins, add } => {
                     if !add {
-                        self.selection.clear();
+                        w.session.selection.clear();
                     }
                     for pin in pins {
-                        if !self.selection.contains(&pin) {
-                            self.selection.push(pin);
+                        if !w.session.selection.contains(&pin) {
+                            w.session.selection.push(pin);
                         }
                     }
                 }
             }
         }
-        self.selected_pin_fields(ui);
+        selected_pin_fields(ui, w);
     }
+}
 
-    /// Exact values for the selected pins: one pin's position, or several pins' shared offset.
-    fn selected_pin_fields(&mut self, ui: &mut egui::Ui) {
-        let index = self.edit_key_index();
-        let key = self.doc.scene().keys[index].clone();
-        let selected: Vec<_> = key.pins.iter().filter(|p| self.selection.contains(&p.grid)).cloned().collect();
-        match selected.as_slice() {
-            [] => {
-                ui.weak("No pin selected.");
+/// Applies `change` when `response` changed the value; a drag on the widget is one undo step.
+fn field(w: &mut Workspace, response: &Response, label: &str, change: impl FnOnce(&mut Scene)) {
+    if response.drag_started() {
+        w.doc.begin_gesture(label);
+    }
+    if response.changed() {
+        w.apply(label, change);
+    }
+}
+
+fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
+    let cloth = w.doc.scene().cloth.clone();
+    egui::Grid::new("cloth").num_columns(2).show(ui, |ui| {
+        let (mut width, mut height) = cloth.size;
+        let label = ui.label("Width").id;
+        let r = ui.add(DragValue::new(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+        field(w, &r, "Cloth size", |s| s.cloth.size.0 = width);
+        ui.end_row();
+        let label = ui.label("Height").id;
+        let r = ui.add(DragValue::new(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+        field(w, &r, "Cloth size", |s| s.cloth.size.1 = height);
+        ui.end_row();
+
+        let (mut cols, mut rows) = cloth.grid;
+        ui.label("Grid");
+        ui.horizontal(|ui| {
+            let range = MIN_GRID_SIDE..=MAX_GRID_SIDE;
+            let r = ui.add(DragValue::new(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
+            r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid columns"));
+            field(w, &r, "Grid", |s| edits::set_grid(s, (cols, s.cloth.grid.1)));
+            ui.label("×");
+            let r = ui.add(DragValue::new(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
+            r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid rows"));
+            field(w, &r, "Grid", |s| edits::set_grid(s, (s.cloth.grid.0, rows)));
+        });
+        ui.end_row();
+
+        let label = ui.label("Texture").id;
+        let mut texture = cloth.texture;
+        let combo = egui::ComboBox::from_id_salt("texture").selected_text(format!("{texture:?}")).show_ui(ui, |ui| {
+            for option in [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker] {
+                ui.selectable_value(&mut texture, option, format!("{option:?}"));
             }
-            [pin] => {
-                ui.label(format!("Pin ({}, {}), metres", pin.grid.0, pin.grid.1));
-                let grid = pin.grid;
-                ui.horizontal(|ui| {
-                    let mut pos = pin.pos;
-                    for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
-                        let label = ui.label(axis).id;
-                        let r =
-                            ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
-                        let new = pos_after(pin.pos, axis, *value);
-                        self.field(&r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
-                    }
-                });
-            }
-            many => {
-                // Their centre, like one pin's position: typing a value moves them all by the change.
-                ui.label(format!("{} pins selected: their centre, metres", many.len()));
-                let count = many.len() as f64;
-                let centre = many.iter().fold((0.0, 0.0, 0.0), |c, p| {
-                    (c.0 + p.pos.0 / count, c.1 + p.pos.1 / count, c.2 + p.pos.2 / count)
-                });
-                ui.horizontal(|ui| {
-                    let mut moved = centre;
-                    for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
-                        let label = ui.label(axis).id;
-                        let r =
-                            ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
-                        let delta = *value - axis_of(centre, axis);
-                        self.field(&r, "Move pins", |s| {
-                            for pin in many {
-                                let new = pos_after(pin.pos, axis, axis_of(pin.pos, axis) + delta);
-                                edits::move_pin(&mut s.keys[index], pin.grid, new);
-                            }
-                        });
-                    }
-                });
-            }
+        });
+        let _ = combo.response.labelled_by(label);
+        if texture != cloth.texture {
+            w.apply("Texture", |s| s.cloth.texture = texture);
         }
-        if !selected.is_empty() && ui.button("Unpin selected").on_hover_text("Delete").clicked() {
-            self.delete_selected_pins();
+        ui.end_row();
+    });
+}
+
+fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
+    let index = w.edit_key_index();
+    let key = w.doc.scene().keys[index].clone();
+    ui.strong(format!("Fabric — key at frame {}", key.frame))
+        .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
+    let playhead = w.frame().round() as i32;
+    if playhead != key.frame {
+        // Off a key, edits would change the key back at its own frame: offer a key here instead.
+        ui.horizontal_wrapped(|ui| {
+            ui.weak(format!("The playhead is at frame {playhead}; edits change the key at frame {}.", key.frame));
+            if ui.small_button(format!("Add a key at {playhead}")).on_hover_text("K").clicked() {
+                w.add_key_here();
+            }
+        });
+    }
+    egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
+        let mut elasticity = key.elasticity;
+        let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";
+        let label = ui.label("Elasticity").on_hover_text(hint).id;
+        let slider = Slider::new(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
+        let r = ui.add(slider).labelled_by(label);
+        field(w, &r, "Elasticity", |s| s.keys[index].elasticity = elasticity);
+        ui.end_row();
+
+        let mut stiffness = key.stiffness;
+        let label = ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.").id;
+        let r = ui.add(Slider::new(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
+        field(w, &r, "Stiffness", |s| s.keys[index].stiffness = stiffness);
+        ui.end_row();
+
+        let mut iterations = key.relax.iterations;
+        let label = ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.").id;
+        let drag = DragValue::new(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
+        let r = ui.add(drag).labelled_by(label);
+        field(w, &r, "Relaxation iterations", |s| s.keys[index].relax.iterations = iterations);
+        ui.end_row();
+
+        let mut tolerance = key.relax.tolerance;
+        let hint = "Relaxation stops once no point moves more than this × the spacing in a sweep.";
+        let label = ui.label("Tolerance").on_hover_text(hint).id;
+        let slider = Slider::new(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
+        let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
+        field(w, &r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
+        ui.end_row();
+    });
+    if let Some(report) = w.shown_relax_report() {
+        let verdict = format!("Rest shape {}", report.verdict());
+        if report.converged {
+            ui.weak(verdict)
+        } else {
+            ui.colored_label(ui.visuals().warn_fg_color, verdict)
+        };
+    }
+}
+
+/// Exact values for the selected pins: one pin's position, or several pins' shared offset.
+fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
+    let index = w.edit_key_index();
+    let key = w.doc.scene().keys[index].clone();
+    let selected: Vec<_> = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).cloned().collect();
+    match selected.as_slice() {
+        [] => {
+            ui.weak("No pin selected.");
         }
+        [pin] => {
+            ui.label(format!("Pin ({}, {}), metres", pin.grid.0, pin.grid.1));
+            let grid = pin.grid;
+            ui.horizontal(|ui| {
+                let mut pos = pin.pos;
+                for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
+                    let label = ui.label(axis).id;
+                    let r = ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                    let new = pos_after(pin.pos, axis, *value);
+                    field(w, &r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
+                }
+            });
+        }
+        many => {
+            // Their centre, like one pin's position: typing a value moves them all by the change.
+            ui.label(format!("{} pins selected: their centre, metres", many.len()));
+            let count = many.len() as f64;
+            let centre = many
+                .iter()
+                .fold((0.0, 0.0, 0.0), |c, p| (c.0 + p.pos.0 / count, c.1 + p.pos.1 / count, c.2 + p.pos.2 / count));
+            ui.horizontal(|ui| {
+                let mut moved = centre;
+                for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
+                    let label = ui.label(axis).id;
+                    let r = ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                    let delta = *value - axis_of(centre, axis);
+                    field(w, &r, "Move pins", |s| {
+                        for pin in many {
+                            let new = pos_after(pin.pos, axis, axis_of(pin.pos, axis) + delta);
+                            edits::move_pin(&mut s.keys[index], pin.grid, new);
+                        }
+                    });
+                }
+            });
+        }
+    }
+    if !selected.is_empty() && ui.button("Unpin selected").on_hover_text("Delete").clicked() {
+        w.delete_selected_pins();
     }
 }
 

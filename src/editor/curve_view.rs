@@ -6,10 +6,10 @@
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
-use super::app::DrapeApp;
 use super::bezier_handles;
+use super::document::Document;
 use super::param_edit::{key_at, param_mut, param_names, toggle_key};
-use super::timeline::EASES;
+use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::scene::{Ease, Layer, Param, ParamKey, Timeline};
 
@@ -200,10 +200,10 @@ impl CurveView {
     }
 }
 
-impl DrapeApp {
+impl CurveView {
     /// The small curve button beside parameter `param` of layer `index`: shows its curve below.
-    pub(super) fn curve_button(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer, param: &'static str) {
-        let shown = self.curve.shown(index, layer) == Some(param);
+    pub(super) fn button_ui(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer, param: &'static str) {
+        let shown = self.shown(index, layer) == Some(param);
         let (rect, response) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::click());
         response.widget_info(|| {
             egui::WidgetInfo::selected(egui::Role::Button, true, shown, format!("Show the {param} curve"))
@@ -223,17 +223,17 @@ impl DrapeApp {
             .collect();
         ui.painter().add(egui::Shape::line(points, Stroke::new(1.4, visuals.fg_stroke.color)));
         if response.on_hover_text("Show this parameter's curve below").clicked() {
-            self.curve.chosen = Some((index, param));
+            self.chosen = Some((index, param));
         }
     }
 
     /// The plot of the shown parameter of layer `index`, with its keys to edit.
-    pub(super) fn curve_view(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
-        let Some(name) = self.curve.shown(index, layer) else { return };
+    pub(super) fn plot_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Layer) {
+        let Some(name) = self.shown(index, layer) else { return };
         let mut copy = layer.clone();
         let Some(param) = param_mut(&mut copy, name).cloned() else { return };
         let keys = keys_of(&param).to_vec();
-        let timeline = self.doc.scene().timeline.clone();
+        let timeline = w.doc.scene().timeline.clone();
         ui.add_space(4.0);
         ui.label(format!("{} over time", name.replace('_', " ")));
         let size = Vec2::new(ui.available_width().max(60.0), HEIGHT);
@@ -241,7 +241,7 @@ impl DrapeApp {
         let what = format!("Curve of {name}");
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, &what));
 
-        let drag = self.curve.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
+        let drag = self.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
         let plot = match drag {
             Some(d) => Plot::new(rect, (f64::from(timeline.start), f64::from(timeline.end)), d.values),
             None => Plot::of(rect, &timeline, &param),
@@ -249,14 +249,14 @@ impl DrapeApp {
         // A press on a key grabs it; dragging moves it in value and (whole) frames.
         if response.drag_started() {
             let origin = ui.input(|i| i.pointer.press_origin());
-            self.curve.drag = origin.and_then(|pos| {
+            self.drag = origin.and_then(|pos| {
                 let key = nearest_key(&plot, &keys, pos, GRAB)?;
                 let at = plot.pos(f64::from(keys[key].frame), keys[key].value);
                 Some(KeyDrag { layer: index, param: name, key, values: plot.values, grab: at - pos })
             });
-            if let Some(d) = self.curve.drag {
-                self.curve.selected = Some((index, name, d.key));
-                self.doc.begin_gesture("Move parameter key");
+            if let Some(d) = self.drag {
+                self.selected = Some((index, name, d.key));
+                w.doc.begin_gesture("Move parameter key");
             }
         }
         if let (Some(d), Some(pos)) = (drag, response.interact_pointer_pos())
@@ -268,7 +268,7 @@ impl DrapeApp {
             let frame = clamp_frame(&keys, d.key, plot.frame(at.x).round() as i32);
             let value = round_to_resolution(plot.value(at.y), plot.value_per_point());
             if (frame, value) != (keys[d.key].frame, keys[d.key].value) {
-                self.apply("Move parameter key", |s| {
+                w.apply("Move parameter key", |s| {
                     if let Some(Param::Keys(keys)) = param_mut(&mut s.layers[index], name) {
                         keys[d.key].frame = frame;
                         keys[d.key].value = value;
@@ -277,8 +277,8 @@ impl DrapeApp {
             }
         }
         if response.drag_stopped() {
-            self.curve.drag = None;
-            self.end_gesture();
+            self.drag = None;
+            w.end_gesture();
         }
 
         // Double-click off the keys: a key on the curve there (keying a constant).
@@ -288,31 +288,31 @@ impl DrapeApp {
         {
             let frame = plot.frame(pos.x).round().clamp(f64::from(timeline.start), f64::from(timeline.end)) as i32;
             if key_at(&param, frame).is_none() {
-                self.apply("Add parameter key", |s| {
+                w.apply("Add parameter key", |s| {
                     if let Some(p) = param_mut(&mut s.layers[index], name) {
                         toggle_key(p, frame);
                     }
                 });
-                self.curve.selected = key_at(&param_now(self, index, name), frame).map(|k| (index, name, k));
+                self.selected = key_at(&param_now(&w.doc, index, name), frame).map(|k| (index, name, k));
             }
         }
 
         if response.secondary_clicked() {
             let key = response.interact_pointer_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
-            self.curve.selected = key.map(|k| (index, name, k));
+            self.selected = key.map(|k| (index, name, k));
         }
         // Drawn after this frame's edits, so a drag shows where the key is now.
-        let param = param_now(self, index, name);
+        let param = param_now(&w.doc, index, name);
         let keys = keys_of(&param).to_vec();
-        let drag = self.curve.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
+        let drag = self.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
         let plot = match drag {
             Some(d) => Plot::new(rect, plot.frames, d.values),
             None => Plot::of(rect, &timeline, &param),
         };
         let hovered = response.hover_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
         let hovered = drag.map(|d| d.key).or(hovered);
-        let selected = self.curve.selected.filter(|s| (s.0, s.1) == (index, name)).map(|s| s.2);
-        self.paint_curve(ui, rect, &plot, &param, [hovered, selected]);
+        let selected = self.selected.filter(|s| (s.0, s.1) == (index, name)).map(|s| s.2);
+        paint_curve(ui, w.frame(), rect, &plot, &param, [hovered, selected]);
         if let Some(pos) = response.hover_pos() {
             let text = match hovered {
                 Some(k) => format!("Key at frame {}: {}", keys[k].frame, label(keys[k].value)),
@@ -323,11 +323,11 @@ impl DrapeApp {
             };
             response.clone().on_hover_text_at_pointer(text);
         }
-        let selected = self.curve.selected.filter(|s| (s.0, s.1) == (index, name) && s.2 < keys.len());
+        let selected = self.selected.filter(|s| (s.0, s.1) == (index, name) && s.2 < keys.len());
         if let Some((_, _, key)) = selected {
             egui::Popup::context_menu(&response)
                 .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
-                .show(|ui| self.param_key_menu(ui, index, name, key));
+                .show(|ui| self.param_key_menu(ui, w, index, name, key));
         }
         if keys.is_empty() {
             ui.weak("A constant: key it with its diamond (or double-click the line) to shape it over time here.");
@@ -336,64 +336,15 @@ impl DrapeApp {
         }
     }
 
-    /// Draws the plot; `highlighted` keys (hovered or dragged, selected) are filled yellow.
-    fn paint_curve(&self, ui: &egui::Ui, rect: Rect, plot: &Plot, param: &Param, highlighted: [Option<usize>; 2]) {
-        let painter = ui.painter_at(rect);
-        let visuals = ui.visuals();
-        let weak = visuals.weak_text_color();
-        painter.rect_filled(rect, 3.0, visuals.extreme_bg_color);
-        let samples = plot.samples(param);
-
-        // The curve's lowest and highest values, as faint lines with their numbers.
-        let (lo, hi) =
-            samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, v)| (lo.min(*v), hi.max(*v)));
-        let levels = if hi - lo > plot.value_per_point() * 12.0 { vec![hi, lo] } else { vec![hi] };
-        for level in &levels {
-            let y = plot.y(*level);
-            let faint = Stroke::new(1.0, weak.gamma_multiply(0.3));
-            painter.line_segment([Pos2::new(rect.left(), y), Pos2::new(rect.right(), y)], faint);
-        }
-
-        let points: Vec<Pos2> = samples.iter().map(|&(f, v)| plot.pos(f, v)).collect();
-        painter.add(egui::Shape::line(points, Stroke::new(1.5, CURVE_COLOR)));
-
-        let x = plot.x(self.frame());
-        painter.line_segment(
-            [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
-            Stroke::new(2.0, Color32::from_rgb(230, 60, 50)),
-        );
-
-        // The numbers on a backing, over the playhead (often at the left edge).
-        let font = egui::FontId::proportional(10.0);
-        for (n, level) in levels.into_iter().enumerate() {
-            let y = plot.y(level);
-            let (anchor, at) = if n == 0 {
-                (egui::Align2::LEFT_BOTTOM, Pos2::new(rect.left() + 3.0, y - 1.0))
-            } else {
-                (egui::Align2::LEFT_TOP, Pos2::new(rect.left() + 3.0, y + 1.0))
-            };
-            let galley = painter.layout_no_wrap(label(level), font.clone(), weak);
-            let text_rect = anchor.anchor_size(at, galley.size());
-            painter.rect_filled(text_rect.expand(1.0), 2.0, visuals.extreme_bg_color.gamma_multiply(0.85));
-            painter.galley(text_rect.min, galley, weak);
-        }
-
-        for (index, key) in keys_of(param).iter().enumerate() {
-            let active = highlighted.contains(&Some(index));
-            let fill = if active { Color32::from_rgb(255, 200, 20) } else { Color32::from_rgb(230, 230, 230) };
-            painter.circle(plot.pos(f64::from(key.frame), key.value), HANDLE, fill, Stroke::new(1.0, Color32::BLACK));
-        }
-    }
-
     /// The right-click menu of key `key` of parameter `name`: the easing that arrives at it, delete.
-    fn param_key_menu(&mut self, ui: &mut egui::Ui, index: usize, name: &'static str, key: usize) {
-        let param = param_now(self, index, name);
+    fn param_key_menu(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, name: &'static str, key: usize) {
+        let param = param_now(&w.doc, index, name);
         let Some(current) = keys_of(&param).get(key).cloned() else {
             ui.close();
             return;
         };
-        let set_ease = |app: &mut DrapeApp, label: &str, ease: Ease| {
-            app.apply(label, |s| {
+        let set_ease = |w: &mut Workspace, label: &str, ease: Ease| {
+            w.apply(label, |s| {
                 if let Some(Param::Keys(keys)) = param_mut(&mut s.layers[index], name) {
                     keys[key].ease = ease;
                 }
@@ -402,21 +353,22 @@ impl DrapeApp {
         ui.strong(format!("Key at frame {}: {}", current.frame, label(current.value)));
         if key > 0 {
             ui.label("Easing arriving at this key");
-            for (ease_name, ease) in EASES {
+            for ease in Ease::ALL {
+                let ease_name = ease.label();
                 let selected = std::mem::discriminant(&current.ease) == std::mem::discriminant(&ease);
                 if ui.radio(selected, ease_name).clicked() && !selected {
-                    set_ease(self, "Easing", ease);
+                    set_ease(w, "Easing", ease);
                 }
             }
             if let Ease::Bezier(x1, y1, x2, y2) = current.ease {
                 let mut handles = [x1, y1, x2, y2];
                 let edit = bezier_handles::edit(ui, &mut handles);
                 if edit.began {
-                    self.doc.begin_gesture("Bézier handles");
+                    w.doc.begin_gesture("Bézier handles");
                 }
                 if edit.changed {
                     let [x1, y1, x2, y2] = handles;
-                    set_ease(self, "Bézier handles", Ease::Bezier(x1, y1, x2, y2));
+                    set_ease(w, "Bézier handles", Ease::Bezier(x1, y1, x2, y2));
                 }
             }
         } else {
@@ -424,27 +376,75 @@ impl DrapeApp {
         }
         ui.separator();
         if ui.button("Go to key").clicked() {
-            self.set_frame(f64::from(current.frame));
+            w.set_frame(f64::from(current.frame));
             ui.close();
         }
         let hint = if keys_of(&param).len() == 1 { "The last key: the parameter becomes a constant" } else { "" };
         let delete = ui.button("Delete key");
         let delete = if hint.is_empty() { delete } else { delete.on_hover_text(hint) };
         if delete.clicked() {
-            self.apply("Delete parameter key", |s| {
+            w.apply("Delete parameter key", |s| {
                 if let Some(p) = param_mut(&mut s.layers[index], name) {
                     toggle_key(p, current.frame);
                 }
             });
-            self.curve.selected = None;
+            self.selected = None;
             ui.close();
         }
     }
 }
 
+/// Draws the plot; `highlighted` keys (hovered or dragged, selected) are filled yellow.
+fn paint_curve(ui: &egui::Ui, playhead: f64, rect: Rect, plot: &Plot, param: &Param, highlighted: [Option<usize>; 2]) {
+    let painter = ui.painter_at(rect);
+    let visuals = ui.visuals();
+    let weak = visuals.weak_text_color();
+    painter.rect_filled(rect, 3.0, visuals.extreme_bg_color);
+    let samples = plot.samples(param);
+
+    // The curve's lowest and highest values, as faint lines with their numbers.
+    let (lo, hi) = samples.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, v)| (lo.min(*v), hi.max(*v)));
+    let levels = if hi - lo > plot.value_per_point() * 12.0 { vec![hi, lo] } else { vec![hi] };
+    for level in &levels {
+        let y = plot.y(*level);
+        let faint = Stroke::new(1.0, weak.gamma_multiply(0.3));
+        painter.line_segment([Pos2::new(rect.left(), y), Pos2::new(rect.right(), y)], faint);
+    }
+
+    let points: Vec<Pos2> = samples.iter().map(|&(f, v)| plot.pos(f, v)).collect();
+    painter.add(egui::Shape::line(points, Stroke::new(1.5, CURVE_COLOR)));
+
+    let x = plot.x(playhead);
+    painter.line_segment(
+        [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
+        Stroke::new(2.0, Color32::from_rgb(230, 60, 50)),
+    );
+
+    // The numbers on a backing, over the playhead (often at the left edge).
+    let font = egui::FontId::proportional(10.0);
+    for (n, level) in levels.into_iter().enumerate() {
+        let y = plot.y(level);
+        let (anchor, at) = if n == 0 {
+            (egui::Align2::LEFT_BOTTOM, Pos2::new(rect.left() + 3.0, y - 1.0))
+        } else {
+            (egui::Align2::LEFT_TOP, Pos2::new(rect.left() + 3.0, y + 1.0))
+        };
+        let galley = painter.layout_no_wrap(label(level), font.clone(), weak);
+        let text_rect = anchor.anchor_size(at, galley.size());
+        painter.rect_filled(text_rect.expand(1.0), 2.0, visuals.extreme_bg_color.gamma_multiply(0.85));
+        painter.galley(text_rect.min, galley, weak);
+    }
+
+    for (index, key) in keys_of(param).iter().enumerate() {
+        let active = highlighted.contains(&Some(index));
+        let fill = if active { Color32::from_rgb(255, 200, 20) } else { Color32::from_rgb(230, 230, 230) };
+        painter.circle(plot.pos(f64::from(key.frame), key.value), HANDLE, fill, Stroke::new(1.0, Color32::BLACK));
+    }
+}
+
 /// Parameter `name` of layer `index` as the document holds it now.
-fn param_now(app: &DrapeApp, index: usize, name: &str) -> Param {
-    let mut layer = app.doc.scene().layers[index].clone();
+fn param_now(doc: &Document, index: usize, name: &str) -> Param {
+    let mut layer = doc.scene().layers[index].clone();
     param_mut(&mut layer, name).cloned().unwrap_or(Param::Constant(0.0))
 }
 

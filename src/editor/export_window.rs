@@ -14,8 +14,9 @@ use std::time::{Duration, Instant};
 
 use eframe::egui;
 
-use super::app::DrapeApp;
+use super::document::Document;
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::workspace::Workspace;
 use crate::export::{
     AnimationFormat, ExportError, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, export_animation,
 };
@@ -107,40 +108,39 @@ fn with_format_extension(path: &str, format: AnimationFormat) -> String {
     Path::new(path).with_extension(format.extension()).display().to_string()
 }
 
-impl DrapeApp {
+impl ExportWindow {
     /// Opens the Export window on the whole timeline, next to the scene's file.
-    pub(super) fn open_export(&mut self) {
-        let scene = self.doc.scene();
-        let window = &mut self.export;
+    pub(super) fn open_for(&mut self, doc: &Document) {
+        let scene = doc.scene();
+        let window = self;
         window.open = true;
         window.first = scene.timeline.start;
         window.last = scene.timeline.end;
         if window.output.is_empty() {
-            let stem = self
-                .doc
+            let stem = doc
                 .path()
                 .and_then(Path::file_stem)
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "cloth".to_owned());
-            let dir = self.doc.path().and_then(Path::parent).map(Path::to_path_buf).unwrap_or_default();
+            let dir = doc.path().and_then(Path::parent).map(Path::to_path_buf).unwrap_or_default();
             window.output = dir.join(format!("{stem}.{}", window.format.extension())).display().to_string();
         }
     }
 
-    pub(super) fn export_window(&mut self, ctx: &egui::Context) {
-        self.finish_export();
-        if !self.export.open {
+    pub(super) fn window_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
+        self.finish(w);
+        if !self.open {
             return;
         }
-        let timeline = self.doc.scene().timeline.clone();
+        let timeline = w.doc.scene().timeline.clone();
         let mut open = true;
         let mut start_now = false;
         let mut force_now = false;
         let mut choose = false;
-        let busy = self.export.job.is_some();
-        let scene = self.doc.scene();
+        let busy = self.job.is_some();
+        let scene = w.doc.scene();
         egui::Window::new("Export animation").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
-            let window = &mut self.export;
+            let window = &mut *self;
             ui.add_enabled_ui(!busy, |ui| {
                 egui::Grid::new("export").num_columns(2).show(ui, |ui| {
                     let label = ui.label("Format").id;
@@ -222,62 +222,59 @@ impl DrapeApp {
             }
         });
         if choose {
-            let (dir, name) = split_output(&self.export.output);
-            let extension = self.export.format.extension();
-            self.export.dialog = Some(FileDialog::new(FileDialogMode::Save, "Export to", &dir, &name, extension));
+            let (dir, name) = split_output(&self.output);
+            let extension = self.format.extension();
+            self.dialog = Some(FileDialog::new(FileDialogMode::Save, "Export to", &dir, &name, extension));
         }
-        if let Some(dialog) = &mut self.export.dialog
+        if let Some(dialog) = &mut self.dialog
             && let Some(outcome) = dialog.show(ctx)
         {
             if let FileDialogOutcome::Picked(path) = outcome {
-                self.export.output = path.display().to_string();
+                self.output = path.display().to_string();
             }
-            self.export.dialog = None;
+            self.dialog = None;
         }
         if start_now || force_now {
-            let output = PathBuf::from(self.export.output.trim());
-            let frames = self.export.first..=self.export.last;
-            let format = self.export.format;
-            let refusal = if force_now { None } else { size_refusal(self.doc.scene(), &frames, &output, format) };
+            let output = PathBuf::from(self.output.trim());
+            let frames = self.first..=self.last;
+            let format = self.format;
+            let refusal = if force_now { None } else { size_refusal(w.doc.scene(), &frames, &output, format) };
             match refusal {
                 Some(reason) => {
-                    let settings = (format, self.export.first, self.export.last, self.export.output.clone());
-                    self.export.refused = Some((reason, settings));
+                    let settings = (format, self.first, self.last, self.output.clone());
+                    self.refused = Some((reason, settings));
                 }
                 None => {
-                    self.export.refused = None;
-                    self.export.job = Some(start(self.doc.scene().clone(), frames, output, format, ctx.clone()));
+                    self.refused = None;
+                    self.job = Some(start(w.doc.scene().clone(), frames, output, format, ctx.clone()));
                 }
             }
         }
         if !open {
             // Closing the window cancels an export in progress.
-            if let Some(job) = &self.export.job {
+            if let Some(job) = &self.job {
                 job.cancel.store(true, Ordering::Relaxed);
             }
-            self.export.open = false;
+            self.open = false;
         }
-        if self.export.job.is_some() {
+        if self.job.is_some() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
     }
 
     /// Reports a finished export.
-    fn finish_export(&mut self) {
-        if !self.export.job.as_ref().is_some_and(|job| job.handle.is_finished()) {
-            return;
-        }
-        let job = self.export.job.take().expect("checked above");
+    fn finish(&mut self, w: &mut Workspace) {
+        let Some(job) = self.job.take_if(|job| job.handle.is_finished()) else { return };
         match job.handle.join() {
             Ok(Ok(summary)) => {
                 let file = summary.files.first().map(|f| f.display().to_string()).unwrap_or_default();
                 let seconds = job.started.elapsed().as_secs_f64();
-                self.report(format!("Exported {} frames to {file} in {seconds:.1} s", summary.frame_count), false);
-                self.export.open = false;
+                w.report(format!("Exported {} frames to {file} in {seconds:.1} s", summary.frame_count), false);
+                self.open = false;
             }
-            Ok(Err(ExportError::Cancelled)) => self.report("Export cancelled; nothing was written.".to_owned(), false),
-            Ok(Err(error)) => self.show_file_error(format!("Could not export:\n{error}")),
-            Err(_) => self.show_file_error("The export stopped unexpectedly; nothing was written.".to_owned()),
+            Ok(Err(ExportError::Cancelled)) => w.report("Export cancelled; nothing was written.".to_owned(), false),
+            Ok(Err(error)) => w.alert = Some(format!("Could not export:\n{error}")),
+            Err(_) => w.alert = Some("The export stopped unexpectedly; nothing was written.".to_owned()),
         }
     }
 }

@@ -7,12 +7,12 @@ use std::time::{Instant, SystemTime};
 
 use eframe::egui;
 
-use super::app::{DrapeApp, SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
-use super::document::Document;
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use super::prompt::{DiscardChoice, discard_prompt};
 use super::recent::RecentFiles;
 use super::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, Recovery};
+use super::shortcuts::{SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
+use super::workspace::Workspace;
 use crate::render::OrbitCamera;
 use crate::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline};
 
@@ -42,11 +42,21 @@ pub(super) struct Files {
     recovery: Option<Recovery>,
     autosave: AutosaveClock,
     /// A scene that failed to load or save: the message, shown until dismissed.
-    error: Option<String>,
     /// Unsaved work from a session that did not end cleanly, offered at start.
     recovered: Option<RecoveredScene>,
     /// The user chose to close: the next close request goes through.
     closing: bool,
+    /// What the rest of the editor must do about this frame's file handling.
+    events: Vec<FileEvent>,
+}
+
+/// What file handling asks of the rest of the editor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum FileEvent {
+    /// A new document replaced the old one (the workspace has its new session already).
+    Replaced,
+    /// File ▸ Export… was chosen.
+    OpenExport,
 }
 
 impl Files {
@@ -59,9 +69,9 @@ impl Files {
             recent: recent_file.map(|f| RecentFiles::load(&f)).unwrap_or_else(|| RecentFiles::load(Path::new(""))),
             recovery: state_dir.map(Recovery::new),
             autosave: AutosaveClock::new(DEFAULT_AUTOSAVE_INTERVAL, Instant::now()),
-            error: None,
             recovered: None,
             closing: false,
+            events: Vec::new(),
         }
     }
 }
@@ -88,80 +98,85 @@ pub fn new_scene() -> Scene {
     }
 }
 
-impl DrapeApp {
-    pub(super) fn file_menu(&mut self, ui: &mut egui::Ui) {
+impl Files {
+    /// What the editor must do about the file handling since the last call.
+    pub(super) fn take_events(&mut self) -> Vec<FileEvent> {
+        std::mem::take(&mut self.events)
+    }
+
+    pub(super) fn file_menu_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, camera: &mut OrbitCamera) {
         let ctx = ui.ctx().clone();
         let item = |label: &str, shortcut| egui::Button::new(label).shortcut_text(ctx.format_shortcut(shortcut));
         if ui.add(item("New", &SHORTCUT_NEW)).clicked() {
-            self.file_new();
+            self.file_new(w, camera);
         }
         if ui.add(item("Open…", &SHORTCUT_OPEN)).clicked() {
-            self.file_open();
+            self.file_open(w, camera);
         }
-        let recent: Vec<PathBuf> = self.files.recent.paths().to_vec();
+        let recent: Vec<PathBuf> = self.recent.paths().to_vec();
         ui.add_enabled_ui(!recent.is_empty(), |ui| {
             ui.menu_button("Open Recent", |ui| {
                 for path in recent {
                     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
                     if ui.button(name).on_hover_text(path.display().to_string()).clicked() {
-                        self.ask_then(Pending::OpenPath(path));
+                        self.ask_then(w, camera, Pending::OpenPath(path));
                     }
                 }
             });
         });
         ui.separator();
         if ui.add(item("Save", &SHORTCUT_SAVE)).clicked() {
-            self.file_save();
+            self.file_save(w, camera);
         }
         if ui.add(item("Save As…", &SHORTCUT_SAVE_AS)).clicked() {
-            self.file_save_as();
+            self.file_save_as(w);
         }
         ui.separator();
         if ui.button("Export…").on_hover_text("PC2, MDD, glTF, USD or an OBJ sequence").clicked() {
-            self.open_export();
+            self.events.push(FileEvent::OpenExport);
         }
         ui.separator();
         if ui.button("Quit").clicked() {
-            self.ask_then(Pending::Quit);
+            self.ask_then(w, camera, Pending::Quit);
         }
     }
 
-    pub(super) fn file_new(&mut self) {
-        self.ask_then(Pending::New);
+    pub(super) fn file_new(&mut self, w: &mut Workspace, camera: &mut OrbitCamera) {
+        self.ask_then(w, camera, Pending::New);
     }
 
-    pub(super) fn file_open(&mut self) {
-        self.ask_then(Pending::Open);
+    pub(super) fn file_open(&mut self, w: &mut Workspace, camera: &mut OrbitCamera) {
+        self.ask_then(w, camera, Pending::Open);
     }
 
-    pub(super) fn file_save(&mut self) {
-        self.save_then(None);
+    pub(super) fn file_save(&mut self, w: &mut Workspace, camera: &mut OrbitCamera) {
+        self.save_then(w, camera, None);
     }
 
-    pub(super) fn file_save_as(&mut self) {
-        self.open_save_dialog(None);
+    pub(super) fn file_save_as(&mut self, w: &mut Workspace) {
+        self.open_save_dialog(w, None);
     }
 
     /// Runs `action` now, or after the save-changes question when there is unsaved work.
-    fn ask_then(&mut self, action: Pending) {
-        if self.doc.is_dirty() {
-            self.files.prompt = Some(action);
+    fn ask_then(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, action: Pending) {
+        if w.doc.is_dirty() {
+            self.prompt = Some(action);
         } else {
-            self.proceed(action);
+            self.proceed(w, camera, action);
         }
     }
 
-    fn proceed(&mut self, action: Pending) {
+    fn proceed(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, action: Pending) {
         match action {
-            Pending::New => self.replace_document(new_scene(), None),
+            Pending::New => self.replace_document(w, camera, new_scene(), None),
             Pending::Open => {
-                let dialog = FileDialog::new(FileDialogMode::Open, "Open scene", &self.start_dir(), "", "ron");
-                self.files.dialog = Some((dialog, Purpose::Open));
+                let dialog = FileDialog::new(FileDialogMode::Open, "Open scene", &self.start_dir(w), "", "ron");
+                self.dialog = Some((dialog, Purpose::Open));
             }
-            Pending::OpenPath(path) => self.open_path(&path),
+            Pending::OpenPath(path) => self.open_path(w, camera, &path),
             Pending::Quit => {
-                self.files.closing = true;
-                if let Some(ctx) = self.context() {
+                self.closing = true;
+                if let Some(ctx) = w.shown.context() {
                     ctx.send_viewport_cmd(egui::ViewportCommand::Close);
                 }
             }
@@ -169,8 +184,8 @@ impl DrapeApp {
     }
 
     /// The folder a file dialog starts in: the scene's, else the working directory.
-    fn start_dir(&self) -> PathBuf {
-        self.doc
+    fn start_dir(&self, w: &Workspace) -> PathBuf {
+        w.doc
             .path()
             .and_then(Path::parent)
             .filter(|dir| dir.is_dir())
@@ -180,134 +195,130 @@ impl DrapeApp {
     }
 
     /// Loads `path`; on failure the error is shown and the current work stays as it is.
-    pub fn open_path(&mut self, path: &Path) {
+    pub fn open_path(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, path: &Path) {
         match scene::load(path) {
             Ok(scene) => {
-                self.files.recent.push(path);
-                self.save_recent();
-                self.replace_document(scene, Some(path.to_path_buf()));
-                self.report(format!("Opened {}", path.display()), false);
+                self.recent.push(path);
+                self.save_recent(w);
+                self.replace_document(w, camera, scene, Some(path.to_path_buf()));
+                w.report(format!("Opened {}", path.display()), false);
             }
             Err(error) => {
                 if !path.exists() {
-                    self.files.recent.remove(path);
-                    self.save_recent();
+                    self.recent.remove(path);
+                    self.save_recent(w);
                 }
-                self.files.error = Some(format!("Could not open the scene:\n{error}"));
+                w.alert = Some(format!("Could not open the scene:\n{error}"));
             }
         }
     }
 
     /// Shows `scene` as a fresh document: no history, nothing selected, the camera on its view.
-    fn replace_document(&mut self, scene: Scene, path: Option<PathBuf>) {
+    fn replace_document(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, scene: Scene, path: Option<PathBuf>) {
         if let Some(view) = &scene.view {
-            self.camera = OrbitCamera::from_view(view);
+            *camera = OrbitCamera::from_view(view);
         } else {
-            self.frame_when_shown = true;
+            w.shown.frame_when_shown = true;
         }
-        self.doc = Document::new(scene, path);
-        self.after_document_change();
+        w.replace_document(scene, path);
+        self.events.push(FileEvent::Replaced);
     }
 
     /// Saves to the document's file (asking for one if it has none), then carries on with `then`.
-    fn save_then(&mut self, then: Option<Pending>) {
-        match self.doc.path().map(Path::to_path_buf) {
+    fn save_then(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, then: Option<Pending>) {
+        match w.doc.path().map(Path::to_path_buf) {
             Some(path) => {
-                if self.save_to(&path)
+                if self.save_to(w, camera, &path)
                     && let Some(action) = then
                 {
-                    self.proceed(action);
+                    self.proceed(w, camera, action);
                 }
             }
-            None => self.open_save_dialog(then),
+            None => self.open_save_dialog(w, then),
         }
     }
 
-    fn open_save_dialog(&mut self, then: Option<Pending>) {
-        let name = match self.doc.path() {
-            Some(_) => self.doc.display_name(),
+    fn open_save_dialog(&mut self, w: &Workspace, then: Option<Pending>) {
+        let name = match w.doc.path() {
+            Some(_) => w.doc.display_name(),
             None => "untitled.ron".to_owned(),
         };
-        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &self.start_dir(), &name, "ron");
-        self.files.dialog = Some((dialog, Purpose::SaveAs(then)));
+        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &self.start_dir(w), &name, "ron");
+        self.dialog = Some((dialog, Purpose::SaveAs(then)));
     }
 
     /// Writes the scene (with the current camera) to `path` atomically; false and an error shown on failure.
-    pub fn save_to(&mut self, path: &Path) -> bool {
-        self.doc.set_view_quietly(Some(self.camera.to_view()));
-        match scene::save(self.doc.scene(), path) {
+    pub fn save_to(&mut self, w: &mut Workspace, camera: &OrbitCamera, path: &Path) -> bool {
+        w.doc.set_view_quietly(Some(camera.to_view()));
+        match scene::save(w.doc.scene(), path) {
             Ok(()) => {
-                self.doc.mark_saved(path.to_path_buf());
-                self.files.recent.push(path);
-                self.save_recent();
-                if let Some(recovery) = &self.files.recovery {
+                w.doc.mark_saved(path.to_path_buf());
+                self.recent.push(path);
+                self.save_recent(w);
+                if let Some(recovery) = &self.recovery {
                     let _ = recovery.clear();
                 }
-                self.report(format!("Saved {}", path.display()), false);
+                w.report(format!("Saved {}", path.display()), false);
                 true
             }
             Err(error) => {
-                self.files.error = Some(format!("Could not save the scene; the file on disk is unchanged:\n{error}"));
+                w.alert = Some(format!("Could not save the scene; the file on disk is unchanged:\n{error}"));
                 false
             }
         }
     }
 
-    fn save_recent(&mut self) {
-        if let Err(error) = self.files.recent.save()
-            && !self.files.recent.config_file().as_os_str().is_empty()
+    fn save_recent(&mut self, w: &mut Workspace) {
+        if let Err(error) = self.recent.save()
+            && !self.recent.config_file().as_os_str().is_empty()
         {
-            self.report(format!("Could not remember recent files: {error}"), true);
+            w.report(format!("Could not remember recent files: {error}"), true);
         }
     }
 
     /// Dialogs, the save-changes prompt, load errors and the recovery offer, drawn every frame.
-    pub(super) fn file_dialogs(&mut self, ctx: &egui::Context) {
-        if let Some((dialog, purpose)) = &mut self.files.dialog
+    pub(super) fn dialogs_ui(&mut self, ctx: &egui::Context, w: &mut Workspace, camera: &mut OrbitCamera) {
+        if let Some((dialog, purpose)) = &mut self.dialog
             && let Some(outcome) = dialog.show(ctx)
         {
             let purpose = purpose.clone();
-            self.files.dialog = None;
+            self.dialog = None;
             if let FileDialogOutcome::Picked(path) = outcome {
                 match purpose {
-                    Purpose::Open => self.open_path(&path),
+                    Purpose::Open => self.open_path(w, camera, &path),
                     Purpose::SaveAs(then) => {
-                        if self.save_to(&path)
+                        if self.save_to(w, camera, &path)
                             && let Some(action) = then
                         {
-                            self.proceed(action);
+                            self.proceed(w, camera, action);
                         }
                     }
                 }
             }
         }
-        if let Some(action) = self.files.prompt.clone() {
+        if let Some(action) = self.prompt.clone() {
             let question = match action {
                 Pending::Quit => "before closing",
                 _ => "before continuing",
             };
             let message =
-                format!("Save changes to {} {question}? Unsaved changes are lost otherwise.", self.doc.display_name());
+                format!("Save changes to {} {question}? Unsaved changes are lost otherwise.", w.doc.display_name());
             if let Some(choice) = discard_prompt(ctx, "Unsaved changes", &message) {
-                self.files.prompt = None;
+                self.prompt = None;
                 match choice {
-                    DiscardChoice::Save => self.save_then(Some(action)),
-                    DiscardChoice::Discard => self.proceed(action),
+                    DiscardChoice::Save => self.save_then(w, camera, Some(action)),
+                    DiscardChoice::Discard => self.proceed(w, camera, action),
                     DiscardChoice::Cancel => {}
                 }
             }
         }
-        self.error_window(ctx);
-        self.recovery_window(ctx);
+        Self::error_window(ctx, w);
+        self.recovery_window(ctx, w, camera);
     }
 
     /// Shows a file problem (load, save, export) until the user dismisses it.
-    pub fn show_file_error(&mut self, message: String) {
-        self.files.error = Some(message);
-    }
-
-    fn error_window(&mut self, ctx: &egui::Context) {
-        let Some(error) = self.files.error.clone() else { return };
+    fn error_window(ctx: &egui::Context, w: &mut Workspace) {
+        let Some(error) = w.alert.clone() else { return };
         let modal = egui::Modal::new(egui::Id::unique("file-error")).show(ctx, |ui| {
             ui.set_max_width(560.0);
             ui.heading("Problem with the file");
@@ -318,32 +329,32 @@ impl DrapeApp {
             ui.button("OK").clicked()
         });
         if modal.inner || modal.should_close() {
-            self.files.error = None;
+            w.alert = None;
         }
     }
 
     /// Adds the scene the editor was started on to the recent files.
-    pub fn remember_opened(&mut self) {
-        if let Some(path) = self.doc.path().map(Path::to_path_buf) {
-            self.files.recent.push(&path);
-            self.save_recent();
+    pub fn remember_opened(&mut self, w: &mut Workspace) {
+        if let Some(path) = w.doc.path().map(Path::to_path_buf) {
+            self.recent.push(&path);
+            self.save_recent(w);
         }
     }
 
     /// Looks for unsaved work a crashed session left; call once at start.
-    pub fn offer_recovery(&mut self) {
-        let Some(recovery) = &self.files.recovery else { return };
+    pub fn offer_recovery(&mut self, w: &mut Workspace) {
+        let Some(recovery) = &self.recovery else { return };
         match recovery.read() {
-            Some(Ok(recovered)) => self.files.recovered = Some(recovered),
+            Some(Ok(recovered)) => self.recovered = Some(recovered),
             Some(Err(error)) => {
-                self.report(format!("A recovery file was found but cannot be read ({error}); it was kept."), true)
+                w.report(format!("A recovery file was found but cannot be read ({error}); it was kept."), true)
             }
             None => {}
         }
     }
 
-    fn recovery_window(&mut self, ctx: &egui::Context) {
-        let Some(recovered) = &self.files.recovered else { return };
+    fn recovery_window(&mut self, ctx: &egui::Context, w: &mut Workspace, camera: &mut OrbitCamera) {
+        let Some(recovered) = &self.recovered else { return };
         let text = recovered.describe(SystemTime::now());
         let modal = egui::Modal::new(egui::Id::unique("recovery")).show(ctx, |ui| {
             ui.set_max_width(460.0);
@@ -363,12 +374,12 @@ impl DrapeApp {
             .inner
         });
         let Some(restore) = modal.inner else { return };
-        let recovered = self.files.recovered.take().expect("shown above");
+        let Some(recovered) = self.recovered.take() else { return };
         if restore {
-            self.replace_document(recovered.scene.clone(), recovered.original.clone());
-            self.doc.mark_unsaved();
-            self.report("Restored the unsaved work; save it to keep it.".to_owned(), false);
-        } else if let Some(recovery) = &self.files.recovery {
+            self.replace_document(w, camera, recovered.scene.clone(), recovered.original.clone());
+            w.doc.mark_unsaved();
+            w.report("Restored the unsaved work; save it to keep it.".to_owned(), false);
+        } else if let Some(recovery) = &self.recovery {
             let _ = recovery.clear();
         }
     }
@@ -376,42 +387,41 @@ impl DrapeApp {
     /// Writes the recovery file when the scene has unsaved changes and the clock says so.
     /// Autosaves every `interval` while there are unsaved changes instead of
     /// every [`DEFAULT_AUTOSAVE_INTERVAL`] (tests).
-    pub fn with_autosave_interval(mut self, interval: std::time::Duration) -> Self {
-        self.files.autosave.interval = interval;
-        self
+    pub fn set_autosave_interval(&mut self, interval: std::time::Duration) {
+        self.autosave.interval = interval;
     }
 
     /// Writes the recovery file when it is due, and while the scene has
     /// unsaved changes asks for a frame when the next one is due: egui draws
     /// only on input, and an editor left alone must still autosave on time.
-    pub(super) fn autosave(&mut self, ctx: &egui::Context) {
-        let dirty = self.doc.is_dirty();
+    pub(super) fn autosave(&mut self, ctx: &egui::Context, w: &mut Workspace) {
+        let dirty = w.doc.is_dirty();
         let now = Instant::now();
-        let due = self.files.autosave.due(now, dirty);
-        if dirty && self.files.recovery.is_some() {
-            ctx.request_repaint_after(self.files.autosave.time_until_due(now));
+        let due = self.autosave.due(now, dirty);
+        if dirty && self.recovery.is_some() {
+            ctx.request_repaint_after(self.autosave.time_until_due(now));
         }
         if !due {
             return;
         }
-        if let Some(recovery) = &self.files.recovery
-            && let Err(error) = recovery.write(self.doc.scene(), self.doc.path())
+        if let Some(recovery) = &self.recovery
+            && let Err(error) = recovery.write(w.doc.scene(), w.doc.path())
         {
-            self.report(format!("Autosave failed: {error}"), true);
+            w.report(format!("Autosave failed: {error}"), true);
         }
     }
 
     /// A close request with unsaved work is held back until the user answers.
-    pub(super) fn handle_close_request(&mut self, ctx: &egui::Context) {
-        if ctx.input(|i| i.viewport().close_requested()) && self.doc.is_dirty() && !self.files.closing {
+    pub(super) fn handle_close_request(&mut self, ctx: &egui::Context, w: &Workspace) {
+        if ctx.input(|i| i.viewport().close_requested()) && w.doc.is_dirty() && !self.closing {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
-            self.files.prompt = Some(Pending::Quit);
+            self.prompt = Some(Pending::Quit);
         }
     }
 
     /// The window is closing after the user's choice: no recovery is needed.
     pub(super) fn clean_exit(&mut self) {
-        if let Some(recovery) = &self.files.recovery {
+        if let Some(recovery) = &self.recovery {
             let _ = recovery.clear();
         }
     }

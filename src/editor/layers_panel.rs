@@ -5,8 +5,9 @@
 
 use eframe::egui::{self, DragValue};
 
-use super::app::DrapeApp;
+use super::curve_view::CurveView;
 use super::param_edit::{key_at, param_mut, param_names, set_at, toggle_key};
+use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::scene::{FollowThrough, Layer, Param, WaveAxis};
 
@@ -66,22 +67,30 @@ fn icon_button(ui: &mut egui::Ui, icon: Icon, enabled: bool, label: &str) -> egu
     response
 }
 
-impl DrapeApp {
-    pub(super) fn layers_panel(&mut self, ui: &mut egui::Ui) {
+/// The Layers panel's own state: a row dragged by its grip, and the curve view.
+#[derive(Default)]
+pub struct LayersPanel {
+    /// The layer being dragged by its grip in the layer list.
+    layer_drag: Option<usize>,
+    curve: CurveView,
+}
+
+impl LayersPanel {
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Layers");
         ui.menu_button("Add layer", |ui| {
             for (kind, label) in
                 [("Sway", "Sway"), ("Wave", "Wave"), ("Gusts", "Gusts"), ("FollowThrough", "Follow-through")]
             {
                 if ui.button(label).clicked() {
-                    let at = self.doc.scene().layers.len();
-                    self.apply("Add layer", |s| s.layers.push(new_layer(kind)));
-                    self.selected_layer = Some(at);
+                    let at = w.doc.scene().layers.len();
+                    w.apply("Add layer", |s| s.layers.push(new_layer(kind)));
+                    w.session.selected_layer = Some(at);
                 }
             }
         });
         ui.weak("Applied top to bottom.");
-        let layers = self.doc.scene().layers.clone();
+        let layers = w.doc.scene().layers.clone();
         let mut rows = Vec::with_capacity(layers.len());
         let mut dropped = false;
         for (index, layer) in layers.iter().enumerate() {
@@ -99,53 +108,53 @@ impl DrapeApp {
                     egui::WidgetInfo::selected(egui::Role::CheckBox, true, enabled, format!("Enable {label}"))
                 });
                 if checkbox.changed() {
-                    self.apply("Enable layer", |s| *s.layers[index].enabled_mut() = enabled);
+                    w.apply("Enable layer", |s| *s.layers[index].enabled_mut() = enabled);
                 }
                 let label = layer.label(index);
                 let last = index + 1 == layers.len();
                 let up = icon_button(ui, Icon::Up, index > 0, &format!("Move {label} up")).on_hover_text("Earlier");
                 if up.clicked() {
-                    self.move_layer(index, index - 1);
+                    move_layer(w, index, index - 1);
                 }
                 let down = icon_button(ui, Icon::Down, !last, &format!("Move {label} down")).on_hover_text("Later");
                 if down.clicked() {
-                    self.move_layer(index, index + 1);
+                    move_layer(w, index, index + 1);
                 }
                 let remove = ui.small_button("×").on_hover_text("Remove the layer");
                 remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
                 if remove.clicked() {
-                    self.apply("Remove layer", |s| {
+                    w.apply("Remove layer", |s| {
                         s.layers.remove(index);
                     });
-                    self.selected_layer = None;
-                    self.solo_layer = None;
+                    w.session.selected_layer = None;
+                    w.session.solo_layer = None;
                 }
-                let mut solo = self.solo_layer == Some(index);
+                let mut solo = w.session.solo_layer == Some(index);
                 let solo_toggle = ui.toggle_value(&mut solo, "S").on_hover_text("Solo: show this layer alone");
                 solo_toggle.widget_info(|| {
                     egui::WidgetInfo::selected(egui::Role::Switch, true, solo, format!("Solo {label}"))
                 });
                 if solo_toggle.changed() {
-                    self.solo_layer = solo.then_some(index);
+                    w.session.solo_layer = solo.then_some(index);
                 }
-                let selected = self.selected_layer == Some(index);
+                let selected = w.session.selected_layer == Some(index);
                 let kind = if layer.kind() == "FollowThrough" { "Follow-through" } else { layer.kind() };
                 let title =
                     if layer.name().is_empty() { format!("{kind} {}", index + 1) } else { layer.name().to_owned() };
                 if ui.selectable_label(selected, title).on_hover_text(label).clicked() {
-                    self.selected_layer = if selected { None } else { Some(index) };
+                    w.session.selected_layer = if selected { None } else { Some(index) };
                 }
             });
             rows.push(row.response.rect);
         }
-        self.layer_drop(ui, &rows, dropped);
-        let Some(index) = self.selected_layer.filter(|i| *i < layers.len()) else { return };
+        self.layer_drop(ui, w, &rows, dropped);
+        let Some(index) = w.session.selected_layer.filter(|i| *i < layers.len()) else { return };
         ui.separator();
-        self.layer_details(ui, index, &layers[index]);
+        self.layer_details(ui, w, index, &layers[index]);
     }
 
     /// While a row is dragged by its grip: a line where it would land; on release, the move.
-    fn layer_drop(&mut self, ui: &mut egui::Ui, rows: &[egui::Rect], dropped: bool) {
+    fn layer_drop(&mut self, ui: &mut egui::Ui, w: &mut Workspace, rows: &[egui::Rect], dropped: bool) {
         let Some(from) = self.layer_drag.filter(|i| *i < rows.len()) else {
             self.layer_drag = None;
             return;
@@ -162,31 +171,18 @@ impl DrapeApp {
         ui.painter().hline(x, y, egui::Stroke::new(2.0, ui.visuals().selection.stroke.color));
         if dropped {
             self.layer_drag = None;
-            self.move_layer(from, moved_to(from, slot));
+            move_layer(w, from, moved_to(from, slot));
         }
     }
 
-    /// Moves layer `from` to position `to` as one undo step; selection and solo follow their layers.
-    pub(super) fn move_layer(&mut self, from: usize, to: usize) {
-        if from == to || to >= self.doc.scene().layers.len() {
-            return;
-        }
-        self.apply("Reorder layers", |s| {
-            let layer = s.layers.remove(from);
-            s.layers.insert(to, layer);
-        });
-        self.selected_layer = self.selected_layer.map(|i| index_after_move(i, from, to));
-        self.solo_layer = self.solo_layer.map(|i| index_after_move(i, from, to));
-    }
-
-    fn layer_details(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
-        let frame = self.frame().round() as i32;
+    fn layer_details(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Layer) {
+        let frame = w.frame().round() as i32;
         let mut name = layer.name().to_owned();
         ui.horizontal(|ui| {
             let label = ui.label("Name").id;
             let edit = ui.add(egui::TextEdit::singleline(&mut name).desired_width(140.0)).labelled_by(label);
             if edit.changed() {
-                self.apply("Rename layer", |s| *s.layers[index].name_mut() = name.clone());
+                w.apply("Rename layer", |s| *s.layers[index].name_mut() = name.clone());
             }
         });
         ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
@@ -208,21 +204,21 @@ impl DrapeApp {
                 };
                 let toggle = icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key {param}"));
                 let toggle = toggle.on_hover_text(hint);
-                self.curve_button(ui, index, layer, param);
+                self.curve.button_ui(ui, index, layer, param);
                 ui.end_row();
                 let what = format!("Layer {}", param.replace('_', " "));
                 if response.drag_started() {
-                    self.doc.begin_gesture(&what);
+                    w.doc.begin_gesture(&what);
                 }
                 if response.changed() {
-                    self.apply(&what, |s| {
+                    w.apply(&what, |s| {
                         if let Some(p) = param_mut(&mut s.layers[index], param) {
                             set_at(p, frame, value);
                         }
                     });
                 }
                 if toggle.clicked() {
-                    self.apply("Key parameter", |s| {
+                    w.apply("Key parameter", |s| {
                         if let Some(p) = param_mut(&mut s.layers[index], param) {
                             toggle_key(p, frame);
                         }
@@ -230,74 +226,87 @@ impl DrapeApp {
                 }
             }
         });
-        self.curve_view(ui, index, layer);
-        self.layer_vectors(ui, index, layer);
+        self.curve.plot_ui(ui, w, index, layer);
+        layer_vectors(ui, w, index, layer);
     }
+}
 
-    /// The layer's fixed settings: directions, the wave's axis, the gusts' octaves and seed.
-    fn layer_vectors(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer) {
-        let direction = match layer {
-            Layer::Sway(l) => Some(l.direction),
-            Layer::Gusts(l) => Some(l.direction),
-            _ => None,
+/// Moves layer `from` to position `to` as one undo step; selection and solo follow their layers.
+fn move_layer(w: &mut Workspace, from: usize, to: usize) {
+    if from == to || to >= w.doc.scene().layers.len() {
+        return;
+    }
+    w.apply("Reorder layers", |s| {
+        let layer = s.layers.remove(from);
+        s.layers.insert(to, layer);
+    });
+    w.session.selected_layer = w.session.selected_layer.map(|i| index_after_move(i, from, to));
+    w.session.solo_layer = w.session.solo_layer.map(|i| index_after_move(i, from, to));
+}
+
+/// The layer's fixed settings: directions, the wave's axis, the gusts' octaves and seed.
+fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Layer) {
+    let direction = match layer {
+        Layer::Sway(l) => Some(l.direction),
+        Layer::Gusts(l) => Some(l.direction),
+        _ => None,
+    };
+    if let Some(mut d) = direction {
+        ui.horizontal(|ui| {
+            ui.label("Direction");
+            let mut changed = false;
+            for value in [&mut d.0, &mut d.1, &mut d.2] {
+                changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
+            }
+            if changed {
+                w.apply("Layer direction", |s| match &mut s.layers[index] {
+                    Layer::Sway(l) => l.direction = d,
+                    Layer::Gusts(l) => l.direction = d,
+                    _ => {}
+                });
+            }
+        });
+    }
+    if let Layer::Wave(wave) = layer {
+        let mut fixed = matches!(wave.axis, WaveAxis::Fixed(_));
+        let mut axis = match wave.axis {
+            WaveAxis::Fixed(v) => v,
+            WaveAxis::Normal => (0.0, 1.0, 0.0),
         };
-        if let Some(mut d) = direction {
-            ui.horizontal(|ui| {
-                ui.label("Direction");
-                let mut changed = false;
-                for value in [&mut d.0, &mut d.1, &mut d.2] {
+        ui.horizontal(|ui| {
+            let mut changed =
+                ui.checkbox(&mut fixed, "Fixed axis").on_hover_text("Else along the surface normal").changed();
+            if fixed {
+                for value in [&mut axis.0, &mut axis.1, &mut axis.2] {
                     changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
                 }
-                if changed {
-                    self.apply("Layer direction", |s| match &mut s.layers[index] {
-                        Layer::Sway(l) => l.direction = d,
-                        Layer::Gusts(l) => l.direction = d,
-                        _ => {}
-                    });
-                }
-            });
-        }
-        if let Layer::Wave(wave) = layer {
-            let mut fixed = matches!(wave.axis, WaveAxis::Fixed(_));
-            let mut axis = match wave.axis {
-                WaveAxis::Fixed(v) => v,
-                WaveAxis::Normal => (0.0, 1.0, 0.0),
-            };
-            ui.horizontal(|ui| {
-                let mut changed =
-                    ui.checkbox(&mut fixed, "Fixed axis").on_hover_text("Else along the surface normal").changed();
-                if fixed {
-                    for value in [&mut axis.0, &mut axis.1, &mut axis.2] {
-                        changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
+            }
+            if changed {
+                let new = if fixed { WaveAxis::Fixed(axis) } else { WaveAxis::Normal };
+                w.apply("Wave axis", |s| {
+                    if let Layer::Wave(l) = &mut s.layers[index] {
+                        l.axis = new;
                     }
-                }
-                if changed {
-                    let new = if fixed { WaveAxis::Fixed(axis) } else { WaveAxis::Normal };
-                    self.apply("Wave axis", |s| {
-                        if let Layer::Wave(l) = &mut s.layers[index] {
-                            l.axis = new;
-                        }
-                    });
-                }
-            });
-        }
-        if let Layer::Gusts(gusts) = layer {
-            let (mut octaves, mut seed) = (gusts.octaves, gusts.seed);
-            ui.horizontal(|ui| {
-                ui.label("Octaves");
-                let a = ui.add(DragValue::new(&mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
-                ui.label("Seed");
-                let b = ui.add(DragValue::new(&mut seed)).changed();
-                if a || b {
-                    self.apply("Gusts", |s| {
-                        if let Layer::Gusts(l) = &mut s.layers[index] {
-                            l.octaves = octaves;
-                            l.seed = seed;
-                        }
-                    });
-                }
-            });
-        }
+                });
+            }
+        });
+    }
+    if let Layer::Gusts(gusts) = layer {
+        let (mut octaves, mut seed) = (gusts.octaves, gusts.seed);
+        ui.horizontal(|ui| {
+            ui.label("Octaves");
+            let a = ui.add(DragValue::new(&mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
+            ui.label("Seed");
+            let b = ui.add(DragValue::new(&mut seed)).changed();
+            if a || b {
+                w.apply("Gusts", |s| {
+                    if let Layer::Gusts(l) = &mut s.layers[index] {
+                        l.octaves = octaves;
+                        l.seed = seed;
+                    }
+                });
+            }
+        });
     }
 }
 

@@ -1,6 +1,15 @@
 //! The desktop editor (eframe: egui on winit with egui-wgpu). The only module
 //! that knows egui; it draws through [`crate::render`] like headless code does.
-
+//!
+//! [`app`] is thin: it owns a [`workspace::Workspace`] (the document, the
+//! shapes on screen, the playhead and selections, the status line) and one
+//! struct per panel, each holding only its own state and drawn by a `ui`
+//! method that takes the workspace:
+//! [`viewport_panel`] (with `viewport_input` for the mouse, [`viewport`] for
+//! the GPU), `timeline`, `layers_panel` (with [`curve_view`]), `cloth_panel`
+//! (with [`grid_editor`]), [`files`] and `export_window`. No panel imports
+//! another panel or the app; what one panel changes for another (the
+//! playhead, selected pins, key or layer) lives in the workspace's session.
 pub mod app;
 pub mod bezier_handles;
 mod cloth_panel;
@@ -14,14 +23,19 @@ pub mod grid_editor;
 mod layers_panel;
 pub mod param_edit;
 pub mod picking;
+pub mod pin_drag;
 pub mod prompt;
 pub mod recent;
 pub mod recovery;
 pub mod shaper;
+pub mod shortcuts;
+pub mod shown;
 mod timeline;
 #[cfg(test)]
 mod ui_driver;
 pub mod viewport;
 mod viewport_input;
+pub mod viewport_panel;
+pub mod workspace;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};

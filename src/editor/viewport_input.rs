@@ -5,7 +5,9 @@
 use eframe::egui::{self, Key, PointerButton, Response};
 use glam::{Vec2, Vec3};
 
-use super::app::DrapeApp;
+use super::pin_drag::{AxisLock, PinDrag};
+use super::viewport_panel::ViewportPanel;
+use super::workspace::Workspace;
 use super::{edits, picking};
 
 /// Mouse-wheel points per dolly step.
@@ -13,42 +15,9 @@ const POINTS_PER_DOLLY_STEP: f32 = 50.0;
 /// How close (in points) the pointer must be to a cloth point to hover it.
 const PICK_RADIUS_PT: f32 = 10.0;
 
-/// A world axis a dragged pin is locked to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AxisLock {
-    X,
-    Y,
-    Z,
-}
-
-impl AxisLock {
-    pub fn vector(self) -> Vec3 {
-        match self {
-            AxisLock::X => Vec3::X,
-            AxisLock::Y => Vec3::Y,
-            AxisLock::Z => Vec3::Z,
-        }
-    }
-}
-
-/// A pin being dragged: its grid point and its position when the drag began.
-pub type MovingPin = ((u32, u32), (f64, f64, f64));
-
-/// A drag of one or more pins, from where they were when it began.
-pub struct PinDrag {
-    /// The pin under the mouse and its start position.
-    pub grabbed: (u32, u32),
-    pub anchor: Vec3,
-    /// Every moving pin with its start position.
-    pub pins: Vec<MovingPin>,
-    pub lock: Option<AxisLock>,
-    /// Key index the pins belong to.
-    pub key: usize,
-}
-
-impl DrapeApp {
+impl ViewportPanel {
     /// Camera navigation, hover and pin editing for this frame's pointer.
-    pub(super) fn viewport_input(&mut self, ui: &egui::Ui, response: &Response, size_px: (u32, u32)) {
+    pub(super) fn pointer_input(&mut self, ui: &egui::Ui, w: &mut Workspace, response: &Response, size_px: (u32, u32)) {
         let rect = response.rect;
         let delta = response.drag_delta();
         let delta = Vec2::new(delta.x, delta.y);
@@ -74,18 +43,18 @@ impl DrapeApp {
         let pointer_px = response.hover_pos().or(response.interact_pointer_pos()).map(to_px);
 
         // Hover: the cloth point under the mouse, when the grid on screen is the document's.
-        let same_grid = self.shown.cloth.grid == self.doc.scene().cloth.grid;
-        self.hovered = None;
+        let same_grid = w.shown.scene.cloth.grid == w.doc.scene().cloth.grid;
+        w.session.hovered = None;
         if let Some(pointer) = pointer_px
             && self.pin_drag.is_none()
             && same_grid
             && response.hovered()
         {
-            self.hovered = self.point_at(pointer, size_px, pixels_per_point);
+            w.session.hovered = self.point_at(w, pointer, size_px, pixels_per_point);
         }
 
         if self.pin_drag.is_some() {
-            self.continue_pin_drag(ui, response, size_px, pointer_px);
+            self.continue_pin_drag(ui, w, response, size_px, pointer_px);
             return;
         }
         if alt {
@@ -94,27 +63,27 @@ impl DrapeApp {
         if response.drag_started_by(PointerButton::Primary) {
             // The drag starts where the button went down, a few pixels before egui calls it a drag.
             let origin = ui.input(|i| i.pointer.press_origin()).map(to_px);
-            let grabbed = origin.filter(|_| same_grid).and_then(|at| self.point_at(at, size_px, pixels_per_point));
+            let grabbed = origin.filter(|_| same_grid).and_then(|at| self.point_at(w, at, size_px, pixels_per_point));
             if let Some(point) = grabbed
-                && edits::is_pinned(&self.doc.scene().keys[self.edit_key_index()], point)
+                && edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point)
             {
-                self.start_pin_drag(point, shift);
-                self.continue_pin_drag(ui, response, size_px, pointer_px);
+                self.start_pin_drag(w, point, shift);
+                self.continue_pin_drag(ui, w, response, size_px, pointer_px);
             }
             return;
         }
         if response.clicked_by(PointerButton::Primary) {
             let shift = super::grid_editor::click_modifiers(ui).shift;
-            match self.hovered {
+            match w.session.hovered {
                 Some(point) => {
-                    let key = &self.doc.scene().keys[self.edit_key_index()];
+                    let key = &w.doc.scene().keys[w.edit_key_index()];
                     if edits::is_pinned(key, point) {
-                        self.select(point, shift);
+                        select(&mut w.session.selection, point, shift);
                     } else {
-                        self.toggle_pin(point);
+                        w.toggle_pin(point);
                     }
                 }
-                None if !shift => self.selection.clear(),
+                None if !shift => w.session.selection.clear(),
                 None => {}
             }
         }
@@ -123,14 +92,20 @@ impl DrapeApp {
     /// The grid point under `pointer_px`: a pin of the key being edited when
     /// one is that close (pins are drawn over the cloth, so they win even
     /// behind a fold), else the nearest cloth point on the front layer.
-    fn point_at(&self, pointer_px: Vec2, size_px: (u32, u32), pixels_per_point: f32) -> Option<(u32, u32)> {
+    fn point_at(
+        &self,
+        w: &Workspace,
+        pointer_px: Vec2,
+        size_px: (u32, u32),
+        pixels_per_point: f32,
+    ) -> Option<(u32, u32)> {
         let radius_px = PICK_RADIUS_PT * pixels_per_point;
-        let cols = self.shown.cloth.cols();
-        let key = &self.doc.scene().keys[self.edit_key_index()];
+        let cols = w.shown.scene.cloth.cols();
+        let key = &w.doc.scene().keys[w.edit_key_index()];
         let pins: Vec<(u32, u32)> = key.pins.iter().map(|p| p.grid).collect();
         let pin_positions: Vec<Vec3> = pins
             .iter()
-            .map(|&(i, j)| self.mesh.positions.get(j as usize * cols + i as usize).copied().unwrap_or(Vec3::NAN))
+            .map(|&(i, j)| w.shown.mesh.positions.get(j as usize * cols + i as usize).copied().unwrap_or(Vec3::NAN))
             .collect();
         let nearest_pin = pins.iter().zip(&pin_positions).enumerate().min_by(|a, b| {
             let distance =
@@ -142,38 +117,32 @@ impl DrapeApp {
         {
             return Some(grid);
         }
-        let index = picking::pick_vertex(&self.camera, size_px, &self.mesh.positions, pointer_px, radius_px)?;
+        let index = picking::pick_vertex(&self.camera, size_px, &w.shown.mesh.positions, pointer_px, radius_px)?;
         Some(((index % cols) as u32, (index / cols) as u32))
     }
 
-    fn select(&mut self, point: (u32, u32), add: bool) {
-        if add {
-            match self.selection.iter().position(|p| *p == point) {
-                Some(at) => {
-                    self.selection.remove(at);
-                }
-                None => self.selection.push(point),
-            }
-        } else {
-            self.selection = vec![point];
+    fn start_pin_drag(&mut self, w: &mut Workspace, grabbed: (u32, u32), add: bool) {
+        if !w.session.selection.contains(&grabbed) {
+            select(&mut w.session.selection, grabbed, add);
         }
-    }
-
-    fn start_pin_drag(&mut self, grabbed: (u32, u32), add: bool) {
-        if !self.selection.contains(&grabbed) {
-            self.select(grabbed, add);
-        }
-        let index = self.edit_key_index();
-        let key = &self.doc.scene().keys[index];
+        let index = w.edit_key_index();
+        let key = &w.doc.scene().keys[index];
         let pins: Vec<_> =
-            key.pins.iter().filter(|p| self.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
+            key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
         let Some(&(_, start)) = pins.iter().find(|(grid, _)| *grid == grabbed) else { return };
         let anchor = Vec3::new(start.0 as f32, start.1 as f32, start.2 as f32);
-        self.doc.begin_gesture(if pins.len() == 1 { "Move pin" } else { "Move pins" });
+        w.doc.begin_gesture(if pins.len() == 1 { "Move pin" } else { "Move pins" });
         self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: None, key: index });
     }
 
-    fn continue_pin_drag(&mut self, ui: &egui::Ui, response: &Response, size_px: (u32, u32), pointer: Option<Vec2>) {
+    fn continue_pin_drag(
+        &mut self,
+        ui: &egui::Ui,
+        w: &mut Workspace,
+        response: &Response,
+        size_px: (u32, u32),
+        pointer: Option<Vec2>,
+    ) {
         let Some(drag) = &mut self.pin_drag else { return };
         let (x, y, z, escape) = ui.input(|i| {
             (i.key_pressed(Key::X), i.key_pressed(Key::Y), i.key_pressed(Key::Z), i.key_pressed(Key::Escape))
@@ -186,16 +155,17 @@ impl DrapeApp {
         let (key, pins) = (drag.key, drag.pins.clone());
         if escape {
             // Back where they were: the gesture then changed nothing and leaves no undo step.
-            self.apply("Move pin", |s| {
+            w.apply("Move pin", |s| {
                 for (grid, pos) in &pins {
                     edits::move_pin(&mut s.keys[key], *grid, *pos);
                 }
             });
-            self.finish_pin_drag();
+            self.finish_pin_drag(w);
             return;
         }
-        if let Some(pointer) = pointer {
-            let drag = self.pin_drag.as_ref().expect("checked above");
+        if let Some(pointer) = pointer
+            && let Some(drag) = &self.pin_drag
+        {
             let moved = match drag.lock {
                 Some(axis) => picking::drag_along_axis(&self.camera, size_px, drag.anchor, axis.vector(), pointer),
                 None => picking::drag_in_view_plane(&self.camera, size_px, drag.anchor, pointer),
@@ -203,7 +173,7 @@ impl DrapeApp {
             if let Some(moved) = moved {
                 let offset = (moved - drag.anchor).as_dvec3();
                 let label = if pins.len() == 1 { "Move pin" } else { "Move pins" };
-                self.apply(label, |s| {
+                w.apply(label, |s| {
                     for (grid, pos) in &pins {
                         let to = (pos.0 + offset.x, pos.1 + offset.y, pos.2 + offset.z);
                         edits::move_pin(&mut s.keys[key], *grid, to);
@@ -212,12 +182,26 @@ impl DrapeApp {
             }
         }
         if response.drag_stopped() || !ui.input(|i| i.pointer.primary_down()) {
-            self.finish_pin_drag();
+            self.finish_pin_drag(w);
         }
     }
 
-    fn finish_pin_drag(&mut self) {
+    fn finish_pin_drag(&mut self, w: &mut Workspace) {
         self.pin_drag = None;
-        self.end_gesture();
+        w.end_gesture();
+    }
+}
+
+/// Selects `point` alone, or with `add` toggles it in the selection.
+fn select(selection: &mut Vec<(u32, u32)>, point: (u32, u32), add: bool) {
+    if add {
+        match selection.iter().position(|p| *p == point) {
+            Some(at) => {
+                selection.remove(at);
+            }
+            None => selection.push(point),
+        }
+    } else {
+        *selection = vec![point];
     }
 }

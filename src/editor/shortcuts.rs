@@ -1,0 +1,37 @@
+//! The editor's keyboard shortcuts, for the menus, the key handling and Help ▸ Shortcuts.
+
+use eframe::egui::{Key as KeyCode, KeyboardShortcut, Modifiers};
+
+pub const SHORTCUT_NEW: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::N);
+pub const SHORTCUT_OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::O);
+pub const SHORTCUT_SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::S);
+pub const SHORTCUT_SAVE_AS: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), KeyCode::S);
+pub const SHORTCUT_UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::Z);
+pub const SHORTCUT_REDO: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), KeyCode::Z);
+pub const SHORTCUT_REDO_ALT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::Y);
+
+/// Every shortcut, for Help ▸ Shortcuts: (keys, what they do).
+pub const SHORTCUTS: &[(&str, &str)] = &[
+    ("Ctrl+N", "New scene"),
+    ("Ctrl+O", "Open a scene"),
+    ("Ctrl+S", "Save"),
+    ("Ctrl+Shift+S", "Save as"),
+    ("Ctrl+Z", "Undo"),
+    ("Ctrl+Shift+Z, Ctrl+Y", "Redo"),
+    ("Delete", "Unpin the selected pins (or delete the key selected on the timeline)"),
+    ("K", "Add a rest-shape key at the playhead, from the current pose"),
+    ("F", "Frame the cloth in the viewport"),
+    ("Space", "Play / pause"),
+    ("Left / Right", "Step one frame back / forward"),
+    ("Home / End", "First / last frame"),
+    ("Middle-drag, Alt+left-drag", "Orbit"),
+    ("Shift+middle-drag", "Pan"),
+    ("Mouse wheel", "Dolly"),
+    ("Click a cloth point", "Pin it where it is (or select its pin)"),
+    ("Shift+click a pin", "Add it to the selection"),
+    ("Drag a pin", "Move the selected pins in the view plane"),
+    ("X / Y / Z while dragging", "Lock the move to that axis (again: unlock)"),
+    ("Esc while dragging", "Put the pins back"),
+];

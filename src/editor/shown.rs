@@ -1,0 +1,241 @@
+//! What the viewport draws: the latest version of the document whose rest
+//! shapes are all relaxed, the mesh at the playhead and the onion-skin ghosts.
+//!
+//! Edits go to the document at once; their relaxation runs on the
+//! [`Shaper`]'s worker and the shown scene catches up when it is done, so the
+//! UI never waits for a relaxation and the last good shape stays on screen.
+
+use std::borrow::Cow;
+use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+
+use super::document::Document;
+use super::shaper::{Shaper, ShaperStatus};
+use crate::animate::{self, Evaluator};
+use crate::mesh::Mesh;
+use crate::picture::scene_bounds;
+use crate::render::Ghost;
+use crate::scene::{Cloth, Key, Scene};
+use crate::shape::RelaxReport;
+
+/// Onion skin: ghosts of the `frames` frames before and after the playhead, `spacing` frames apart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OnionSkin {
+    pub frames: u32,
+    pub spacing: u32,
+}
+
+pub struct Shown {
+    /// The latest version of the document whose rest shapes are all relaxed.
+    pub scene: Scene,
+    pub evaluator: Evaluator,
+    shaper: Shaper,
+    /// The context the worker wakes when a shape is ready (set on the first frame).
+    repaint_context: Arc<OnceLock<egui::Context>>,
+    /// The shapes last asked of the worker, so a request is made once per change.
+    requested: Option<(Cloth, Vec<Key>)>,
+    /// The cloth at the playhead, in the stage shown.
+    pub mesh: Arc<Mesh>,
+    /// What `mesh` shows: (frame, stage, solo layer); `None` when it must be rebuilt.
+    mesh_of: Option<(f64, animate::Stage, Option<usize>)>,
+    pub ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
+    ghosts_of: Option<GhostsOf>,
+    /// Counts changes of `scene`.
+    version: u64,
+    /// Frame the cloth (and move the ground under it) once a newly opened scene is relaxed.
+    pub frame_when_shown: bool,
+    /// The bounds of a newly opened scene just shown, until the viewport takes them.
+    opened_bounds: Option<(glam::Vec3, glam::Vec3)>,
+}
+
+/// What the onion-skin ghosts were made for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GhostsOf {
+    frame: f64,
+    onion: OnionSkin,
+    version: u64,
+    solo: Option<usize>,
+}
+
+impl Shown {
+    /// Shows `scene` as it is, relaxing its keys now (there is no older shape to show).
+    pub fn new(scene: Scene) -> Shown {
+        let repaint_context: Arc<OnceLock<egui::Context>> = Arc::default();
+        let wake = repaint_context.clone();
+        let shaper = Shaper::new(move || {
+            if let Some(ctx) = wake.get() {
+                ctx.request_repaint();
+            }
+        });
+        Shown {
+            scene,
+            evaluator: Evaluator::new(),
+            shaper,
+            repaint_context,
+            requested: None,
+            mesh: Arc::default(),
+            mesh_of: None,
+            ghosts: Arc::default(),
+            ghosts_of: None,
+            version: 0,
+            frame_when_shown: false,
+            opened_bounds: None,
+        }
+    }
+
+    /// The bounding box of the shown scene's keys (min, max), metres.
+    pub fn bounds(&mut self) -> (glam::Vec3, glam::Vec3) {
+        scene_bounds(&mut self.evaluator, &self.scene)
+    }
+
+    /// Remembers the window's context, so the worker can wake it.
+    pub fn set_context(&self, ctx: &egui::Context) {
+        let _ = self.repaint_context.set(ctx.clone());
+    }
+
+    /// The window's context once the first frame has run.
+    pub fn context(&self) -> Option<egui::Context> {
+        self.repaint_context.get().cloned()
+    }
+
+    /// Forgets the last request and the mesh's provenance (a new document, an undo).
+    pub fn forget_requests(&mut self) {
+        self.requested = None;
+    }
+
+    /// A new document: nothing asked of the worker, the mesh rebuilt.
+    pub fn forget_document(&mut self) {
+        self.requested = None;
+        self.mesh_of = None;
+    }
+
+    /// What the worker is relaxing, for the status bar.
+    pub fn relax_status(&self) -> Option<ShaperStatus> {
+        self.shaper.status()
+    }
+
+    /// Whether a relaxation of `doc`'s shapes is pending or running.
+    pub fn is_relaxing(&self, doc: &Document) -> bool {
+        self.shaper.is_busy() || *doc.scene() != self.scene
+    }
+
+    /// Waits for the worker to go idle (its spinner cleared).
+    pub fn wait_idle(&self, timeout: Duration) -> bool {
+        self.shaper.wait_idle(timeout)
+    }
+
+    /// The bounds (min, max) of a newly opened scene that has just been shown,
+    /// once: the viewport frames it and puts the ground under it.
+    pub fn take_opened_bounds(&mut self) -> Option<(glam::Vec3, glam::Vec3)> {
+        self.opened_bounds.take()
+    }
+
+    /// Takes finished shapes from the worker and asks it for the ones `doc` still lacks.
+    pub fn sync(&mut self, doc: &Document) {
+        for built in self.shaper.take_built() {
+            self.evaluator.cache_mut().insert(&built.cloth, &built.key, built.shape);
+        }
+        let scene = doc.scene();
+        if *scene == self.scene {
+            return;
+        }
+        let cache = self.evaluator.cache();
+        let missing: Vec<Key> = scene.keys.iter().filter(|k| cache.get(&scene.cloth, k).is_none()).cloned().collect();
+        if missing.is_empty() {
+            self.scene = scene.clone();
+            self.version += 1;
+            self.mesh_of = None;
+            self.requested = None;
+            if std::mem::take(&mut self.frame_when_shown) {
+                self.opened_bounds = Some(self.bounds());
+            }
+            return;
+        }
+        let request = (scene.cloth.clone(), missing);
+        if self.requested.as_ref() != Some(&request) {
+            // The moves of a drag in progress do not cancel each other; anything else does.
+            let supersede = !doc.in_gesture();
+            self.shaper.request(&request.0, request.1.clone(), supersede);
+            self.requested = Some(request);
+        }
+    }
+
+    /// Makes `mesh` the shown scene at `frame` in `stage`, with only layer `solo` on if given.
+    pub fn refresh_mesh(&mut self, frame: f64, stage: animate::Stage, solo: Option<usize>) {
+        if self.mesh_of == Some((frame, stage, solo)) {
+            return;
+        }
+        let shown = soloed(&self.scene, solo);
+        // The last frame's paint callback has let go of the mesh by now, so this rarely copies.
+        let mesh = Arc::make_mut(&mut self.mesh);
+        self.evaluator.stage_mesh_into(&shown, frame, stage, Default::default(), mesh);
+        self.mesh_of = Some((frame, stage, solo));
+    }
+
+    /// Onion-skin ghosts around `frame` (none when `onion` is `None`): earlier
+    /// frames tinted blue, later ones orange, fainter further away; none
+    /// outside the timeline.
+    pub fn refresh_ghosts(&mut self, frame: f64, onion: Option<OnionSkin>, solo: Option<usize>) {
+        let Some(onion) = onion else {
+            self.ghosts = Arc::default();
+            self.ghosts_of = None;
+            return;
+        };
+        let wanted = GhostsOf { frame, onion, version: self.version, solo };
+        if self.ghosts_of == Some(wanted) {
+            return;
+        }
+        let timeline = self.scene.timeline.clone();
+        let shown = soloed(&self.scene, solo).into_owned();
+        let mut ghosts = Vec::new();
+        for step in 1..=onion.frames {
+            let offset = f64::from(step * onion.spacing.max(1));
+            let opacity = 0.45 / step as f32;
+            for (at, tint) in [(frame - offset, [0.35, 0.55, 1.0]), (frame + offset, [1.0, 0.6, 0.3])] {
+                if at < f64::from(timeline.start) || at > f64::from(timeline.end) {
+                    continue;
+                }
+                let mesh = self.evaluator.evaluate_frame(&shown, at);
+                ghosts.push(Ghost { mesh: Arc::new(mesh), tint, opacity });
+            }
+        }
+        self.ghosts = Arc::new(ghosts);
+        self.ghosts_of = Some(wanted);
+    }
+
+    /// The relaxation report of the shown key in effect at `frame`.
+    pub fn relax_report(&self, frame: f64) -> Option<RelaxReport> {
+        let key = self.scene.key_in_effect(frame);
+        let shape = self.evaluator.cache().get(&self.scene.cloth, key)?;
+        Some(shape.rest.relax_report)
+    }
+
+    /// Blocks until `doc`'s shapes are relaxed and shown and the worker is idle (tests and scripts).
+    pub fn wait_for(&mut self, doc: &Document, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        loop {
+            self.sync(doc);
+            if *doc.scene() == self.scene {
+                // The worker clears its status (the spinner) just after sending its last
+                // shape; wait for that too, so the next frames are quiet.
+                return self.shaper.wait_idle(deadline.saturating_duration_since(Instant::now()));
+            }
+            if Instant::now() > deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+}
+
+/// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).
+fn soloed(scene: &Scene, solo: Option<usize>) -> Cow<'_, Scene> {
+    let Some(solo) = solo.filter(|s| *s < scene.layers.len()) else { return Cow::Borrowed(scene) };
+    let mut alone = scene.clone();
+    for (index, layer) in alone.layers.iter_mut().enumerate() {
+        *layer.enabled_mut() = index == solo;
+    }
+    Cow::Owned(alone)
+}

@@ -1,0 +1,373 @@
+//! The 3D viewport in the centre and the View section that chooses what it
+//! shows: the stage of the method, the cloth's overlays, the ground, onion
+//! skin and a camera that follows the cloth. Mouse and keys are in
+//! `viewport_input`; the GPU side is in `viewport`.
+
+use std::sync::Arc;
+
+use eframe::egui::{self, Sense};
+use eframe::egui_wgpu;
+
+use super::pin_drag::{AxisLock, PinDrag};
+use super::shown::OnionSkin;
+use super::viewport::ViewportFrame;
+use super::workspace::Workspace;
+use crate::animate;
+use crate::picture::{SceneOverlays, key_overlay};
+use crate::render::camera::bounds;
+use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
+use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions};
+use crate::scene::{ClothTexture, Layer};
+
+/// What the viewport shows besides the cloth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ViewToggles {
+    pub wireframe: bool,
+    pub texture: bool,
+    pub pins: bool,
+    pub catenaries: bool,
+    pub triangulation: bool,
+    pub ground: bool,
+    /// Onion skin: ghosts of the `onion_frames` frames before and after, `onion_spacing` frames apart.
+    pub onion: bool,
+    pub onion_frames: u32,
+    pub onion_spacing: u32,
+    /// The camera moves with the cloth's centre, keeping how it looks at it.
+    pub follow: bool,
+}
+
+impl Default for ViewToggles {
+    fn default() -> Self {
+        ViewToggles {
+            wireframe: false,
+            texture: true,
+            pins: true,
+            catenaries: false,
+            triangulation: false,
+            ground: true,
+            onion: false,
+            onion_frames: 2,
+            onion_spacing: 4,
+            follow: false,
+        }
+    }
+}
+
+/// Which stage of the method the viewport shows (the paper's Fig. 3 b–f).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stage {
+    /// The animation at the playhead: blended rest shapes and the layer stack.
+    #[default]
+    Animation,
+    /// The relaxed rest shape of the key being edited.
+    Relaxed,
+    /// The surface approximated from the catenary network, before relaxation.
+    Approximated,
+    /// The catenary network, its conflicts and the triangulation, over the approximated surface.
+    Catenaries,
+}
+
+impl Stage {
+    pub const ALL: [Stage; 4] = [Stage::Animation, Stage::Relaxed, Stage::Approximated, Stage::Catenaries];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Stage::Animation => "Animation",
+            Stage::Relaxed => "Relaxed rest shape",
+            Stage::Approximated => "Approximated surface",
+            Stage::Catenaries => "Catenary network",
+        }
+    }
+
+    /// The cloth's shape under this stage's drawing.
+    pub fn mesh_stage(self) -> animate::Stage {
+        match self {
+            Stage::Animation => animate::Stage::Animated,
+            Stage::Relaxed => animate::Stage::Relaxed,
+            Stage::Approximated | Stage::Catenaries => animate::Stage::Approx,
+        }
+    }
+}
+
+/// The viewport's own state: its camera and ground, what it shows, a pin drag in progress.
+pub struct ViewportPanel {
+    pub camera: OrbitCamera,
+    pub ground: Ground,
+    pub toggles: ViewToggles,
+    pub stage: Stage,
+    pub pin_drag: Option<PinDrag>,
+    /// The cloth's centre when the camera last followed it.
+    follow_anchor: Option<glam::Vec3>,
+    /// Where the viewport was drawn last frame (points).
+    pub rect: egui::Rect,
+    /// Whether the GPU viewport is available (false only in tests without wgpu).
+    has_gpu: bool,
+    /// Frame the cloth once the viewport's shape is known (a scene without a saved view).
+    pub frame_all_pending: bool,
+}
+
+/// This frame's viewport: where it is and what the pointer did there.
+pub struct ViewportArea {
+    rect: egui::Rect,
+    response: egui::Response,
+    size_px: (u32, u32),
+    pub aspect: f32,
+}
+
+impl ViewportPanel {
+    /// A viewport on `w`'s scene: its saved view, else framing `bounds` (min, max) once shown.
+    pub fn new(w: &mut Workspace, has_gpu: bool) -> ViewportPanel {
+        let scene = w.doc.scene();
+        let saved = scene.view.as_ref().map(OrbitCamera::from_view);
+        let framed = saved.is_none();
+        let (min, max) = w.shown.bounds();
+        ViewportPanel {
+            camera: saved.unwrap_or_else(|| OrbitCamera::framing(min, max, 16.0 / 9.0)),
+            ground: Ground::under(min, max),
+            toggles: ViewToggles::default(),
+            stage: Stage::default(),
+            pin_drag: None,
+            follow_anchor: None,
+            rect: egui::Rect::NOTHING,
+            has_gpu,
+            frame_all_pending: framed,
+        }
+    }
+
+    /// Where a world point appears on screen (points), `None` behind the camera.
+    pub fn screen_pos(&self, world: glam::Vec3) -> Option<egui::Pos2> {
+        let rect = self.rect;
+        // Projected at one pixel per point: the camera only needs the aspect ratio.
+        let size = (rect.width().round().max(1.0) as u32, rect.height().round().max(1.0) as u32);
+        let at = self.camera.project(world, size)?;
+        Some(rect.min + egui::vec2(at.x * rect.width() / size.0 as f32, at.y * rect.height() / size.1 as f32))
+    }
+
+    /// Rebuilds the shown mesh and ghosts for the playhead, the stage and the soloed layer.
+    pub fn refresh(&self, w: &mut Workspace) {
+        let session = &w.session;
+        w.shown.refresh_mesh(session.frame, self.stage.mesh_stage(), session.solo_layer);
+        let onion = (self.toggles.onion && self.stage == Stage::Animation)
+            .then_some(OnionSkin { frames: self.toggles.onion_frames, spacing: self.toggles.onion_spacing });
+        w.shown.refresh_ghosts(session.frame, onion, session.solo_layer);
+    }
+
+    /// Takes the viewport's area and this frame's mouse input (camera, hover, pins).
+    pub fn input_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) -> ViewportArea {
+        let rect = ui.available_rect_before_wrap();
+        let response = ui.allocate_rect(rect, Sense::click_and_drag());
+        response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Viewport"));
+        self.rect = rect;
+        let aspect = rect.width() / rect.height().max(1.0);
+        let pixels_per_point = ui.ctx().pixels_per_point();
+        let size_px = (
+            (rect.width() * pixels_per_point).round().max(1.0) as u32,
+            (rect.height() * pixels_per_point).round().max(1.0) as u32,
+        );
+        self.pointer_input(ui, w, &response, size_px);
+        ViewportArea { rect, response, size_px, aspect }
+    }
+
+    /// Brings the shown shapes up to date and draws them into `area`.
+    pub fn draw_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, area: ViewportArea) {
+        w.shown.sync(&w.doc);
+        if let Some((min, max)) = w.shown.take_opened_bounds() {
+            self.ground = Ground::under(min, max);
+            self.frame_all_pending = true;
+        }
+        self.refresh(w);
+        if std::mem::take(&mut self.frame_all_pending) {
+            self.frame_all(w, area.aspect);
+        }
+        self.follow_cloth(w);
+        if let Some((i, j)) = w.session.hovered
+            && let Some(pointer) = area.response.hover_pos()
+        {
+            let pinned = w.doc.scene().keys[w.edit_key_index()].pins.iter().any(|p| p.grid == (i, j));
+            let text = format!("({i}, {j}){}", if pinned { " pin" } else { "" });
+            let at = pointer + egui::vec2(14.0, -18.0);
+            let font = egui::FontId::proportional(13.0);
+            let galley = ui.painter().layout_no_wrap(text, font, egui::Color32::WHITE);
+            let bg = egui::Rect::from_min_size(at, galley.size()).expand(3.0);
+            let overlay_painter = ui
+                .painter()
+                .clone()
+                .with_layer_id(egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("viewport-hover")));
+            overlay_painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
+            overlay_painter.galley(at, galley, egui::Color32::WHITE);
+        }
+        if !self.has_gpu {
+            return;
+        }
+        let frame = ViewportFrame {
+            mesh: w.shown.mesh.clone(),
+            camera: self.camera,
+            options: self.render_options(w),
+            overlay: Arc::new(self.overlay(w)),
+            ghosts: w.shown.ghosts.clone(),
+            size_px: area.size_px,
+        };
+        ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
+    }
+
+    /// Frames the cloth on screen.
+    pub fn frame_all(&mut self, w: &Workspace, aspect: f32) {
+        if let Some((min, max)) = bounds(&w.shown.mesh.positions) {
+            self.camera.frame_bounds(min, max, aspect);
+        }
+    }
+
+    /// With Follow on, moves the camera's target by as much as the cloth's
+    /// centre moved since the last frame, so orbit and pan offsets are kept.
+    fn follow_cloth(&mut self, w: &Workspace) {
+        let centre = bounds(&w.shown.mesh.positions).map(|(min, max)| (min + max) * 0.5);
+        match (self.toggles.follow, centre, self.follow_anchor) {
+            (true, Some(centre), Some(anchor)) => {
+                self.camera.target += centre - anchor;
+                self.follow_anchor = Some(centre);
+            }
+            (true, Some(centre), None) => self.follow_anchor = Some(centre),
+            _ => self.follow_anchor = None,
+        }
+    }
+
+    fn overlay(&self, w: &mut Workspace) -> Overlay {
+        let network = self.stage == Stage::Catenaries;
+        let show = SceneOverlays {
+            wireframe: false,
+            // Dragged pins are drawn below, where the mouse put them.
+            pins: self.toggles.pins && self.pin_drag.is_none(),
+            catenaries: self.toggles.catenaries || network,
+            triangulation: self.toggles.triangulation || network,
+        };
+        let session = &w.session;
+        let state = |grid: (u32, u32)| {
+            if session.selection.contains(&grid) {
+                PinState::Selected
+            } else if session.hovered == Some(grid) || session.grid_hovered == Some(grid) {
+                PinState::Hovered
+            } else {
+                PinState::Normal
+            }
+        };
+        let shown = &mut w.shown;
+        let mut overlay = key_overlay(&mut shown.evaluator, &shown.scene, session.frame, &shown.mesh, show, state);
+        let scene = &w.shown.scene;
+        let key = scene.key_in_effect(session.frame);
+        if self.toggles.pins {
+            if let Some(drag) = &self.pin_drag
+                && let Some(axis) = drag.lock
+            {
+                // The locked axis as a line through the dragged pin, in the usual X/Y/Z colours.
+                let color = match axis {
+                    AxisLock::X => [0.9, 0.25, 0.2, 0.9],
+                    AxisLock::Y => [0.35, 0.85, 0.25, 0.9],
+                    AxisLock::Z => [0.25, 0.45, 0.95, 0.9],
+                };
+                let reach = axis.vector() * self.camera.distance_m * 2.0;
+                overlay.segments.push(Segment { a: drag.anchor - reach, b: drag.anchor + reach, width_px: 1.5, color });
+            }
+            if self.pin_drag.is_some() {
+                // Dragged pins are drawn where the mouse put them, before the cloth catches up.
+                let doc_key = &w.doc.scene().keys[w.edit_key_index()];
+                for pin in &doc_key.pins {
+                    let center = glam::Vec3::new(pin.pos.0 as f32, pin.pos.1 as f32, pin.pos.2 as f32);
+                    let fill = if session.selection.contains(&pin.grid) { colors::PIN_SELECTED } else { colors::PIN };
+                    overlay.markers.push(Marker { center, radius_px: PIN_RADIUS_PX, fill, ring: colors::PIN_RING });
+                }
+            }
+        }
+        self.add_layer_arrow(w, &mut overlay);
+        let highlight = session.hovered.or(session.grid_hovered);
+        if let Some((i, j)) = highlight
+            && !key.pins.iter().any(|p| p.grid == (i, j))
+            && let Some(&center) = w.shown.mesh.positions.get(j as usize * scene.cloth.cols() + i as usize)
+            && scene.cloth.grid == w.doc.scene().cloth.grid
+        {
+            overlay.markers.push(Marker {
+                center,
+                radius_px: 4.0,
+                fill: [1.0, 1.0, 1.0, 0.9],
+                ring: colors::PIN_HOVERED,
+            });
+        }
+        overlay
+    }
+
+    /// The selected layer's direction as an arrow over the cloth: a sway's or
+    /// the gusts' world direction from the cloth's centre, a wave's direction
+    /// of travel along the surface at the centre.
+    fn add_layer_arrow(&self, w: &Workspace, overlay: &mut Overlay) {
+        let Some(layer) = w.session.selected_layer.and_then(|i| w.shown.scene.layers.get(i)) else { return };
+        let mesh = &w.shown.mesh;
+        let (cols, rows) = (mesh.cols, mesh.rows);
+        if cols < 3 || rows < 3 || mesh.positions.len() != cols * rows {
+            return;
+        }
+        let at = |i: usize, j: usize| mesh.positions[j * cols + i];
+        let (ci, cj) = (cols / 2, rows / 2);
+        let centre = at(ci, cj);
+        let direction = match layer {
+            Layer::Sway(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
+            Layer::Gusts(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
+            Layer::Wave(l) => {
+                let angle = crate::animate::track::sample(&l.direction_deg, w.session.frame).to_radians() as f32;
+                let along_u = (at(ci + 1, cj) - at(ci - 1, cj)).normalize_or_zero();
+                let along_v = (at(ci, cj + 1) - at(ci, cj - 1)).normalize_or_zero();
+                along_u * angle.cos() + along_v * angle.sin()
+            }
+            Layer::FollowThrough(_) => return,
+        };
+        let Some(direction) = direction.try_normalize() else { return };
+        let size = bounds(&mesh.positions).map_or(1.0, |(lo, hi)| (hi - lo).max_element());
+        let tip = centre + direction * size * 0.45;
+        let side = direction.cross(self.camera.backward()).normalize_or_zero() * size * 0.05;
+        let back = tip - direction * size * 0.08;
+        let color = [0.2, 0.85, 1.0, 1.0];
+        for (a, b) in [(centre, tip), (tip, back + side), (tip, back - side)] {
+            overlay.segments.push(Segment { a, b, width_px: 3.0, color });
+        }
+    }
+
+    fn render_options(&self, w: &Workspace) -> RenderOptions {
+        let texture = if self.toggles.texture { w.shown.scene.cloth.texture } else { ClothTexture::Plain };
+        RenderOptions {
+            wireframe: self.toggles.wireframe || self.stage == Stage::Catenaries,
+            ground: self.toggles.ground.then_some(self.ground),
+            ..RenderOptions::default()
+        }
+        .with_texture(texture)
+    }
+
+    /// The View section of the left panel: stage and toggles.
+    pub fn view_ui(&mut self, ui: &mut egui::Ui) {
+        ui.strong("View");
+        egui::ComboBox::from_label("Stage").selected_text(self.stage.label()).show_ui(ui, |ui| {
+            for stage in Stage::ALL {
+                ui.selectable_value(&mut self.stage, stage, stage.label());
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.toggle_value(&mut self.toggles.texture, "Texture");
+            ui.toggle_value(&mut self.toggles.wireframe, "Wireframe");
+            ui.toggle_value(&mut self.toggles.pins, "Pins");
+            ui.toggle_value(&mut self.toggles.catenaries, "Catenaries");
+            ui.toggle_value(&mut self.toggles.triangulation, "Triangulation");
+            ui.toggle_value(&mut self.toggles.ground, "Ground");
+            ui.toggle_value(&mut self.toggles.onion, "Onion skin")
+                .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
+            ui.toggle_value(&mut self.toggles.follow, "Follow")
+                .on_hover_text("The camera travels with the cloth (F frames it)");
+        });
+        if self.toggles.onion {
+            ui.horizontal(|ui| {
+                let label = ui.label("Ghosts").id;
+                let drag = egui::DragValue::new(&mut self.toggles.onion_frames).range(1..=8);
+                ui.add(drag).labelled_by(label).on_hover_text("Ghosts on each side of the playhead");
+                let label = ui.label("every").id;
+                let drag = egui::DragValue::new(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
+                ui.add(drag).labelled_by(label);
+            });
+        }
+    }
+}

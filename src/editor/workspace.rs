@@ -1,0 +1,219 @@
+//! What every panel works on: the document, the shapes on screen, this
+//! document's playhead and selections, and the status line.
+//!
+//! Panels own their own state and take a `&mut Workspace` for the rest. A new
+//! document gets a new [`Session`], so what belonged to the old one resets by
+//! construction.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use super::document::Document;
+use super::edits;
+use super::shown::Shown;
+use crate::scene::Scene;
+use crate::shape::RelaxReport;
+
+/// How long a status message stays, seconds.
+pub const MESSAGE_SECS: f64 = 8.0;
+
+/// A line in the status bar.
+pub struct Message {
+    pub text: String,
+    pub error: bool,
+    pub at: Instant,
+}
+
+/// The playhead and the selections of the open document.
+#[derive(Default)]
+pub struct Session {
+    /// The frame the playhead is on (fractional while playing).
+    pub frame: f64,
+    pub playing: bool,
+    /// When playback started and from which frame.
+    pub play_started: Option<(Instant, f64)>,
+    /// Selected pins of the key being edited (grid points).
+    pub selection: Vec<(u32, u32)>,
+    /// The rest-shape key selected on the timeline.
+    pub selected_key: Option<usize>,
+    /// The layer whose parameters the Layers panel shows (and whose keys the timeline shows).
+    pub selected_layer: Option<usize>,
+    /// A layer shown alone (the others off in the viewport only; the scene keeps them).
+    pub solo_layer: Option<usize>,
+    /// The cloth point under the mouse in the viewport, and in the grid editor.
+    pub hovered: Option<(u32, u32)>,
+    pub grid_hovered: Option<(u32, u32)>,
+}
+
+impl Session {
+    /// A fresh session with the playhead at `frame`.
+    pub fn at(frame: f64) -> Session {
+        Session { frame, ..Session::default() }
+    }
+}
+
+pub struct Workspace {
+    pub doc: Document,
+    pub shown: Shown,
+    pub session: Session,
+    /// The status bar's message.
+    pub message: Option<Message>,
+    /// A problem shown in a dialog until dismissed (a file that cannot be opened, a failed export).
+    pub alert: Option<String>,
+}
+
+impl Workspace {
+    pub fn new(scene: Scene, path: Option<PathBuf>) -> Workspace {
+        Workspace {
+            session: Session::at(f64::from(scene.timeline.start)),
+            shown: Shown::new(scene.clone()),
+            doc: Document::new(scene, path),
+            message: None,
+            alert: None,
+        }
+    }
+
+    /// Replaces the document (New, Open, Restore): a new session, nothing asked of the worker.
+    pub fn replace_document(&mut self, scene: Scene, path: Option<PathBuf>) {
+        self.session = Session::at(f64::from(scene.timeline.start));
+        self.doc = Document::new(scene, path);
+        self.shown.forget_document();
+    }
+
+    pub fn frame(&self) -> f64 {
+        self.session.frame
+    }
+
+    /// Moves the playhead, kept on the timeline.
+    pub fn set_frame(&mut self, frame: f64) {
+        let timeline = &self.doc.scene().timeline;
+        self.session.frame = frame.clamp(f64::from(timeline.start), f64::from(timeline.end));
+        if self.session.playing {
+            self.session.play_started = Some((Instant::now(), self.session.frame));
+        }
+    }
+
+    pub fn toggle_play(&mut self) {
+        self.session.playing = !self.session.playing;
+        self.session.play_started = None;
+    }
+
+    /// The index of the key being edited: the one in effect at the playhead.
+    pub fn edit_key_index(&self) -> usize {
+        let keys = &self.doc.scene().keys;
+        keys.iter().rposition(|k| f64::from(k.frame) <= self.session.frame).unwrap_or(0)
+    }
+
+    /// Applies an edit to the document, reporting a rejected one in the status bar.
+    pub fn apply(&mut self, label: &str, change: impl FnOnce(&mut Scene)) {
+        match self.doc.edit(label, change) {
+            Ok(()) => {
+                let pins = &self.doc.scene().keys[self.edit_key_index()].pins;
+                self.session.selection.retain(|s| pins.iter().any(|p| p.grid == *s));
+            }
+            Err(rejected) => self.report(format!("Not applied: {rejected}"), true),
+        }
+    }
+
+    /// Shows `text` in the status bar for a while.
+    pub fn report(&mut self, text: String, error: bool) {
+        self.message = Some(Message { text, error, at: Instant::now() });
+    }
+
+    /// Ends the open gesture (one undo step) and lets the final state's relaxation cancel stale ones.
+    pub fn end_gesture(&mut self) {
+        if self.doc.in_gesture() {
+            self.doc.end_gesture();
+            self.shown.forget_requests();
+        }
+    }
+
+    pub fn undo(&mut self) {
+        if self.doc.undo() {
+            self.shown.forget_requests();
+        }
+    }
+
+    pub fn redo(&mut self) {
+        if self.doc.redo() {
+            self.shown.forget_requests();
+        }
+    }
+
+    /// Pins grid point `point` of the key being edited where the cloth is now, or unpins it.
+    pub fn toggle_pin(&mut self, point: (u32, u32)) {
+        let index = self.edit_key_index();
+        if edits::is_pinned(&self.doc.scene().keys[index], point) {
+            self.apply("Unpin", |s| edits::unpin(&mut s.keys[index], &[point]));
+            self.session.selection.retain(|p| *p != point);
+            return;
+        }
+        let cloth = &self.shown.scene.cloth;
+        let vertex = point.1 as usize * cloth.cols() + point.0 as usize;
+        let same_grid = cloth.grid == self.doc.scene().cloth.grid;
+        let Some(p) = self.shown.mesh.positions.get(vertex).copied().filter(|_| same_grid) else {
+            self.report("Wait for the cloth to finish relaxing before pinning.".to_owned(), true);
+            return;
+        };
+        let pos = (f64::from(p.x), f64::from(p.y), f64::from(p.z));
+        self.apply("Pin", |s| edits::pin_point(&mut s.keys[index], point, pos));
+        self.session.selection = vec![point];
+    }
+
+    pub fn delete_selected_pins(&mut self) {
+        if self.session.selection.is_empty() {
+            return;
+        }
+        let index = self.edit_key_index();
+        let selection = self.session.selection.clone();
+        let label = if selection.len() == 1 { "Unpin" } else { "Unpin pins" };
+        self.apply(label, |s| edits::unpin(&mut s.keys[index], &selection));
+    }
+
+    /// K: a new rest-shape key at the playhead's frame, holding the pose shown
+    /// now (the key in effect's pins where the cloth holds them at this frame,
+    /// its fabric).
+    pub fn add_key_here(&mut self) {
+        let frame = self.frame().round() as i32;
+        self.set_frame(f64::from(frame));
+        let scene = self.doc.scene().clone();
+        if let Some(index) = scene.keys.iter().position(|k| k.frame == frame) {
+            self.session.selected_key = Some(index);
+            self.report(format!("There is already a key at frame {frame}."), false);
+            return;
+        }
+        if self.shown.scene != scene {
+            self.report("Wait for the cloth to finish relaxing before adding a key.".to_owned(), true);
+            return;
+        }
+        let mut key = scene.key_in_effect(f64::from(frame)).clone();
+        key.frame = frame;
+        // The evaluated mesh at a whole frame holds the pins where this frame puts them.
+        let mesh = self.shown.evaluator.evaluate_frame(&scene, f64::from(frame));
+        let cols = scene.cloth.cols();
+        for pin in &mut key.pins {
+            let p = mesh.positions[pin.grid.1 as usize * cols + pin.grid.0 as usize];
+            pin.pos = (f64::from(p.x), f64::from(p.y), f64::from(p.z));
+        }
+        let at = scene.keys.iter().position(|k| k.frame > frame).unwrap_or(scene.keys.len());
+        self.apply("Add key", |s| s.keys.insert(at, key));
+        self.session.selected_key = Some(at);
+    }
+
+    pub fn delete_selected_key(&mut self) {
+        let Some(index) = self.session.selected_key else { return };
+        if self.doc.scene().keys.len() <= 1 {
+            self.report("A scene needs at least one key.".to_owned(), true);
+            return;
+        }
+        self.apply("Delete key", |s| {
+            s.keys.remove(index);
+        });
+        self.session.selected_key = None;
+    }
+
+    /// The relaxation report of the shown key being edited.
+    pub fn shown_relax_report(&self) -> Option<RelaxReport> {
+        self.shown.relax_report(self.session.frame)
+    }
+}
