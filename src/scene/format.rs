@@ -125,18 +125,6 @@ mod tests {
         WaveAxis, parse,
     };
 
-    const EVERY_EASE: [Ease; 9] = [
-        Ease::Linear,
-        Ease::Step,
-        Ease::EaseIn,
-        Ease::EaseOut,
-        Ease::EaseInOut,
-        Ease::Bezier(0.42, 0.0, 0.58, 1.0),
-        Ease::Back,
-        Ease::Elastic,
-        Ease::Bounce,
-    ];
-
     fn scene() -> Scene {
         let key = |frame: i32, ease: Ease| Key {
             frame,
@@ -148,7 +136,7 @@ mod tests {
             inbetween_relax: 3,
         };
         let animated = Param::Keys(
-            EVERY_EASE
+            Ease::ALL
                 .iter()
                 .enumerate()
                 .map(|(i, &ease)| ParamKey { frame: 10 * i as i32, value: 0.1 * i as f64 - 0.3, ease })
@@ -159,7 +147,7 @@ mod tests {
             name: "Round \"trip\" (ü) // not a comment".into(),
             cloth: Cloth { texture: ClothTexture::Carpet, ..Cloth::new((2.0, 1.5), (33, 25)) },
             timeline: Timeline { fps: 29.97, start: -10, end: 200 },
-            keys: EVERY_EASE.iter().enumerate().map(|(i, &ease)| key(20 * i as i32, ease)).collect(),
+            keys: Ease::ALL.iter().enumerate().map(|(i, &ease)| key(20 * i as i32, ease)).collect(),
             layers: vec![
                 // Fields left out are at their start values; every one is written all the same.
                 Layer::Sway(Sway {

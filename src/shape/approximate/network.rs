@@ -562,28 +562,6 @@ mod tests {
         use crate::shape::approximate::PinPoint;
         use crate::shape::catenary::Catenary;
 
-        pub fn candidate_pairs(pins: &[PinPoint]) -> Vec<(usize, usize)> {
-            let mut pairs = Vec::new();
-            for a in 0..pins.len() {
-                for b in a + 1..pins.len() {
-                    let (pa, pb) = (grid_i64(&pins[a]), grid_i64(&pins[b]));
-                    let blocked = pins.iter().enumerate().any(|(k, pin)| {
-                        if k == a || k == b {
-                            return false;
-                        }
-                        let pk = grid_i64(pin);
-                        let along = (pk.0 - pa.0) * (pb.0 - pa.0) + (pk.1 - pa.1) * (pb.1 - pa.1);
-                        let len2 = (pb.0 - pa.0).pow(2) + (pb.1 - pa.1).pow(2);
-                        cross_i64(pa, pb, pk) == 0 && along > 0 && along < len2
-                    });
-                    if !blocked {
-                        pairs.push((a, b));
-                    }
-                }
-            }
-            pairs
-        }
-
         /// (first, second, t_first, t_second, y_first, y_second) per crossing.
         pub type Crossing = (usize, usize, f64, f64, f64, f64);
 
@@ -657,7 +635,7 @@ mod tests {
     fn assert_as_before(label: &str, pins: &[PinPoint], g: GridSpec, elasticity: f64) {
         assert!(pins.len() <= ALL_PAIRS_MAX_PINS);
         let candidates = select_candidates(pins, g);
-        let old_pairs = old::candidate_pairs(pins);
+        let old_pairs = candidate_pairs(pins);
         assert_eq!(candidates.pairs, old_pairs, "{label}");
         let cats = catenaries(pins, &candidates.pairs, elasticity);
         let crossings = find_crossings(pins, &candidates, &cats);
