@@ -11,13 +11,30 @@
 //! Field and kind names are the scene file's (DESIGN.md): never rename one
 //! without `formerly`, which keeps older files loading.
 
-use serde::{Deserialize, Serialize};
-
 use super::param::Param;
-use super::schema::{Access, AxisSpec, CountSpec, DirectionSpec, NumberSpec, ParamRange, ParamSpec, layer_kinds};
+use super::schema::{self, Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis, layer_kinds};
 
-/// Largest magnitude of any layer parameter: beyond it a value is a typo, not a look.
-pub const MAX_LAYER_VALUE: f64 = 1e6;
+/// The layer kinds below, for the schema's accessors.
+#[derive(Clone, Copy, Debug)]
+pub struct LayerFamily;
+
+impl Family for LayerFamily {
+    type Layer = Layer;
+}
+
+/// One parameter of a layer kind: see [`schema::ParamSpec`].
+pub type ParamSpec = schema::ParamSpec<LayerFamily>;
+/// What a parameter holds: see [`schema::ParamValue`].
+pub type ParamValue = schema::ParamValue<LayerFamily>;
+/// An animatable number's schema.
+pub type NumberSpec = schema::NumberSpec<LayerFamily>;
+/// A world direction's schema.
+pub type DirectionSpec = schema::DirectionSpec<LayerFamily>;
+/// A wave axis's schema.
+pub type AxisSpec = schema::AxisSpec<LayerFamily>;
+/// A whole number's schema.
+pub type CountSpec = schema::CountSpec<LayerFamily>;
+
 /// Largest falloff exponent; it must also be ≥ 0.
 pub const MAX_FALLOFF: f64 = 16.0;
 /// Gust octaves lie in 1..=[`MAX_GUST_OCTAVES`].
@@ -119,16 +136,6 @@ impl Layer {
         let spec = self.params().iter().find(|spec| spec.name == name)?;
         spec.number_mut(self)
     }
-}
-
-/// What a wave displaces along.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub enum WaveAxis {
-    /// The surface normal of the layer's input mesh.
-    #[default]
-    Normal,
-    /// A fixed world vector (normalised when used); must not be zero.
-    Fixed((f64, f64, f64)),
 }
 
 #[cfg(test)]

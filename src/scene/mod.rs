@@ -31,6 +31,6 @@ pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
 pub use layers::*;
 pub use locate::{TextPosition, locate};
 pub use param::{Ease, Param, ParamKey};
-pub use schema::{Access, AxisSpec, CountSpec, DirectionSpec, NumberSpec, ParamRange, ParamSpec, ParamValue};
+pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use types::*;
 pub use validate::*;

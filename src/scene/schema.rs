@@ -5,13 +5,16 @@
 //! its unit, the values it may take, its default when a file leaves it out,
 //! the value a layer added in the editor starts at, and typed access to the
 //! field. Each layer kind's list is its `PARAMS` (e.g. [`Sway::PARAMS`]), in
-//! file order, and [`Layer::params`] gives the list of any layer.
+//! file order, and [`Layer::params`](super::Layer::params) gives the list of any layer.
 //!
 //! The layer kinds in [`super::layers`] are declared by `layer_kinds!` from
 //! one entry per parameter: the macro writes the struct field with its doc,
 //! the schema entry, and reading the struct from a file by the schema
 //! ([`read_layer`]). Everything else reads the schema: validation, the
-//! editor's parameter rows, `drape check`'s summary.
+//! editor's parameter rows, `drape check`'s summary. The schema names the
+//! layers only through a [`Family`] marker (`LayerFamily`, beside the kinds),
+//! so it does not import the kinds it declares; `scene` exports the schema
+//! types bound to the layers (`scene::ParamSpec` and the like).
 //!
 //! [`Sway::PARAMS`]: super::Sway::PARAMS
 
@@ -19,36 +22,55 @@ use std::fmt;
 use std::marker::PhantomData;
 
 use serde::de::{self, DeserializeSeed, MapAccess, Visitor};
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize};
 
-use super::layers::{Layer, MAX_LAYER_VALUE, WaveAxis};
 use super::param::Param;
 
 /// A world vector (x, y, z) as the file writes it.
 pub type Vec3 = (f64, f64, f64);
 
+/// Largest magnitude of any layer parameter: beyond it a value is a typo, not a look.
+pub const MAX_LAYER_VALUE: f64 = 1e6;
+
+/// The layers a schema describes, named by a marker type so that the schema
+/// does not import the layer kinds it declares (they are built from it).
+pub trait Family: Copy + fmt::Debug + 'static {
+    /// The enum over every layer kind.
+    type Layer: 'static;
+}
+
+/// What a wave displaces along.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum WaveAxis {
+    /// The surface normal of the layer's input mesh.
+    #[default]
+    Normal,
+    /// A fixed world vector (normalised when used); must not be zero.
+    Fixed((f64, f64, f64)),
+}
+
 /// One parameter of a layer kind.
 #[derive(Clone, Copy, Debug)]
-pub struct ParamSpec {
+pub struct ParamSpec<F: Family> {
     /// The field's name in the scene file, the code and messages (`magnitude`).
     pub name: &'static str,
     /// What the parameter does, in one line.
     pub doc: &'static str,
     /// What it holds and which values it may take.
-    pub value: ParamValue,
+    pub value: ParamValue<F>,
 }
 
 /// What a parameter holds: its allowed values, default and typed access.
 #[derive(Clone, Copy, Debug)]
-pub enum ParamValue {
+pub enum ParamValue<F: Family> {
     /// An animatable number: a constant or a list of keys.
-    Number(NumberSpec),
+    Number(NumberSpec<F>),
     /// A world direction, normalised where used: never zero.
-    Direction(DirectionSpec),
+    Direction(DirectionSpec<F>),
     /// The wave's displacement axis: the surface normal or a fixed vector.
-    Axis(AxisSpec),
+    Axis(AxisSpec<F>),
     /// A whole number.
-    Count(CountSpec),
+    Count(CountSpec<F>),
 }
 
 /// Which values an animatable number may take, at every key.
@@ -75,35 +97,35 @@ impl ParamRange {
 
 /// Reads and writes one field of a layer of a known kind: `None` when the
 /// layer is of another kind.
-pub struct Access<T: 'static> {
-    pub(super) read: for<'a> fn(&'a Layer) -> Option<&'a T>,
-    pub(super) write: for<'a> fn(&'a mut Layer) -> Option<&'a mut T>,
+pub struct Access<F: Family, T: 'static> {
+    pub(super) read: for<'a> fn(&'a F::Layer) -> Option<&'a T>,
+    pub(super) write: for<'a> fn(&'a mut F::Layer) -> Option<&'a mut T>,
 }
 
 // Derived Clone/Copy would ask `T: Copy`; fn pointers are Copy for any `T`.
-impl<T> Clone for Access<T> {
+impl<F: Family, T> Clone for Access<F, T> {
     fn clone(&self) -> Self {
         *self
     }
 }
-impl<T> Copy for Access<T> {}
+impl<F: Family, T> Copy for Access<F, T> {}
 
-impl<T> Access<T> {
+impl<F: Family, T> Access<F, T> {
     /// No field: until `layer_kinds!` binds the entry to its field.
-    const UNBOUND: Access<T> = Access { read: |_| None, write: |_| None };
+    const UNBOUND: Access<F, T> = Access { read: |_| None, write: |_| None };
 
     /// The field in `layer`; `None` when `layer` is of another kind.
-    pub fn get<'a>(&self, layer: &'a Layer) -> Option<&'a T> {
+    pub fn get<'a>(&self, layer: &'a F::Layer) -> Option<&'a T> {
         (self.read)(layer)
     }
 
     /// The field in `layer`, to change; `None` when `layer` is of another kind.
-    pub fn get_mut<'a>(&self, layer: &'a mut Layer) -> Option<&'a mut T> {
+    pub fn get_mut<'a>(&self, layer: &'a mut F::Layer) -> Option<&'a mut T> {
         (self.write)(layer)
     }
 }
 
-impl<T> fmt::Debug for Access<T> {
+impl<F: Family, T> fmt::Debug for Access<F, T> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str("Access")
     }
@@ -111,7 +133,7 @@ impl<T> fmt::Debug for Access<T> {
 
 /// An animatable number ([`Param`]).
 #[derive(Clone, Copy, Debug)]
-pub struct NumberSpec {
+pub struct NumberSpec<F: Family> {
     /// Shown after the value: `m`, `Hz`, `°`; empty for a plain factor.
     pub unit: &'static str,
     pub range: ParamRange,
@@ -119,26 +141,26 @@ pub struct NumberSpec {
     pub default: Option<f64>,
     /// The value of a layer added in the editor, chosen to show the effect at once.
     pub start: f64,
-    pub access: Access<Param>,
+    pub access: Access<F, Param>,
 }
 
-impl NumberSpec {
+impl<F: Family> NumberSpec<F> {
     /// A number every file must give.
-    pub const fn required(unit: &'static str, range: ParamRange, start: f64) -> NumberSpec {
+    pub const fn required(unit: &'static str, range: ParamRange, start: f64) -> NumberSpec<F> {
         NumberSpec { unit, range, default: None, start, access: Access::UNBOUND }
     }
 
     /// A number that is `default` when the file leaves it out; new layers start there too.
-    pub const fn optional(unit: &'static str, range: ParamRange, default: f64) -> NumberSpec {
+    pub const fn optional(unit: &'static str, range: ParamRange, default: f64) -> NumberSpec<F> {
         NumberSpec { unit, range, default: Some(default), start: default, access: Access::UNBOUND }
     }
 
     /// A new layer starts at `start` instead of the default.
-    pub const fn starting_at(self, start: f64) -> NumberSpec {
+    pub const fn starting_at(self, start: f64) -> NumberSpec<F> {
         NumberSpec { start, ..self }
     }
 
-    pub(super) const fn bind(self, access: Access<Param>) -> ParamValue {
+    pub(super) const fn bind(self, access: Access<F, Param>) -> ParamValue<F> {
         ParamValue::Number(NumberSpec { access, ..self })
     }
 
@@ -153,23 +175,23 @@ impl NumberSpec {
 
 /// A world direction.
 #[derive(Clone, Copy, Debug)]
-pub struct DirectionSpec {
+pub struct DirectionSpec<F: Family> {
     /// Ends the message for a zero vector: "give a direction to `purpose`".
     pub purpose: &'static str,
     /// The value when the file leaves the field out; `None`: the file must give it.
     pub default: Option<Vec3>,
     /// The value of a layer added in the editor.
     pub start: Vec3,
-    pub access: Access<Vec3>,
+    pub access: Access<F, Vec3>,
 }
 
-impl DirectionSpec {
+impl<F: Family> DirectionSpec<F> {
     /// A direction every file must give.
-    pub const fn required(purpose: &'static str, start: Vec3) -> DirectionSpec {
+    pub const fn required(purpose: &'static str, start: Vec3) -> DirectionSpec<F> {
         DirectionSpec { purpose, default: None, start, access: Access::UNBOUND }
     }
 
-    pub(super) const fn bind(self, access: Access<Vec3>) -> ParamValue {
+    pub(super) const fn bind(self, access: Access<F, Vec3>) -> ParamValue<F> {
         ParamValue::Direction(DirectionSpec { access, ..self })
     }
 
@@ -184,21 +206,21 @@ impl DirectionSpec {
 
 /// A wave's axis: a fixed vector in it must not be zero.
 #[derive(Clone, Copy, Debug)]
-pub struct AxisSpec {
+pub struct AxisSpec<F: Family> {
     /// Ends the message for a zero fixed vector: "give a direction to `purpose`".
     pub purpose: &'static str,
     /// The value when the file leaves the field out, and a new layer's.
     pub default: WaveAxis,
-    pub access: Access<WaveAxis>,
+    pub access: Access<F, WaveAxis>,
 }
 
-impl AxisSpec {
+impl<F: Family> AxisSpec<F> {
     /// An axis that is `default` when the file leaves it out.
-    pub const fn optional(purpose: &'static str, default: WaveAxis) -> AxisSpec {
+    pub const fn optional(purpose: &'static str, default: WaveAxis) -> AxisSpec<F> {
         AxisSpec { purpose, default, access: Access::UNBOUND }
     }
 
-    pub(super) const fn bind(self, access: Access<WaveAxis>) -> ParamValue {
+    pub(super) const fn bind(self, access: Access<F, WaveAxis>) -> ParamValue<F> {
         ParamValue::Axis(AxisSpec { access, ..self })
     }
 
@@ -213,21 +235,21 @@ impl AxisSpec {
 
 /// A whole number in `min..=max`.
 #[derive(Clone, Copy, Debug)]
-pub struct CountSpec {
+pub struct CountSpec<F: Family> {
     pub min: u32,
     pub max: u32,
     /// The value when the file leaves the field out, and a new layer's.
     pub default: u32,
-    pub access: Access<u32>,
+    pub access: Access<F, u32>,
 }
 
-impl CountSpec {
+impl<F: Family> CountSpec<F> {
     /// A whole number in `min..=max` that is `default` when the file leaves it out.
-    pub const fn optional(min: u32, max: u32, default: u32) -> CountSpec {
+    pub const fn optional(min: u32, max: u32, default: u32) -> CountSpec<F> {
         CountSpec { min, max, default, access: Access::UNBOUND }
     }
 
-    pub(super) const fn bind(self, access: Access<u32>) -> ParamValue {
+    pub(super) const fn bind(self, access: Access<F, u32>) -> ParamValue<F> {
         ParamValue::Count(CountSpec { access, ..self })
     }
 
@@ -240,7 +262,7 @@ impl CountSpec {
     }
 }
 
-impl ParamSpec {
+impl<F: Family> ParamSpec<F> {
     /// Whether a file must give this parameter (it has no default).
     pub fn is_required(&self) -> bool {
         match self.value {
@@ -260,7 +282,7 @@ impl ParamSpec {
 
     /// The animatable number this entry names in `layer`; `None` for another
     /// kind of value or a layer of another kind.
-    pub fn number<'a>(&self, layer: &'a Layer) -> Option<&'a Param> {
+    pub fn number<'a>(&self, layer: &'a F::Layer) -> Option<&'a Param> {
         match self.value {
             ParamValue::Number(n) => n.access.get(layer),
             _ => None,
@@ -268,7 +290,7 @@ impl ParamSpec {
     }
 
     /// [`number`](Self::number), to change.
-    pub fn number_mut<'a>(&self, layer: &'a mut Layer) -> Option<&'a mut Param> {
+    pub fn number_mut<'a>(&self, layer: &'a mut F::Layer) -> Option<&'a mut Param> {
         match self.value {
             ParamValue::Number(n) => n.access.get_mut(layer),
             _ => None,
@@ -277,13 +299,13 @@ impl ParamSpec {
 }
 
 /// The fields of one layer kind as [`read_layer`] fills them.
-pub(super) trait LayerFields: Sized + 'static {
+pub(super) trait LayerFields<F: Family>: Sized + 'static {
     /// The struct's name, which ron's messages name (`Sway`).
     const KIND: &'static str;
     /// `name`, `enabled`, then every [`ParamSpec`]'s name in order.
     const FIELDS: &'static [&'static str];
     /// The entries behind `FIELDS[2..]`.
-    const PARAMS: &'static [ParamSpec];
+    const PARAMS: &'static [ParamSpec<F>];
     /// One writer per name in `FIELDS`, in the same order.
     const SLOTS: &'static [for<'a> fn(&'a mut Self) -> Slot<'a>];
     /// Every field at its default; a required one at its start value until the file gives it.
@@ -341,13 +363,15 @@ impl<'de> DeserializeSeed<'de> for Slot<'_> {
 /// with the defaults from the schema: an unknown or repeated field is an
 /// error when it is read, a missing required one after the last field, each
 /// with the struct's name for ron's message.
-pub(super) fn read_layer<'de, T: LayerFields, D: Deserializer<'de>>(deserializer: D) -> Result<T, D::Error> {
+pub(super) fn read_layer<'de, F: Family, T: LayerFields<F>, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<T, D::Error> {
     deserializer.deserialize_struct(T::KIND, T::FIELDS, LayerVisitor(PhantomData))
 }
 
-struct LayerVisitor<T>(PhantomData<T>);
+struct LayerVisitor<F, T>(PhantomData<(F, T)>);
 
-impl<'de, T: LayerFields> Visitor<'de> for LayerVisitor<T> {
+impl<'de, F: Family, T: LayerFields<F>> Visitor<'de> for LayerVisitor<F, T> {
     type Value = T;
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
@@ -401,7 +425,7 @@ impl Visitor<'_> for FieldIndex {
 /// For each kind it writes the struct (`name`, `enabled`, `weight`, the
 /// listed parameters, `falloff`), its `PARAMS` schema,
 /// `with_start_values()` (a layer as the editor adds it) and reading it from a file by the schema; then the
-/// [`Layer`] enum over all kinds. `formerly "Old"` after a kind's name keeps
+/// [`Layer`](super::Layer) enum over all kinds. `formerly "Old"` after a kind's name keeps
 /// files that wrote the old name loading.
 macro_rules! layer_kinds {
     ($(
@@ -542,7 +566,7 @@ macro_rules! layer_kind {
             }
         }
 
-        impl $crate::scene::schema::LayerFields for $kind {
+        impl $crate::scene::schema::LayerFields<LayerFamily> for $kind {
             const KIND: &'static str = stringify!($kind);
             const FIELDS: &'static [&'static str] = &["name", "enabled", $(stringify!($field)),*];
             const PARAMS: &'static [ParamSpec] = $kind::PARAMS;

@@ -9,11 +9,11 @@ use std::collections::HashSet;
 use std::fmt;
 
 use super::display::{readable_number, readable_vec3};
-use super::layers::WaveAxis;
-use super::layers::{Layer, MAX_LAYER_VALUE};
+use super::layers::Layer;
+use super::layers::ParamValue;
 use super::param::Ease;
 use super::param::Param;
-use super::schema::{ParamRange, ParamValue};
+use super::schema::{MAX_LAYER_VALUE, ParamRange, WaveAxis};
 use super::types::{Key, Pin, Scene, View};
 
 /// The only scene file version this Drape reads.
