@@ -108,3 +108,122 @@ fn the_table_is_read_as_written() {
     assert!(table[1].1.is_empty() && table[2].0 == "mesh");
     assert_eq!(crate_paths("use crate::scene::{Layer}; crate::mesh::Mesh").collect::<Vec<_>>(), ["scene", "mesh"]);
 }
+
+/// Every `.rs` file under `src/` with its module path (`src/scene/layers.rs`: `scene::layers`).
+fn source_files() -> Vec<(Vec<String>, PathBuf)> {
+    let mut files = Vec::new();
+    let mut dirs = vec![PathBuf::from("src")];
+    while let Some(dir) = dirs.pop() {
+        let entries = fs::read_dir(&dir).unwrap_or_else(|e| panic!("listing {}: {e}", dir.display()));
+        for entry in entries {
+            let path = entry.unwrap_or_else(|e| panic!("listing {}: {e}", dir.display())).path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|ext| ext == "rs") {
+                let relative = path.strip_prefix("src").expect("under src").with_extension("");
+                let mut module: Vec<String> =
+                    relative.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect();
+                if module.last().is_some_and(|last| last == "mod" || last == "lib" || last == "main") {
+                    module.pop();
+                }
+                files.push((module, path));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The files `text` (of module `me`) names through `crate::` or `super::` paths,
+/// outside its tests; its own ancestors do not count (a child naming its parent's items).
+fn imported_files(me: &[String], text: &str, files: &[(Vec<String>, PathBuf)]) -> BTreeSet<usize> {
+    let code = text.split("#[cfg(test)]\nmod tests").next().unwrap_or(text);
+    let mut imported = BTreeSet::new();
+    for (_, line) in code_lines(code) {
+        for (prefix, base) in [("crate::", &me[..0]), ("super::", &me[..me.len().saturating_sub(1)])] {
+            for (at, _) in line.match_indices(prefix) {
+                // `super::` inside `crate::a::super::` does not occur; skip `self::super::` and the like.
+                if prefix == "super::" && line[..at].ends_with("::") {
+                    continue;
+                }
+                let rest = &line[at + prefix.len()..];
+                let mut path: Vec<String> = base.to_vec();
+                for segment in rest.split("::") {
+                    let end = segment.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(segment.len());
+                    path.push(segment[..end].to_owned());
+                    if end < segment.len() {
+                        break;
+                    }
+                }
+                // The longest prefix that is a file's module.
+                let found =
+                    (1..=path.len()).rev().find_map(|k| files.iter().position(|(module, _)| *module == path[..k]));
+                if let Some(index) = found
+                    && !me.starts_with(&files[index].0)
+                {
+                    imported.insert(index);
+                }
+            }
+        }
+    }
+    imported
+}
+
+#[test]
+fn no_two_source_files_import_each_other_directly_or_round_a_circle() {
+    let files = source_files();
+    assert!(files.len() > 50, "the files under src/: {}", files.len());
+    let edges: Vec<BTreeSet<usize>> = files
+        .iter()
+        .map(|(module, path)| {
+            let text = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            imported_files(module, &text, &files)
+        })
+        .collect();
+    // A file is on a circle when it can reach itself.
+    let mut circles = Vec::new();
+    for start in 0..files.len() {
+        let mut seen = vec![false; files.len()];
+        let mut stack: Vec<usize> = edges[start].iter().copied().collect();
+        while let Some(at) = stack.pop() {
+            if at == start {
+                circles.push(files[start].1.display().to_string());
+                break;
+            }
+            if !std::mem::replace(&mut seen[at], true) {
+                stack.extend(edges[at].iter().copied());
+            }
+        }
+    }
+    assert!(circles.is_empty(), "files on an import circle:\n{}", circles.join("\n"));
+}
+
+#[test]
+fn imports_are_found_through_crate_and_super_paths() {
+    let files: Vec<(Vec<String>, PathBuf)> = [vec![], vec!["scene"], vec!["scene", "layers"], vec!["scene", "schema"]]
+        .into_iter()
+        .map(|m| (m.into_iter().map(str::to_owned).collect::<Vec<_>>(), PathBuf::new()))
+        .collect();
+    let me = ["scene".to_owned(), "layers".to_owned()];
+    let found = imported_files(&me, "use super::schema::{Access};\n// super::nothing\nuse super::Pin;", &files);
+    assert_eq!(found, BTreeSet::from([3]), "schema, and not the parent");
+    let found = imported_files(
+        &me,
+        "let x = crate::scene::schema::MAX;\n#[cfg(test)]\nmod tests {\nuse crate::scene::layers;",
+        &files,
+    );
+    assert_eq!(found, BTreeSet::from([3]));
+}
+
+#[test]
+fn only_app_rs_implements_the_editor_app() {
+    let offenders: Vec<String> = source_files()
+        .into_iter()
+        .filter(|(module, _)| {
+            module.first().is_some_and(|m| m == "editor") && module.get(1).is_some_and(|f| f != "app")
+        })
+        .filter(|(_, path)| fs::read_to_string(path).is_ok_and(|text| text.contains("impl DrapeApp")))
+        .map(|(_, path)| path.display().to_string())
+        .collect();
+    assert!(offenders.is_empty(), "impl DrapeApp outside src/editor/app.rs: {offenders:?}");
+}
