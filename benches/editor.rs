@@ -73,7 +73,6 @@ fn animated_tablecloth(n: u32) -> Scene {
     scene.layers = vec![
         Layer::Sway(Sway {
             name: "sway".to_owned(),
-            enabled: true,
             weight: c(1.0),
             magnitude: c(0.05),
             direction: (1.0, 0.0, 0.0),
@@ -81,10 +80,10 @@ fn animated_tablecloth(n: u32) -> Scene {
             frequency: c(0.5),
             phase: c(0.0),
             falloff: c(1.0),
+            ..Sway::with_start_values()
         }),
         Layer::Wave(Wave {
             name: "wave".to_owned(),
-            enabled: true,
             weight: c(1.0),
             magnitude: c(0.02),
             frequency: c(8.0),
@@ -93,10 +92,10 @@ fn animated_tablecloth(n: u32) -> Scene {
             direction_deg: c(30.0),
             axis: WaveAxis::Normal,
             falloff: c(1.0),
+            ..Wave::with_start_values()
         }),
         Layer::Gusts(Gusts {
             name: "gusts".to_owned(),
-            enabled: true,
             weight: c(1.0),
             amplitude: c(0.03),
             scale: c(0.5),
@@ -106,13 +105,14 @@ fn animated_tablecloth(n: u32) -> Scene {
             octaves: 2,
             seed: 1,
             falloff: c(1.0),
+            ..Gusts::with_start_values()
         }),
         Layer::FollowThrough(FollowThrough {
             name: "follow".to_owned(),
-            enabled: true,
             weight: c(1.0),
             lag: c(0.25),
             falloff: c(1.0),
+            ..FollowThrough::with_start_values()
         }),
     ];
     scene

@@ -58,7 +58,6 @@ fn scene(layers: Vec<Layer>) -> Scene {
 fn sway(magnitude: Param, frequency: f64, falloff: f64) -> Sway {
     Sway {
         name: "sway".into(),
-        enabled: true,
         weight: 1.0.into(),
         magnitude,
         direction: (1.0, 0.5, 2.0),
@@ -66,13 +65,13 @@ fn sway(magnitude: Param, frequency: f64, falloff: f64) -> Sway {
         frequency: frequency.into(),
         phase: 0.3.into(),
         falloff: falloff.into(),
+        ..Sway::with_start_values()
     }
 }
 
 fn wave(axis: WaveAxis) -> Wave {
     Wave {
         name: "wave".into(),
-        enabled: true,
         weight: 1.0.into(),
         magnitude: 0.04.into(),
         frequency: 9.0.into(),
@@ -81,13 +80,13 @@ fn wave(axis: WaveAxis) -> Wave {
         direction_deg: 30.0.into(),
         axis,
         falloff: 1.5.into(),
+        ..Wave::with_start_values()
     }
 }
 
 fn gusts(turbulence: f64, seed: u32) -> Gusts {
     Gusts {
         name: "gusts".into(),
-        enabled: true,
         weight: 1.0.into(),
         amplitude: 0.05.into(),
         scale: 0.4.into(),
@@ -97,11 +96,18 @@ fn gusts(turbulence: f64, seed: u32) -> Gusts {
         octaves: 3,
         seed,
         falloff: 1.0.into(),
+        ..Gusts::with_start_values()
     }
 }
 
 fn follow(lag: f64) -> FollowThrough {
-    FollowThrough { name: "trail".into(), enabled: true, weight: 1.0.into(), lag: lag.into(), falloff: 1.0.into() }
+    FollowThrough {
+        name: "trail".into(),
+        weight: 1.0.into(),
+        lag: lag.into(),
+        falloff: 1.0.into(),
+        ..FollowThrough::with_start_values()
+    }
 }
 
 fn every_layer() -> Vec<Layer> {

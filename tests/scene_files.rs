@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, ClothTexture, Ease, FollowThrough, Gusts, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene,
-    SceneError, Sway, Timeline, View, Wave, WaveAxis,
+    self, Cloth, ClothTexture, Ease, Key, Layer, Param, ParamKey, ParamValue, Pin, RelaxSettings, Scene, SceneError,
+    Timeline, View, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -507,57 +507,28 @@ fn vec3() -> impl Strategy<Value = (f64, f64, f64)> {
     (finite(), finite(), finite())
 }
 
+/// A layer of any kind with random values in every field its schema lists
+/// (driven by the schema, so a new parameter is covered without a change here).
 fn layer() -> impl Strategy<Value = Layer> {
-    let sway = (any::<String>(), any::<bool>(), [param(), param(), param(), param(), param(), param()], vec3())
-        .prop_map(|(name, enabled, [weight, magnitude, speed, frequency, phase, falloff], direction)| {
-            Layer::Sway(Sway { name, enabled, weight, magnitude, direction, speed, frequency, phase, falloff })
-        });
     let axis = prop_oneof![Just(WaveAxis::Normal), vec3().prop_map(WaveAxis::Fixed)];
-    let wave = (any::<String>(), any::<bool>(), [param(), param(), param(), param(), param(), param(), param()], axis)
-        .prop_map(|(name, enabled, [weight, magnitude, frequency, phase, speed, direction_deg, falloff], axis)| {
-            Layer::Wave(Wave {
-                name,
-                enabled,
-                weight,
-                magnitude,
-                frequency,
-                phase,
-                speed,
-                direction_deg,
-                axis,
-                falloff,
-            })
-        });
-    let gusts = (
-        any::<String>(),
-        any::<bool>(),
-        [param(), param(), param(), param(), param(), param()],
-        vec3(),
-        (any::<u32>(), any::<u32>()),
-    )
-        .prop_map(
-            |(name, enabled, [weight, amplitude, scale, speed, turbulence, falloff], direction, (octaves, seed))| {
-                Layer::Gusts(Gusts {
-                    name,
-                    enabled,
-                    weight,
-                    amplitude,
-                    scale,
-                    speed,
-                    direction,
-                    turbulence,
-                    octaves,
-                    seed,
-                    falloff,
-                })
-            },
-        );
-    let follow = (any::<String>(), any::<bool>(), [param(), param(), param()]).prop_map(
-        |(name, enabled, [weight, lag, falloff])| {
-            Layer::FollowThrough(FollowThrough { name, enabled, weight, lag, falloff })
+    let values = proptest::collection::vec((param(), vec3(), axis, any::<u32>()), 16);
+    (proptest::sample::select(Layer::KINDS), any::<String>(), any::<bool>(), values).prop_map(
+        |(kind, name, enabled, values)| {
+            let mut layer = Layer::with_start_values(kind).expect("one of Layer::KINDS");
+            assert!(layer.params().len() <= values.len(), "more values for {kind}");
+            *layer.name_mut() = name;
+            *layer.enabled_mut() = enabled;
+            for (spec, (number, vector, axis, count)) in layer.params().iter().zip(values) {
+                match spec.value {
+                    ParamValue::Number(n) => *n.access.get_mut(&mut layer).expect("its own field") = number,
+                    ParamValue::Direction(d) => *d.access.get_mut(&mut layer).expect("its own field") = vector,
+                    ParamValue::Axis(a) => *a.access.get_mut(&mut layer).expect("its own field") = axis,
+                    ParamValue::Count(c) => *c.access.get_mut(&mut layer).expect("its own field") = count,
+                }
+            }
+            layer
         },
-    );
-    prop_oneof![sway, wave, gusts, follow]
+    )
 }
 
 fn key() -> impl Strategy<Value = Key> {
