@@ -100,7 +100,7 @@ impl Shown {
         self.repaint_context.get().cloned()
     }
 
-    /// Forgets the last request and the mesh's provenance (a new document, an undo).
+    /// Forgets the last request, so the next sync asks the worker again (an undo, a finished gesture).
     pub fn forget_requests(&mut self) {
         self.requested = None;
     }
@@ -119,11 +119,6 @@ impl Shown {
     /// Whether a relaxation of `doc`'s shapes is pending or running.
     pub fn is_relaxing(&self, doc: &Document) -> bool {
         self.shaper.is_busy() || *doc.scene() != self.scene
-    }
-
-    /// Waits for the worker to go idle (its spinner cleared).
-    pub fn wait_idle(&self, timeout: Duration) -> bool {
-        self.shaper.wait_idle(timeout)
     }
 
     /// The bounds (min, max) of a newly opened scene that has just been shown,

@@ -43,7 +43,7 @@ impl ViewportPanel {
         let pointer_px = response.hover_pos().or(response.interact_pointer_pos()).map(to_px);
 
         // Hover: the cloth point under the mouse, when the grid on screen is the document's.
-        let same_grid = w.shown.scene.cloth.grid == w.doc.scene().cloth.grid;
+        let same_grid = w.shown_grid_is_current();
         w.session.hovered = None;
         if let Some(pointer) = pointer_px
             && self.pin_drag.is_none()

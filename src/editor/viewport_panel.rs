@@ -115,7 +115,7 @@ pub struct ViewportArea {
 }
 
 impl ViewportPanel {
-    /// A viewport on `w`'s scene: its saved view, else framing `bounds` (min, max) once shown.
+    /// A viewport on `w`'s scene: its saved view, else a camera framing its keys (framed again once shown).
     pub fn new(w: &mut Workspace, has_gpu: bool) -> ViewportPanel {
         let scene = w.doc.scene();
         let saved = scene.view.as_ref().map(OrbitCamera::from_view);
@@ -282,7 +282,7 @@ impl ViewportPanel {
         if let Some((i, j)) = highlight
             && !key.pins.iter().any(|p| p.grid == (i, j))
             && let Some(&center) = w.shown.mesh.positions.get(j as usize * scene.cloth.cols() + i as usize)
-            && scene.cloth.grid == w.doc.scene().cloth.grid
+            && w.shown_grid_is_current()
         {
             overlay.markers.push(Marker {
                 center,

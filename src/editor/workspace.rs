@@ -98,6 +98,11 @@ impl Workspace {
         self.session.play_started = None;
     }
 
+    /// Whether the shown cloth has the document's grid, so a grid point means the same vertex in both.
+    pub fn shown_grid_is_current(&self) -> bool {
+        self.shown.scene.cloth.grid == self.doc.scene().cloth.grid
+    }
+
     /// The index of the key being edited: the one in effect at the playhead.
     pub fn edit_key_index(&self) -> usize {
         let keys = &self.doc.scene().keys;
@@ -150,7 +155,7 @@ impl Workspace {
         }
         let cloth = &self.shown.scene.cloth;
         let vertex = point.1 as usize * cloth.cols() + point.0 as usize;
-        let same_grid = cloth.grid == self.doc.scene().cloth.grid;
+        let same_grid = self.shown_grid_is_current();
         let Some(p) = self.shown.mesh.positions.get(vertex).copied().filter(|_| same_grid) else {
             self.report("Wait for the cloth to finish relaxing before pinning.".to_owned(), true);
             return;
