@@ -115,9 +115,12 @@ fn evaluate(c: &mut Criterion) {
 
 /// Frame 100 000 against frame 1, timed in alternation so that the machine's
 /// drift (other work, clock changes) hits both alike: the median of each and
-/// their ratio, which must stay within 10% of 1.
+/// their ratio, which must stay within 10% of 1. The stretch limit is off:
+/// the two frames differ in what the layers ask of the cloth (the waves ramp
+/// up over the first second), and the limit's cost follows that, not t.
 fn late_frame_ratio(_: &mut Criterion) {
-    let scene = scene(128);
+    let mut scene = scene(128);
+    scene.cloth.stretch_limit = 0.0;
     let mut evaluator = Evaluator::new();
     let mut mesh = evaluator.evaluate(&scene, 0.0);
     let mut time = |frame: i32| {

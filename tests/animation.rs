@@ -139,6 +139,7 @@ fn sway_moves_every_vertex_by_equation_2() {
     for (frequency, falloff) in [(0.0, 1.0), (0.8, 1.0), (0.8, 2.5)] {
         let mut s = scene(vec![Layer::Sway(sway(0.1.into(), frequency, falloff))]);
         s.keys.truncate(1);
+        s.cloth.stretch_limit = 0.0; // the equation alone
         let mut evaluator = Evaluator::new();
         let t = 0.37;
         let base = no_layers(&mut evaluator, &s, t);
@@ -159,6 +160,7 @@ fn sway_moves_every_vertex_by_equation_2() {
 fn fixed_axis_wave_moves_every_vertex_by_equations_3_and_4() {
     let mut s = scene(vec![Layer::Wave(wave(WaveAxis::Fixed((0.0, 1.0, 1.0))))]);
     s.keys.truncate(1);
+    s.cloth.stretch_limit = 0.0; // the equations alone
     let mut evaluator = Evaluator::new();
     let axis = DVec3::new(0.0, 1.0, 1.0).normalize();
     let ratio = pin_distance_ratio(&s.cloth, &s.keys[0].pins);
@@ -182,6 +184,7 @@ fn fixed_axis_wave_moves_every_vertex_by_equations_3_and_4() {
 fn normal_wave_moves_along_the_input_normals() {
     let mut s = scene(vec![Layer::Wave(wave(WaveAxis::Normal))]);
     s.keys.truncate(1);
+    s.cloth.stretch_limit = 0.0; // the layer alone
     let mut evaluator = Evaluator::new();
     let base = no_layers(&mut evaluator, &s, 0.5);
     let mesh = evaluator.evaluate(&s, 0.5);
@@ -312,7 +315,8 @@ fn gusts_are_seeded_and_blow_downwind() {
 
 #[test]
 fn follow_through_samples_the_key_blend_late() {
-    let s = scene(vec![Layer::FollowThrough(follow(0.5))]);
+    let mut s = scene(vec![Layer::FollowThrough(follow(0.5))]);
+    s.cloth.stretch_limit = 0.0; // the layer alone
     let mut evaluator = Evaluator::new();
     let shapes = evaluator.cache().len();
     assert_eq!(shapes, 0);
@@ -434,5 +438,68 @@ fn every_example_scene_animates_to_finite_meshes() {
                 path.display()
             );
         }
+    }
+}
+
+/// Longest edge along a row or column of `mesh` against `rest_u_m` / `rest_v_m`.
+fn longest_stretch(mesh: &Mesh, rest_u_m: f64, rest_v_m: f64) -> f64 {
+    drape::animate::stretch_limit::longest_stretch(&mesh.positions, (mesh.cols, mesh.rows), rest_u_m, rest_v_m)
+}
+
+/// Layers bend the fabric, never tear it: on every frame of every bundled
+/// scene, no edge is longer than the scene's stretch limit allows against
+/// its rest length (spacing × the scene's largest elasticity), with 0.5 %
+/// numeric slack. Before the limit the flag reached 1.90×, the magic carpet
+/// 1.53× and the tablecloth pull 1.48×.
+#[test]
+fn every_frame_of_every_bundled_scene_keeps_its_stretch_limit() {
+    let mut paths: Vec<_> = std::fs::read_dir("scenes").expect("scenes/").map(|e| e.expect("entry").path()).collect();
+    paths.sort();
+    for path in paths {
+        let s = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let elasticity = s.keys.iter().map(|k| k.elasticity).fold(1.0, f64::max);
+        let rest_m = (s.cloth.spacing_u_m() * elasticity, s.cloth.spacing_v_m() * elasticity);
+        let bound = 1.0 + s.cloth.stretch_limit + 0.005;
+        let mut evaluator = Evaluator::new();
+        let mut mesh = Mesh::default();
+        for frame in s.timeline.start..=s.timeline.end {
+            evaluator.evaluate_frame_into(&s, f64::from(frame), EvaluateOptions::default(), &mut mesh);
+            let longest = longest_stretch(&mesh, rest_m.0, rest_m.1);
+            assert!(longest <= bound, "{}: frame {frame} stretches an edge {longest:.3}×", path.display());
+        }
+    }
+}
+
+/// A curtain hung by its whole top edge under a steep wave across it: with
+/// the limit its free bottom edge draws up, as real cloth's does, and it
+/// still waves; without it, the wave stretches the cloth.
+#[test]
+fn a_waving_curtain_draws_its_free_edge_in_and_still_waves() {
+    let last = COLS - 1;
+    let top = (0..COLS).map(|i| pin(i, 0, (-0.6 + 1.2 * f64::from(i) / f64::from(last), 1.0, 0.0))).collect();
+    let mut s = scene(vec![Layer::Wave(Wave {
+        magnitude: 0.08.into(),
+        frequency: 14.0.into(),
+        direction_deg: 90.0.into(),
+        falloff: 1.0.into(),
+        ..wave(WaveAxis::Fixed((0.0, 0.0, 1.0)))
+    })]);
+    s.keys = vec![key(0, top, 1.0, Ease::Linear)];
+    let mut evaluator = Evaluator::new();
+    let rest_m = (s.cloth.spacing_u_m(), s.cloth.spacing_v_m());
+    let lowest = |mesh: &Mesh| mesh.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+    let t = 0.4;
+    let base = no_layers(&mut evaluator, &s, t);
+    let limited = evaluator.evaluate(&s, t);
+    s.cloth.stretch_limit = 0.0;
+    let unlimited = evaluator.evaluate(&s, t);
+    assert!(longest_stretch(&unlimited, rest_m.0, rest_m.1) > 1.2, "the test wave tears an unlimited cloth");
+    assert!(longest_stretch(&limited, rest_m.0, rest_m.1) <= 1.1 * 1.003);
+    assert!(lowest(&limited) > lowest(&unlimited) + 0.01, "the free edge draws up");
+    let waving = (0..limited.positions.len()).map(|k| (limited.positions[k].z - base.positions[k].z).abs());
+    let waving = waving.fold(0.0, f32::max);
+    assert!(waving > 0.04, "it still waves: {waving} m");
+    for i in 0..limited.cols {
+        assert_eq!(limited.positions[i], base.positions[i], "pin {i}");
     }
 }

@@ -111,6 +111,11 @@ const MALFORMED: &[(&str, &str)] = &[
         "tests/data/malformed/negative_size.ron:4:20: cloth width must be greater than 0 m (it is -2 m)",
     ),
     (
+        "negative_stretch_limit.ron",
+        "tests/data/malformed/negative_stretch_limit.ron:4:62: stretch limit -0.1 is out of range: \
+         it must be between 0 (off) and 10 (edges up to 11× their rest length)",
+    ),
+    (
         "version_2.ron",
         "tests/data/malformed/version_2.ron:2:14: unsupported scene version 2 (this Drape reads version 1)",
     ),
@@ -317,6 +322,7 @@ fn a_minimal_scene_gets_the_documented_defaults() {
     let scene = scene::parse(text, "minimal").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.name, "");
     assert_eq!(scene.timeline, Timeline { fps: 24.0, start: 0, end: 120 });
+    assert_eq!(scene.cloth.stretch_limit, 0.1);
     assert_eq!(scene.keys[0].elasticity, 1.0);
     assert_eq!(scene.keys[0].stiffness, 0.2);
     assert_eq!(scene.keys[0].relax, RelaxSettings::default());

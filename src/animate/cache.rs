@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::falloff::pin_distance_ratio;
+use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
 use crate::shape::{Cancelled, Placement, RelaxProgress, RestShape};
@@ -25,6 +26,8 @@ pub struct KeyShape {
     pub ratio: Vec<f32>,
     /// Which vertices this key pins.
     pub pinned: Vec<bool>,
+    /// Each structural edge's reach in this key, for the stretch limit.
+    pub reach: EdgeReach,
 }
 
 impl KeyShape {
@@ -47,7 +50,9 @@ impl KeyShape {
         let points = PointArrays::from_vec3s(&positions);
         let ratio = pin_distance_ratio(cloth, &key.pins);
         let pinned = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
-        KeyShape { rest, positions, points, ratio, pinned }
+        let rest_m = (cloth.spacing_u_m() * key.elasticity, cloth.spacing_v_m() * key.elasticity);
+        let reach = EdgeReach::of(&points, cloth.cols(), cloth.rows(), rest_m.0 as f32, rest_m.1 as f32);
+        KeyShape { rest, positions, points, ratio, pinned, reach }
     }
 }
 

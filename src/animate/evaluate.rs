@@ -1,7 +1,8 @@
 //! `evaluate(scene, t)`: the one path from a scene and a time to a mesh.
 //!
 //! It blends the two rest shapes around t (cached per key by content), then
-//! applies the layer stack in order. Nothing depends on an earlier frame, so
+//! applies the layer stack in order and holds every edge within the cloth's
+//! stretch limit. Nothing depends on an earlier frame, so
 //! the same t gives a bit-identical mesh however it was reached, and the cost
 //! does not grow with t.
 //!
@@ -13,10 +14,11 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::blend::{blend_segment, segment_at};
+use super::blend::{Segment, blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache};
 use super::falloff::AttenuationField;
 use super::noise::FractalSampler;
+use super::stretch_limit::StretchLimiter;
 use super::track::sample;
 use super::wave::WaveTables;
 use super::{follow_through, gusts, sway, wave};
@@ -65,6 +67,7 @@ pub struct Evaluator {
     wave_tables: WaveTables,
     normal_rows: NormalRows,
     sampler: FractalSampler,
+    stretch_limiter: StretchLimiter,
 }
 
 impl Evaluator {
@@ -225,6 +228,12 @@ impl Evaluator {
                         ),
                     }
                 }
+                let reaches = match segment {
+                    Segment::Hold(index) => [&shapes[index].reach, &shapes[index].reach],
+                    Segment::Between { from, .. } => [&shapes[from].reach, &shapes[from + 1].reach],
+                };
+                let limit = scene.cloth.stretch_limit as f32;
+                self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, &reaches, points);
             }
         }
         // The mesh's positions and normals, interleaved row by row.

@@ -9,6 +9,7 @@
 //! - [`blend`]: in-betweens: which keys surround a frame, and their blend.
 //! - [`sway`], [`wave`], [`gusts`], [`follow_through`]: the layers, whose parameters
 //!   are listed once in `scene/layers.rs`.
+//! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
 //! - [`noise`]: the seeded value noise behind the gusts.
 //! - [`evaluate`](mod@evaluate): scene + time → mesh.
 
@@ -20,6 +21,7 @@ pub mod falloff;
 pub mod follow_through;
 pub mod gusts;
 pub mod noise;
+pub mod stretch_limit;
 pub mod sway;
 pub mod track;
 pub mod wave;

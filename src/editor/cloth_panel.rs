@@ -1,4 +1,4 @@
-//! The Cloth panel: the cloth's size, grid and texture, the fabric of the key
+//! The Cloth panel: the cloth's size, grid, texture and stretch limit, the fabric of the key
 //! being edited, its pins in the 2D grid editor, and exact pin positions.
 //! Every change goes through the document, so it is undoable and validated.
 
@@ -9,8 +9,8 @@ use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
 use super::workspace::Workspace;
 use crate::scene::{
-    ClothTexture, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MIN_ELASTICITY,
-    MIN_GRID_SIDE, Scene,
+    ClothTexture, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MAX_STRETCH_LIMIT,
+    MIN_ELASTICITY, MIN_GRID_SIDE, Scene,
 };
 
 /// The Cloth panel's own state: the grid editor's view.
@@ -119,6 +119,18 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
         if texture != cloth.texture {
             w.apply("Texture", |s| s.cloth.texture = texture);
         }
+        ui.end_row();
+
+        let label = ui.label("Stretch limit").id;
+        let mut percent = cloth.stretch_limit * 100.0;
+        let r = ui
+            .add(DragValue::new(&mut percent).range(0.0..=MAX_STRETCH_LIMIT * 100.0).speed(0.1).suffix(" %"))
+            .labelled_by(label)
+            .on_hover_text(
+                "How much longer than its rest length the layers may make any edge of the cloth; \
+                 past it the cloth bends instead of stretching. 0 turns the limit off.",
+            );
+        field(w, &r, "Stretch limit", |s| s.cloth.stretch_limit = percent / 100.0);
         ui.end_row();
     });
 }

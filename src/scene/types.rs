@@ -51,12 +51,24 @@ pub struct Cloth {
     /// The picture on the cloth.
     #[serde(default)]
     pub texture: ClothTexture,
+    /// How much longer than its rest length the layers may make any edge
+    /// along a row or column, as a fraction (0.1: 10 %); 0 turns the limit
+    /// off. See `animate::stretch_limit`.
+    #[serde(default = "default_stretch_limit")]
+    pub stretch_limit: f64,
+}
+
+/// The stretch limit a cloth gets when its file names none: 10 %.
+pub const DEFAULT_STRETCH_LIMIT: f64 = 0.1;
+
+fn default_stretch_limit() -> f64 {
+    DEFAULT_STRETCH_LIMIT
 }
 
 impl Cloth {
     /// A plain cloth of `size` (width, height) metres on a `grid` of (cols, rows) points.
     pub fn new(size: (f64, f64), grid: (u32, u32)) -> Cloth {
-        Cloth { size, grid, texture: ClothTexture::Plain }
+        Cloth { size, grid, texture: ClothTexture::Plain, stretch_limit: DEFAULT_STRETCH_LIMIT }
     }
 
     pub fn cols(&self) -> usize {

@@ -64,6 +64,8 @@ pub const MAX_STIFFNESS: f64 = 1.0;
 pub const MAX_RELAX_ITERATIONS: u32 = 100_000;
 /// Largest relaxation tolerance (a fraction of the grid spacing); it must also be > 0.
 pub const MAX_RELAX_TOLERANCE: f64 = 1.0;
+/// Largest stretch limit: the layers may make an edge up to (1 + this) × its rest length.
+pub const MAX_STRETCH_LIMIT: f64 = 10.0;
 /// Most re-relaxation sweeps per in-between (each costs one sweep over the cloth per frame).
 pub const MAX_INBETWEEN_RELAX: u32 = 1000;
 
@@ -240,6 +242,19 @@ impl Checker {
                 format!(
                     "grid {cols} × {rows} is too long: the limit is {} points along each side",
                     group_thousands(MAX_GRID_SIDE.into())
+                ),
+            );
+        }
+
+        let limit = scene.cloth.stretch_limit;
+        if self.finite("cloth.stretch_limit", "stretch limit", limit) && !(0.0..=MAX_STRETCH_LIMIT).contains(&limit) {
+            self.push(
+                "cloth.stretch_limit",
+                format!(
+                    "stretch limit {} is out of range: it must be between 0 (off) and {MAX_STRETCH_LIMIT} \
+                     (edges up to {}× their rest length)",
+                    readable_number(limit),
+                    1.0 + MAX_STRETCH_LIMIT
                 ),
             );
         }

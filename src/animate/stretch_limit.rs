@@ -1,0 +1,465 @@
+//! The stretch limit: after the layer stack, no structural edge (along a row
+//! or a column) is longer than (1 + limit) × its reach, so layers bend the
+//! fabric but never tear it.
+//!
+//! A layer displaces points independently: a wave along the normal adds arc
+//! length, a follow-through lag leaves points behind their pins. The limit
+//! walks the cloth outward from the pins in the order of the blended
+//! d_cp/d_max field (the one the layers attenuate by), and pulls each point
+//! back within reach of every neighbour it has already placed ("follow the
+//! leader"). Points nearer the pins are settled first and never move again,
+//! so every edge is checked once from its later end and, where the reaches
+//! allow a place at all, ends within its limit. The layers' intent stays: a
+//! wave still waves and its free edge draws in, as a real flag's does; a
+//! lagging point still lags, swung round its leaders instead of torn away.
+//!
+//! An edge may be (1 + limit) × its rest length (material spacing ×
+//! elasticity, the larger of the two keys around the frame), or as long as
+//! it is in either key shape if that is longer: a key whose pins stretch the
+//! cloth beyond the limit (out of its reach) keeps its shape, and only what
+//! the layers and overshooting easings add is limited.
+//!
+//! The walk cannot place a point whose placed neighbours were pulled apart
+//! from two sides (where the chains from two pins meet, under a layer that
+//! drags the whole cloth), so Gauss–Seidel passes over the edges still too
+//! long follow, over-relaxed, until every edge is within its limit: one
+//! check on most frames, a few hundred cheap passes where a layer asks the
+//! impossible of a taut cloth (the magic carpet's drag at full speed).
+//!
+//! Pins (ratio 0: the layers never move them) stay exactly in place. The
+//! result depends on the frame alone, like every other step of `evaluate`.
+
+use crate::mesh::PointArrays;
+
+/// Passes of cyclic projection onto a point's leaders' reach: one suffices
+/// with one leader; two or more leaders rarely need more than three.
+const MAX_PASSES: usize = 8;
+
+/// Most passes spent evening out what the walk from the pins left over the
+/// limit, and most edge visits in all (so a large grid under an impossible
+/// layer still evaluates in tens of milliseconds). The bundled scenes need
+/// at most 187 passes (the 21 × 33 magic carpet's drag at full speed), the
+/// `evaluate` benchmark's 128² cloth 63.
+const MAX_EVEN_PASSES: usize = 2000;
+const MAX_EVEN_EDGE_VISITS: usize = 1 << 22;
+/// Over-relaxation of the evening passes: an edge over its limit is cut by
+/// this many times its excess. Measured on the bundled scenes: 1.0 needs up
+/// to 1579 passes, 1.5 up to 600, 1.8 about 200; the 128² benchmark does not
+/// settle within 128 passes at 1.5, and 1.9 oscillates on one carpet frame.
+const OMEGA: f32 = 1.8;
+
+/// How far past its limit an edge may end, relative (0.25 %): the evening
+/// passes approach the limit gradually and stop once no edge is longer.
+const SLACK: f32 = 2.5e-3;
+
+/// The walk order and reach limits, kept between frames so the order is
+/// only sorted again when the ratio field changes.
+#[derive(Clone, Debug, Default)]
+pub struct StretchLimiter {
+    /// The ratio field `order` was sorted for, by bits.
+    ratio_bits: Vec<u32>,
+    /// Point indices by increasing ratio, ties by index.
+    order: Vec<u32>,
+    /// Position of each point in `order`.
+    rank: Vec<u32>,
+    /// Squared longest allowed length of the edge from point k to k + 1 (along u).
+    allowed2_u: Vec<f32>,
+    /// The same for the edge from k to k + cols (along v).
+    allowed2_v: Vec<f32>,
+    /// Points whose edges the current evening pass checks, and those the next one will.
+    dirty: Vec<bool>,
+    next_dirty: Vec<bool>,
+}
+
+/// What one key shape allows its edges: the rest lengths, and the length of
+/// the edge from each point to its right (`u_m`) and lower (`v_m`)
+/// neighbour in the shape. The last column's `u_m` and last row's `v_m`
+/// entries are unused (0).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EdgeReach {
+    pub rest_u_m: f32,
+    pub rest_v_m: f32,
+    pub u_m: Vec<f32>,
+    pub v_m: Vec<f32>,
+}
+
+impl EdgeReach {
+    /// The edges of a `cols × rows` shape whose rest lengths are `rest_u_m` and `rest_v_m`.
+    pub fn of(points: &PointArrays, cols: usize, rows: usize, rest_u_m: f32, rest_v_m: f32) -> EdgeReach {
+        let n = cols * rows;
+        let (mut u_m, mut v_m) = (vec![0.0; n], vec![0.0; n]);
+        for k in 0..n {
+            let (i, j) = (k % cols, k / cols);
+            if i + 1 < cols {
+                u_m[k] = points.get(k).distance(points.get(k + 1));
+            }
+            if j + 1 < rows {
+                v_m[k] = points.get(k).distance(points.get(k + cols));
+            }
+        }
+        EdgeReach { rest_u_m, rest_v_m, u_m, v_m }
+    }
+}
+
+impl StretchLimiter {
+    /// Pulls `points` (a `cols × rows` grid) so that every structural edge
+    /// is at most `(1 + limit)` × the larger rest length in `reaches` (the
+    /// key shapes around the frame), or as long as it is in one of those
+    /// shapes, within [`SLACK`]. `ratio` is the blended d_cp/d_max field:
+    /// points where it is 0 (pins) never move, the others are placed in
+    /// increasing ratio. A limit that is 0, negative or not finite turns it
+    /// off. Where pins hold an edge longer than that in no key (only a
+    /// Between blend with other pins can), the passes stop at their cap with
+    /// the excess spread as evenly as they got.
+    pub fn apply(
+        &mut self,
+        limit: f32,
+        (cols, rows): (usize, usize),
+        ratio: &[f32],
+        reaches: &[&EdgeReach],
+        points: &mut PointArrays,
+    ) {
+        let n = cols * rows;
+        if !(limit > 0.0 && limit.is_finite()) || n == 0 || ratio.len() != n || points.len() != n {
+            return;
+        }
+        self.allowed(limit, reaches, n);
+        // Gentle layers leave every edge within its limit: then the walk
+        // would move nothing, and a scan in memory order is all it costs.
+        if !self.mark_over(cols, rows, ratio, points, 1.0) {
+            return;
+        }
+        self.sort(ratio);
+        self.lead(cols, rows, ratio, points);
+        if !self.mark_over(cols, rows, ratio, points, (1.0 + SLACK) * (1.0 + SLACK)) {
+            return;
+        }
+        let passes = MAX_EVEN_PASSES.min(MAX_EVEN_EDGE_VISITS / (2 * n)).max(1);
+        for pass in 0..passes {
+            if !self.even_out(cols, rows, ratio, points, pass % 2 == 1) {
+                break;
+            }
+        }
+    }
+
+    /// Marks the ends of every edge longer than `scale2` × its squared limit
+    /// (and not held by pins at both ends) for the next evening pass; returns
+    /// whether there was one.
+    fn mark_over(&mut self, cols: usize, rows: usize, ratio: &[f32], points: &PointArrays, scale2: f32) -> bool {
+        let PointArrays { x, y, z } = points;
+        self.next_dirty.clear();
+        self.next_dirty.resize(cols * rows, false);
+        let mut any = false;
+        for k in 0..cols * rows {
+            let (i, j) = (k % cols, k / cols);
+            for (exists, q, allowed2) in
+                [(i + 1 < cols, k + 1, self.allowed2_u[k]), (j + 1 < rows, k + cols, self.allowed2_v[k])]
+            {
+                if !exists {
+                    continue;
+                }
+                let d = [x[q] - x[k], y[q] - y[k], z[q] - z[k]];
+                let over = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > allowed2 * scale2;
+                if over && (ratio[k] > 0.0 || ratio[q] > 0.0) {
+                    (self.next_dirty[k], self.next_dirty[q], any) = (true, true, true);
+                }
+            }
+        }
+        any
+    }
+
+    /// The walk from the pins outward: each point pulled within reach of the
+    /// neighbours placed before it.
+    fn lead(&self, cols: usize, rows: usize, ratio: &[f32], points: &mut PointArrays) {
+        let PointArrays { x, y, z } = points;
+        for &k in &self.order {
+            let k = k as usize;
+            if !(ratio[k] > 0.0) {
+                continue;
+            }
+            let rank = self.rank[k];
+            let (i, j) = (k % cols, k / cols);
+            // The already placed neighbours and the squared reach to each.
+            let mut leaders = [(0usize, 0.0f32); 4];
+            let mut count = 0;
+            let mut lead = |q: usize, allowed2: f32| {
+                if self.rank[q] < rank {
+                    leaders[count] = (q, allowed2);
+                    count += 1;
+                }
+            };
+            if i > 0 {
+                lead(k - 1, self.allowed2_u[k - 1]);
+            }
+            if i + 1 < cols {
+                lead(k + 1, self.allowed2_u[k]);
+            }
+            if j > 0 {
+                lead(k - cols, self.allowed2_v[k - cols]);
+            }
+            if j + 1 < rows {
+                lead(k + cols, self.allowed2_v[k]);
+            }
+            let mut p = [x[k], y[k], z[k]];
+            for _ in 0..MAX_PASSES {
+                let mut within = true;
+                for &(q, allowed2) in &leaders[..count] {
+                    let d = [p[0] - x[q], p[1] - y[q], p[2] - z[q]];
+                    let length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    if length2 > allowed2 {
+                        let scale = (allowed2 / length2).sqrt();
+                        p = [x[q] + d[0] * scale, y[q] + d[1] * scale, z[q] + d[2] * scale];
+                        within = false;
+                    }
+                }
+                if within {
+                    break;
+                }
+            }
+            if p.iter().all(|c| c.is_finite()) {
+                (x[k], y[k], z[k]) = (p[0], p[1], p[2]);
+            }
+        }
+    }
+
+    /// One Gauss–Seidel pass over the edges still longer than their limit
+    /// (by more than [`SLACK`]), shortening each to its limit by moving both
+    /// ends (a pin's share goes to the other end); `backwards` runs the
+    /// edges in the opposite order. Where the walk from the pins could not
+    /// place a point (leaders pulled apart from two sides, as where the
+    /// chains from two pins meet), this spreads the gap over both sides.
+    /// Returns whether any edge was over.
+    fn even_out(&mut self, cols: usize, rows: usize, ratio: &[f32], points: &mut PointArrays, backwards: bool) -> bool {
+        let PointArrays { x, y, z } = points;
+        let n = cols * rows;
+        let slack2 = (1.0 + SLACK) * (1.0 + SLACK);
+        let mut over = false;
+        std::mem::swap(&mut self.dirty, &mut self.next_dirty);
+        self.next_dirty.clear();
+        self.next_dirty.resize(n, false);
+        for position in 0..n {
+            let k = self.order[if backwards { n - 1 - position } else { position }] as usize;
+            if !self.dirty[k] {
+                continue;
+            }
+            let rank = self.rank[k];
+            let (i, j) = (k % cols, k / cols);
+            let edges = [
+                (i > 0, k.wrapping_sub(1), k.wrapping_sub(1), false),
+                (i + 1 < cols, k + 1, k, false),
+                (j > 0, k.wrapping_sub(cols), k.wrapping_sub(cols), true),
+                (j + 1 < rows, k + cols, k, true),
+            ];
+            for (exists, q, edge, along_v) in edges {
+                if !exists || self.rank[q] > rank {
+                    continue;
+                }
+                let allowed2 = if along_v { self.allowed2_v[edge] } else { self.allowed2_u[edge] };
+                let d = [x[q] - x[k], y[q] - y[k], z[q] - z[k]];
+                let length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                if !(length2 > allowed2 * slack2) {
+                    continue;
+                }
+                let (free_k, free_q) = (ratio[k] > 0.0, ratio[q] > 0.0);
+                let share_k = match (free_k, free_q) {
+                    (true, true) => 0.5,
+                    (true, false) => 1.0,
+                    (false, true) => 0.0,
+                    (false, false) => continue,
+                };
+                over = true;
+                let cut = (OMEGA * (1.0 - (allowed2 / length2).sqrt())).min(1.0);
+                let (cut_k, cut_q) = (cut * share_k, cut * (1.0 - share_k));
+                for (axis, a) in [&mut *x, &mut *y, &mut *z].into_iter().enumerate() {
+                    a[k] += d[axis] * cut_k;
+                    a[q] -= d[axis] * cut_q;
+                }
+                // Both ends moved: every edge of theirs is checked again next pass.
+                for moved in [k, q] {
+                    let (i, j) = (moved % cols, moved / cols);
+                    self.next_dirty[moved] = true;
+                    if i > 0 {
+                        self.next_dirty[moved - 1] = true;
+                    }
+                    if i + 1 < cols {
+                        self.next_dirty[moved + 1] = true;
+                    }
+                    if j > 0 {
+                        self.next_dirty[moved - cols] = true;
+                    }
+                    if j + 1 < rows {
+                        self.next_dirty[moved + cols] = true;
+                    }
+                }
+            }
+        }
+        over
+    }
+
+    /// The walk order for `ratio`, sorted again only when the field changed
+    /// (on a held key it never does).
+    fn sort(&mut self, ratio: &[f32]) {
+        let same =
+            self.ratio_bits.len() == ratio.len() && self.ratio_bits.iter().zip(ratio).all(|(b, r)| *b == r.to_bits());
+        if same {
+            return;
+        }
+        self.ratio_bits.clear();
+        self.ratio_bits.extend(ratio.iter().map(|r| r.to_bits()));
+        // Ratios are never negative (a NaN sorts last and is never moved), so
+        // their bits order as the numbers do; the index breaks ties.
+        let mut keyed: Vec<u64> = ratio
+            .iter()
+            .enumerate()
+            .map(|(k, r)| (u64::from(if *r >= 0.0 { r.to_bits() } else { 0 }) << 32) | k as u64)
+            .collect();
+        keyed.sort_unstable();
+        self.order.clear();
+        self.order.extend(keyed.iter().map(|key| *key as u32));
+        self.rank.resize(ratio.len(), 0);
+        for (position, &k) in self.order.iter().enumerate() {
+            self.rank[k as usize] = position as u32;
+        }
+    }
+
+    fn allowed(&mut self, limit: f32, reaches: &[&EdgeReach], n: usize) {
+        for (allowed2, along_v) in [(&mut self.allowed2_u, false), (&mut self.allowed2_v, true)] {
+            let rest = reaches.iter().map(|r| if along_v { r.rest_v_m } else { r.rest_u_m }).fold(0.0, f32::max);
+            let limited = rest * (1.0 + limit);
+            allowed2.clear();
+            allowed2.resize(n, limited * limited);
+            for reach in reaches {
+                let lengths = if along_v { &reach.v_m } else { &reach.u_m };
+                for (a, l) in allowed2.iter_mut().zip(lengths) {
+                    *a = a.max(l * l);
+                }
+            }
+        }
+    }
+}
+
+/// The longest structural edge of a `cols × rows` grid against its rest
+/// length, as a ratio (1.1: 10 % stretched): the measure the limit keeps.
+pub fn longest_stretch(points: &[glam::Vec3], (cols, rows): (usize, usize), rest_u_m: f64, rest_v_m: f64) -> f64 {
+    let mut longest = 0.0f64;
+    for k in 0..cols * rows {
+        let (i, j) = (k % cols, k / cols);
+        if i + 1 < cols {
+            longest = longest.max(f64::from(points[k].distance(points[k + 1])) / rest_u_m);
+        }
+        if j + 1 < rows {
+            longest = longest.max(f64::from(points[k].distance(points[k + cols])) / rest_v_m);
+        }
+    }
+    longest
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+
+    /// A straight strip of `n` points 1 m apart along x, pinned at point 0.
+    fn strip(n: usize) -> (PointArrays, Vec<f32>, EdgeReach) {
+        let flat: Vec<Vec3> = (0..n).map(|i| Vec3::new(i as f32, 0.0, 0.0)).collect();
+        let points = PointArrays::from_vec3s(&flat);
+        let ratio = (0..n).map(|i| i as f32 / (n - 1) as f32).collect();
+        let reach = EdgeReach::of(&points, n, 1, 1.0, 1.0);
+        (points, ratio, reach)
+    }
+
+    #[test]
+    fn a_stretched_strip_is_pulled_back_towards_its_pin() {
+        let (mut points, ratio, reach) = strip(5);
+        // A layer pushed the free end 3 m further out along x and lifted it.
+        for k in 1..5 {
+            points.set(k, Vec3::new(k as f32 * 1.75, k as f32 * 0.5, 0.0));
+        }
+        StretchLimiter::default().apply(0.1, (5, 1), &ratio, &[&reach], &mut points);
+        let positions: Vec<Vec3> = (0..5).map(|k| points.get(k)).collect();
+        assert_eq!(positions[0], Vec3::ZERO, "the pin stays");
+        assert!(longest_stretch(&positions, (5, 1), 1.0, 1.0) <= 1.1 + 1e-6);
+        // Each edge keeps its direction: the strip still rises the way the layer lifted it.
+        for k in 1..5 {
+            let d = positions[k] - positions[k - 1];
+            assert!((d.length() - 1.1).abs() < 1e-5, "edge {k} is at the limit: {}", d.length());
+            assert!((d.y / d.x - 0.5 / 1.75).abs() < 1e-5, "edge {k} keeps its slope");
+        }
+    }
+
+    #[test]
+    fn edges_within_the_limit_are_left_alone() {
+        let (mut points, ratio, reach) = strip(4);
+        points.set(3, Vec3::new(3.05, 0.3, 0.0));
+        let before = points.clone();
+        StretchLimiter::default().apply(0.1, (4, 1), &ratio, &[&reach], &mut points);
+        assert_eq!(points, before);
+    }
+
+    #[test]
+    fn zero_negative_and_nan_limits_are_off() {
+        let (mut points, ratio, reach) = strip(3);
+        points.set(2, Vec3::new(9.0, 0.0, 0.0));
+        let before = points.clone();
+        for limit in [0.0, -0.5, f32::NAN, f32::INFINITY] {
+            StretchLimiter::default().apply(limit, (3, 1), &ratio, &[&reach], &mut points);
+            assert_eq!(points, before, "limit {limit}");
+        }
+    }
+
+    #[test]
+    fn a_key_stretched_by_its_pins_keeps_its_shape() {
+        // Pins 4 m apart on a 3 m strip: the rest shape itself is stretched past the limit.
+        let flat: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f32 * 4.0 / 3.0, 0.0, 0.0)).collect();
+        let mut points = PointArrays::from_vec3s(&flat);
+        let reach = EdgeReach::of(&points, 4, 1, 1.0, 1.0);
+        let ratio = [0.0, 1.0, 1.0, 0.0];
+        let before = points.clone();
+        StretchLimiter::default().apply(0.1, (4, 1), &ratio, &[&reach], &mut points);
+        assert_eq!(points, before, "the key's own stretch is its reach");
+    }
+
+    #[test]
+    fn a_grid_pulled_apart_by_a_wave_ends_within_the_limit_and_the_pins_stay() {
+        let (cols, rows) = (17, 9);
+        let flat: Vec<Vec3> =
+            (0..rows).flat_map(|j| (0..cols).map(move |i| Vec3::new(i as f32 * 0.1, -(j as f32) * 0.1, 0.0))).collect();
+        let mut points = PointArrays::from_vec3s(&flat);
+        let reach = EdgeReach::of(&points, cols, rows, 0.1, 0.1);
+        // Pinned along the left edge; a steep wave along z grows away from it.
+        let ratio: Vec<f32> = (0..cols * rows).map(|k| (k % cols) as f32 / (cols - 1) as f32).collect();
+        for (k, a) in ratio.iter().enumerate() {
+            let (u, v) = ((k % cols) as f32 * 0.1, (k / cols) as f32 * 0.1);
+            let mut p = points.get(k);
+            p.z += a * 0.3 * (u * 20.0 + v * 7.0).sin();
+            points.set(k, p);
+        }
+        let waved: Vec<Vec3> = (0..cols * rows).map(|k| points.get(k)).collect();
+        assert!(longest_stretch(&waved, (cols, rows), 0.1, 0.1) > 1.5, "the test wave tears the cloth");
+        let mut limiter = StretchLimiter::default();
+        limiter.apply(0.1, (cols, rows), &ratio, &[&reach], &mut points);
+        let limited: Vec<Vec3> = (0..cols * rows).map(|k| points.get(k)).collect();
+        assert!(longest_stretch(&limited, (cols, rows), 0.1, 0.1) <= 1.1 + 1e-5);
+        for j in 0..rows {
+            assert_eq!(limited[j * cols], flat[j * cols], "pin row {j}");
+        }
+        // Still a wave: the free edge swings in z.
+        let swing = (0..rows).map(|j| limited[j * cols + cols - 1].z.abs()).fold(0.0, f32::max);
+        assert!(swing > 0.05, "the wave survives: {swing}");
+        // The same input twice gives the same output (the cached order).
+        let mut again = PointArrays::from_vec3s(&waved);
+        limiter.apply(0.1, (cols, rows), &ratio, &[&reach], &mut again);
+        assert_eq!(again, points);
+    }
+
+    #[test]
+    fn nan_points_are_not_spread() {
+        let (mut points, ratio, reach) = strip(3);
+        points.set(1, Vec3::new(f32::NAN, 0.0, 0.0));
+        points.set(2, Vec3::new(5.0, 0.0, 0.0));
+        StretchLimiter::default().apply(0.1, (3, 1), &ratio, &[&reach], &mut points);
+        assert_eq!(points.get(0), Vec3::ZERO);
+        assert!(points.get(2).is_finite(), "{}", points.get(2));
+    }
+}
