@@ -250,6 +250,14 @@ fn check(path: &Path) -> Result<()> {
         cloth.spacing_u_m(),
         cloth.spacing_v_m()
     );
+    if cloth.stretch_limit > 0.0 {
+        say!(
+            "  stretch   layers may lengthen an edge by at most {}% of its rest length",
+            readable_number(cloth.stretch_limit * 100.0)
+        );
+    } else {
+        say!("  stretch   no limit: layers may lengthen the cloth freely");
+    }
     let tl = &scene.timeline;
     say!(
         "  timeline  frames {}..{} at {} fps ({:.2} s)",
