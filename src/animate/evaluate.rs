@@ -228,12 +228,14 @@ impl Evaluator {
                         ),
                     }
                 }
-                let reaches = match segment {
-                    Segment::Hold(index) => [&shapes[index].reach, &shapes[index].reach],
-                    Segment::Between { from, .. } => [&shapes[from].reach, &shapes[from + 1].reach],
+                let (a, b) = match segment {
+                    Segment::Hold(index) => (index, index),
+                    Segment::Between { from, .. } => (from, from + 1),
                 };
+                let reaches = [&shapes[a].reach, &shapes[b].reach];
+                let reaches = if a == b { &reaches[..1] } else { &reaches[..] };
                 let limit = scene.cloth.stretch_limit as f32;
-                self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, &reaches, points);
+                self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, reaches, points);
             }
         }
         // The mesh's positions and normals, interleaved row by row.
