@@ -16,6 +16,7 @@ use drape::editor::DrapeApp;
 use drape::editor::files::new_scene;
 use drape::editor::grid_editor::GridEditor;
 use drape::scene::{self, Scene};
+use eframe::App as _;
 use eframe::egui::accesskit::Role;
 use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::kittest::Queryable;
@@ -104,6 +105,25 @@ fn drag(harness: &mut Harness<'_, DrapeApp>, from: Pos2, to: Pos2) {
     }
     harness.event(press(false, to));
     harness.run_ok();
+}
+
+/// Puts `events` into one frame, as a fast typist on a slow display does,
+/// and runs frames the way eframe does: each frame's input passes through
+/// the app's `raw_input_hook` before egui sees it (kittest does not call it).
+fn in_one_frame(harness: &mut Harness<'_, DrapeApp>, events: Vec<Event>) {
+    harness.input_mut().events.extend(events);
+    for _ in 0..8 {
+        let ctx = harness.ctx.clone();
+        let mut raw = std::mem::take(harness.input_mut());
+        harness.state_mut().raw_input_hook(&ctx, &mut raw);
+        *harness.input_mut() = raw;
+        harness.step();
+    }
+    harness.run_ok();
+}
+
+fn key_event(key: Key) -> Event {
+    Event::Key { key, physical_key: None, pressed: true, repeat: false, modifiers: Modifiers::NONE }
 }
 
 fn pin_pos(scene: &Scene, key: usize, grid: (u32, u32)) -> (f64, f64, f64) {
@@ -761,4 +781,132 @@ fn an_editor_left_alone_autosaves_on_time() {
     assert!(edited.elapsed() >= interval, "written only once the interval was up");
     let recovered = scene::load(&recovery_file).expect("the recovery file holds a scene");
     assert_eq!(recovered.keys[0].elasticity, 1.3, "with the edit");
+}
+
+#[test]
+fn a_number_typed_and_tabbed_in_one_frame_lands_in_its_field() {
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    let fps = harness.state().scene().timeline.fps;
+    // A field scrolled into view first, as a user scrolls the panel to it.
+    let spin = |harness: &mut Harness<'_, DrapeApp>, label: &str| {
+        harness.get_by_role_and_label(Role::SpinButton, label).scroll_to_me();
+        harness.run_ok();
+        harness.get_by_role_and_label(Role::SpinButton, label).rect().center()
+    };
+
+    // A new pin's X and Y typed in one frame: both land, each in its own axis.
+    let grid_rect = harness.get_by_label("Grid editor").rect();
+    let cloth = harness.state().scene().cloth.clone();
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (10, 2)), Modifiers::NONE);
+    settle(&mut harness);
+    let z = pin_pos(harness.state().scene(), 0, (10, 2)).2;
+    let field = spin(&mut harness, "X");
+    click_at(&mut harness, field, Modifiers::NONE);
+    let typed = vec![Event::Text("0.25".into()), key_event(Key::Tab), Event::Text("-0.75".into()), key_event(Key::Tab)];
+    in_one_frame(&mut harness, typed);
+    assert_eq!(pin_pos(harness.state().scene(), 0, (10, 2)), (0.25, -0.75, z));
+
+    // Frame, then Tab to fps: 30 goes to Frame, 12 to fps, one undo step for the rate.
+    // (Settled first: while the cloth relaxes every frame asks for the next, and kittest's
+    // clock would turn a click into a long press.)
+    settle(&mut harness);
+    let field = spin(&mut harness, "Frame");
+    click_at(&mut harness, field, Modifiers::NONE);
+    let typed = vec![Event::Text("30".into()), key_event(Key::Tab), Event::Text("12".into()), key_event(Key::Enter)];
+    in_one_frame(&mut harness, typed);
+    assert_eq!(harness.state().frame(), 30.0);
+    assert_eq!(harness.state().scene().timeline.fps, 12.0);
+    assert_eq!(harness.state().document().undo_label(), Some("Frame rate"));
+    harness.state_mut().undo();
+    assert_eq!(harness.state().scene().timeline.fps, fps);
+
+    // Escape restores what the field had.
+    let field = spin(&mut harness, "fps");
+    click_at(&mut harness, field, Modifiers::NONE);
+    in_one_frame(&mut harness, vec![Event::Text("99".into()), key_event(Key::Escape)]);
+    assert_eq!(harness.state().scene().timeline.fps, fps);
+}
+
+/// Whether the centre of the shown cloth is drawn inside the viewport.
+fn cloth_on_screen(harness: &Harness<'_, DrapeApp>) -> bool {
+    let (min, max) = drape::render::camera::bounds(&harness.state().mesh().positions).unwrap();
+    harness.state().screen_pos((min + max) * 0.5).is_some_and(|p| harness.state().viewport_rect().contains(p))
+}
+
+fn orbit_angles(harness: &Harness<'_, DrapeApp>) -> (f32, f32) {
+    (harness.state().camera().yaw_deg, harness.state().camera().pitch_deg)
+}
+
+#[test]
+fn f_frames_the_cloth_and_keeps_the_orbit_angles() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+
+    // Orbit with the middle button, then fly the carpet out of view.
+    let centre = harness.state().viewport_rect().center();
+    let before = orbit_angles(&harness);
+    harness.event(Event::PointerMoved(centre));
+    harness.run_ok();
+    let middle =
+        |pressed, pos| Event::PointerButton { pos, button: PointerButton::Middle, pressed, modifiers: Modifiers::NONE };
+    harness.event(middle(true, centre));
+    harness.run_ok();
+    for step in 1..=4 {
+        harness.event(Event::PointerMoved(centre + egui::vec2(-30.0, 10.0) * step as f32));
+        harness.run_ok();
+    }
+    harness.event(middle(false, centre + egui::vec2(-120.0, 40.0)));
+    harness.run_ok();
+    let orbited = orbit_angles(&harness);
+    assert!((orbited.0 - before.0).abs() > 5.0 && (orbited.1 - before.1).abs() > 1.0, "{before:?} → {orbited:?}");
+    harness.state_mut().set_frame(120.0);
+    settle(&mut harness);
+    assert!(!cloth_on_screen(&harness), "at frame 120 the carpet has flown off");
+
+    harness.key_press(Key::F);
+    harness.run_ok();
+    assert!(cloth_on_screen(&harness), "F brings the carpet back into view");
+    assert_eq!(orbit_angles(&harness), orbited, "F keeps the orbit angles");
+}
+
+#[test]
+fn a_scene_saved_mid_flight_opens_with_the_cloth_in_view() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+
+    // Frame the carpet at frame 96, with Follow on, and save.
+    harness.state_mut().set_frame(96.0);
+    settle(&mut harness);
+    harness.key_press(Key::F);
+    harness.run_ok();
+    harness.get_by_label("Follow").click();
+    harness.run_ok();
+    assert!(cloth_on_screen(&harness));
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    harness.run_ok();
+    let saved = scene::load(&carpet).unwrap();
+    let view = saved.view.clone().expect("the view is saved");
+    assert_eq!((view.frame, view.follow), (Some(96), true), "the playhead and Follow are saved with the view");
+
+    // Reopened: at frame 96, Follow on, the same camera, the carpet in view.
+    let mut reopened = open_editor(&workspace, new_scene(), None);
+    open_through_the_menu(&mut reopened, &carpet);
+    settle(&mut reopened);
+    assert_eq!(reopened.state().frame(), 96.0);
+    assert!(reopened.state().follows_cloth(), "Follow is on again");
+    assert_eq!(reopened.state().camera().to_view(), drape::scene::View { frame: None, follow: false, ..view.clone() });
+    assert!(cloth_on_screen(&reopened));
+
+    // A view that does not see the cloth at the opened frame (written by hand, no frame):
+    // the camera frames the cloth, orbit angles kept.
+    let without_frame = Scene { view: Some(drape::scene::View { frame: None, ..view.clone() }), ..saved };
+    scene::save(&without_frame, &carpet).unwrap();
+    open_through_the_menu(&mut reopened, &carpet);
+    settle(&mut reopened);
+    assert_eq!(reopened.state().frame(), 0.0);
+    assert!(cloth_on_screen(&reopened), "the carpet at frame 0 is brought into view");
+    assert_eq!(orbit_angles(&reopened), (view.yaw_deg as f32, view.pitch_deg as f32));
 }

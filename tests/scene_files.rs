@@ -584,13 +584,16 @@ fn any_scene() -> impl Strategy<Value = Scene> {
 }
 
 fn view() -> impl Strategy<Value = View> {
-    ((finite(), finite(), finite()), finite(), finite(), finite(), finite()).prop_map(
-        |(target, yaw_deg, pitch_deg, distance_m, fov_y_deg)| View {
+    let frame = proptest::option::of(-100_000i32..100_000);
+    ((finite(), finite(), finite()), finite(), finite(), finite(), finite(), frame, any::<bool>()).prop_map(
+        |(target, yaw_deg, pitch_deg, distance_m, fov_y_deg, frame, follow)| View {
             target,
             yaw_deg,
             pitch_deg,
             distance_m,
             fov_y_deg,
+            frame,
+            follow,
         },
     )
 }

@@ -26,6 +26,7 @@ use super::shortcuts::{
     SHORTCUTS,
 };
 use super::timeline::TimelinePanel;
+use super::typing_pace::TypingPace;
 use super::viewport;
 use super::viewport_panel::{Stage, ViewportPanel};
 use super::workspace::{MESSAGE_SECS, Workspace};
@@ -56,6 +57,8 @@ pub struct DrapeApp {
     sent_title: String,
     /// Where the status bar was drawn last frame (points).
     status_rect: egui::Rect,
+    /// Typing and focus moves that arrived together, taken one frame at a time.
+    typing: TypingPace,
 }
 
 impl DrapeApp {
@@ -84,6 +87,7 @@ impl DrapeApp {
             frames_drawn: 0,
             sent_title: String::new(),
             status_rect: egui::Rect::NOTHING,
+            typing: TypingPace::default(),
         }
     }
 
@@ -141,6 +145,11 @@ impl DrapeApp {
 
     pub fn frame(&self) -> f64 {
         self.work.frame()
+    }
+
+    /// Whether the viewport's camera follows the cloth (Follow).
+    pub fn follows_cloth(&self) -> bool {
+        self.work.session.follow
     }
 
     pub fn playing(&self) -> bool {
@@ -442,6 +451,9 @@ impl eframe::App for DrapeApp {
         let started = Instant::now();
         let ctx = ui.ctx().clone();
         self.work.shown.set_context(&ctx);
+        if self.typing.holds_events() {
+            ctx.request_repaint();
+        }
         self.measure_frame();
         self.timeline.advance_playback(&ctx, &mut self.work);
         self.files.handle_close_request(&ctx, &self.work);
@@ -456,7 +468,7 @@ impl eframe::App for DrapeApp {
         egui::Panel::bottom("timeline").show(ui, |ui| self.timeline.ui(ui, &mut self.work));
         self.status_rect = egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui)).response.rect;
         egui::Panel::left("cloth").default_size(280.0).show(ui, |ui| {
-            self.viewport.view_ui(ui);
+            self.viewport.view_ui(ui, &mut self.work);
             ui.separator();
             self.cloth.ui(ui, &mut self.work);
         });
@@ -487,6 +499,12 @@ impl eframe::App for DrapeApp {
 
     fn on_exit(&mut self) {
         self.files.clean_exit();
+    }
+
+    /// eframe hands every frame's input here before egui sees it.
+    /// Held events ask for the next frame from `ui`, once this frame has begun.
+    fn raw_input_hook(&mut self, _ctx: &egui::Context, raw_input: &mut egui::RawInput) {
+        self.typing.pace(raw_input);
     }
 }
 

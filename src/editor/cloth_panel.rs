@@ -2,7 +2,9 @@
 //! being edited, its pins in the 2D grid editor, and exact pin positions.
 //! Every change goes through the document, so it is undoable and validated.
 
-use eframe::egui::{self, DragValue, Response, Slider};
+use eframe::egui::{self, Response};
+
+use super::number_field::{number_field, number_slider};
 
 use super::edits;
 use super::grid_editor::GridAction;
@@ -86,11 +88,11 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
     egui::Grid::new("cloth").num_columns(2).show(ui, |ui| {
         let (mut width, mut height) = cloth.size;
         let label = ui.label("Width").id;
-        let r = ui.add(DragValue::new(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+        let r = ui.add(number_field(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
         field(w, &r, "Cloth size", |s| s.cloth.size.0 = width);
         ui.end_row();
         let label = ui.label("Height").id;
-        let r = ui.add(DragValue::new(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+        let r = ui.add(number_field(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
         field(w, &r, "Cloth size", |s| s.cloth.size.1 = height);
         ui.end_row();
 
@@ -98,11 +100,11 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
         ui.label("Grid");
         ui.horizontal(|ui| {
             let range = MIN_GRID_SIDE..=MAX_GRID_SIDE;
-            let r = ui.add(DragValue::new(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
+            let r = ui.add(number_field(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
             r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid columns"));
             field(w, &r, "Grid", |s| edits::set_grid(s, (cols, s.cloth.grid.1)));
             ui.label("×");
-            let r = ui.add(DragValue::new(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
+            let r = ui.add(number_field(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
             r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid rows"));
             field(w, &r, "Grid", |s| edits::set_grid(s, (s.cloth.grid.0, rows)));
         });
@@ -124,7 +126,7 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let label = ui.label("Stretch limit").id;
         let mut percent = cloth.stretch_limit * 100.0;
         let r = ui
-            .add(DragValue::new(&mut percent).range(0.0..=MAX_STRETCH_LIMIT * 100.0).speed(0.1).suffix(" %"))
+            .add(number_field(&mut percent).range(0.0..=MAX_STRETCH_LIMIT * 100.0).speed(0.1).suffix(" %"))
             .labelled_by(label)
             .on_hover_text(
                 "How much longer than its rest length the layers may make any edge of the cloth; \
@@ -154,20 +156,20 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let mut elasticity = key.elasticity;
         let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";
         let label = ui.label("Elasticity").on_hover_text(hint).id;
-        let slider = Slider::new(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
+        let slider = number_slider(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
         let r = ui.add(slider).labelled_by(label);
         field(w, &r, "Elasticity", |s| s.keys[index].elasticity = elasticity);
         ui.end_row();
 
         let mut stiffness = key.stiffness;
         let label = ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.").id;
-        let r = ui.add(Slider::new(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
+        let r = ui.add(number_slider(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
         field(w, &r, "Stiffness", |s| s.keys[index].stiffness = stiffness);
         ui.end_row();
 
         let mut iterations = key.relax.iterations;
         let label = ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.").id;
-        let drag = DragValue::new(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
+        let drag = number_field(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
         let r = ui.add(drag).labelled_by(label);
         field(w, &r, "Relaxation iterations", |s| s.keys[index].relax.iterations = iterations);
         ui.end_row();
@@ -175,7 +177,7 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let mut tolerance = key.relax.tolerance;
         let hint = "Relaxation stops once no point moves more than this × the spacing in a sweep.";
         let label = ui.label("Tolerance").on_hover_text(hint).id;
-        let slider = Slider::new(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
+        let slider = number_slider(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
         let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
         field(w, &r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
         ui.end_row();
@@ -206,7 +208,7 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
                 let mut pos = pin.pos;
                 for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
                     let label = ui.label(axis).id;
-                    let r = ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                    let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
                     let new = pos_after(pin.pos, axis, *value);
                     field(w, &r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
                 }
@@ -223,7 +225,7 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
                 let mut moved = centre;
                 for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
                     let label = ui.label(axis).id;
-                    let r = ui.add_sized(FIELD, DragValue::new(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                    let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
                     let delta = *value - axis_of(centre, axis);
                     field(w, &r, "Move pins", |s| {
                         for pin in many {

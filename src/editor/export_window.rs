@@ -16,6 +16,7 @@ use eframe::egui;
 
 use super::document::Document;
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::number_field::number_field;
 use super::workspace::Workspace;
 use crate::export::{
     AnimationFormat, ExportError, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, export_animation,
@@ -162,10 +163,10 @@ impl ExportWindow {
                     ui.label("Frames");
                     ui.horizontal(|ui| {
                         let range = timeline.start..=timeline.end;
-                        ui.add(egui::DragValue::new(&mut window.first).range(range.clone()))
+                        ui.add(number_field(&mut window.first).range(range.clone()))
                             .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "First frame"));
                         ui.label("to");
-                        ui.add(egui::DragValue::new(&mut window.last).range(range))
+                        ui.add(number_field(&mut window.last).range(range))
                             .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Last frame"));
                         window.last = window.last.max(window.first);
                         let seconds = f64::from(window.last - window.first + 1) / timeline.fps;

@@ -14,7 +14,7 @@ use super::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, 
 use super::shortcuts::{SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
 use super::workspace::Workspace;
 use crate::render::OrbitCamera;
-use crate::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline};
+use crate::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline, View};
 
 /// What waits for the answer to "save changes?".
 #[derive(Clone, Debug, PartialEq)]
@@ -217,9 +217,9 @@ impl Files {
     fn replace_document(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, scene: Scene, path: Option<PathBuf>) {
         if let Some(view) = &scene.view {
             *camera = OrbitCamera::from_view(view);
-        } else {
-            w.shown.frame_when_shown = true;
         }
+        // Framed once shown: always without a saved view, and with one when the cloth is out of it.
+        w.shown.frame_when_shown = true;
         w.replace_document(scene, path);
         self.events.push(FileEvent::Replaced);
     }
@@ -249,7 +249,8 @@ impl Files {
 
     /// Writes the scene (with the current camera) to `path` atomically; false and an error shown on failure.
     pub fn save_to(&mut self, w: &mut Workspace, camera: &OrbitCamera, path: &Path) -> bool {
-        w.doc.set_view_quietly(Some(camera.to_view()));
+        let view = View { frame: Some(w.frame().round() as i32), follow: w.session.follow, ..camera.to_view() };
+        w.doc.set_view_quietly(Some(view));
         match scene::save(w.doc.scene(), path) {
             Ok(()) => {
                 w.doc.mark_saved(path.to_path_buf());

@@ -3,7 +3,9 @@
 //! it. Values show what the parameter is at the playhead; editing a keyed
 //! parameter keys it there.
 
-use eframe::egui::{self, DragValue};
+use eframe::egui;
+
+use super::number_field::number_field;
 
 use super::curve_view::CurveView;
 use super::param_edit::{key_at, param_mut, param_names, set_at, toggle_key};
@@ -194,7 +196,7 @@ impl LayersPanel {
                 let keyed = matches!(current, Param::Keys(_));
                 let mut value = sample(current, f64::from(frame));
                 let label = ui.label(param.replace('_', " ")).id;
-                let drag = DragValue::new(&mut value).speed(0.01).max_decimals(4);
+                let drag = number_field(&mut value).speed(0.01).max_decimals(4);
                 let drag = if unit.is_empty() { drag } else { drag.suffix(format!(" {unit}")) };
                 let response = ui.add(drag).labelled_by(label);
                 let hint = if keyed {
@@ -256,7 +258,7 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
             ui.label("Direction");
             let mut changed = false;
             for value in [&mut d.0, &mut d.1, &mut d.2] {
-                changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
+                changed |= ui.add(number_field(value).speed(0.01).max_decimals(3)).changed();
             }
             if changed {
                 w.apply("Layer direction", |s| match &mut s.layers[index] {
@@ -278,7 +280,7 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
                 ui.checkbox(&mut fixed, "Fixed axis").on_hover_text("Else along the surface normal").changed();
             if fixed {
                 for value in [&mut axis.0, &mut axis.1, &mut axis.2] {
-                    changed |= ui.add(DragValue::new(value).speed(0.01).max_decimals(3)).changed();
+                    changed |= ui.add(number_field(value).speed(0.01).max_decimals(3)).changed();
                 }
             }
             if changed {
@@ -295,9 +297,9 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
         let (mut octaves, mut seed) = (gusts.octaves, gusts.seed);
         ui.horizontal(|ui| {
             ui.label("Octaves");
-            let a = ui.add(DragValue::new(&mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
+            let a = ui.add(number_field(&mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
             ui.label("Seed");
-            let b = ui.add(DragValue::new(&mut seed)).changed();
+            let b = ui.add(number_field(&mut seed)).changed();
             if a || b {
                 w.apply("Gusts", |s| {
                     if let Layer::Gusts(l) = &mut s.layers[index] {

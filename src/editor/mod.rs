@@ -21,6 +21,7 @@ pub mod file_dialog;
 pub mod files;
 pub mod grid_editor;
 mod layers_panel;
+mod number_field;
 pub mod param_edit;
 pub mod picking;
 pub mod pin_drag;
@@ -31,6 +32,7 @@ pub mod shaper;
 pub mod shortcuts;
 pub mod shown;
 mod timeline;
+mod typing_pace;
 #[cfg(test)]
 mod ui_driver;
 pub mod viewport;

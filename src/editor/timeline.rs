@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
+use super::number_field::number_field;
 use super::param_edit::{key_frames, move_keys};
 use super::workspace::Workspace;
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
@@ -117,7 +118,7 @@ impl TimelinePanel {
             ui.separator();
             let label = ui.label("Frame").id;
             let mut frame = w.frame().round() as i32;
-            let r = ui.add(egui::DragValue::new(&mut frame).range(timeline.start..=timeline.end)).labelled_by(label);
+            let r = ui.add(number_field(&mut frame).range(timeline.start..=timeline.end)).labelled_by(label);
             if r.changed() {
                 w.set_frame(f64::from(frame));
             }
@@ -125,15 +126,15 @@ impl TimelinePanel {
             ui.separator();
             let mut fps = timeline.fps;
             let label = ui.label("fps").id;
-            let r = ui.add(egui::DragValue::new(&mut fps).range(1.0..=MAX_FPS).speed(0.1).max_decimals(3));
+            let r = ui.add(number_field(&mut fps).range(1.0..=MAX_FPS).speed(0.1).max_decimals(3));
             let r = r.labelled_by(label);
             timeline_field(w, &r, "Frame rate", |s| s.timeline.fps = fps);
             let (mut start, mut end) = (timeline.start, timeline.end);
             let label = ui.label("Start").id;
-            let r = ui.add(egui::DragValue::new(&mut start).range(-MAX_TIMELINE_FRAME..=end)).labelled_by(label);
+            let r = ui.add(number_field(&mut start).range(-MAX_TIMELINE_FRAME..=end)).labelled_by(label);
             timeline_field(w, &r, "Timeline start", |s| s.timeline.start = start);
             let label = ui.label("End").id;
-            let r = ui.add(egui::DragValue::new(&mut end).range(start..=MAX_TIMELINE_FRAME)).labelled_by(label);
+            let r = ui.add(number_field(&mut end).range(start..=MAX_TIMELINE_FRAME)).labelled_by(label);
             timeline_field(w, &r, "Timeline end", |s| s.timeline.end = end);
             ui.separator();
             if ui.button("Add key").on_hover_text("K: a rest-shape key here, from the current pose").clicked() {
@@ -357,7 +358,7 @@ fn key_menu(ui: &mut egui::Ui, w: &mut Workspace, index: usize) {
         ui.horizontal(|ui| {
             let mut sweeps = key.inbetween_relax;
             let label = ui.label("Re-relax in-betweens").id;
-            let drag = egui::DragValue::new(&mut sweeps).range(0..=MAX_INBETWEEN_RELAX).suffix(" sweeps");
+            let drag = number_field(&mut sweeps).range(0..=MAX_INBETWEEN_RELAX).suffix(" sweeps");
             if ui.add(drag).labelled_by(label).changed() {
                 w.apply("In-between relaxation", |s| s.keys[index].inbetween_relax = sweeps);
             }

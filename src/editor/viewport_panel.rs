@@ -8,6 +8,7 @@ use std::sync::Arc;
 use eframe::egui::{self, Sense};
 use eframe::egui_wgpu;
 
+use super::number_field::number_field;
 use super::pin_drag::{AxisLock, PinDrag};
 use super::shown::OnionSkin;
 use super::viewport::ViewportFrame;
@@ -32,8 +33,6 @@ pub struct ViewToggles {
     pub onion: bool,
     pub onion_frames: u32,
     pub onion_spacing: u32,
-    /// The camera moves with the cloth's centre, keeping how it looks at it.
-    pub follow: bool,
 }
 
 impl Default for ViewToggles {
@@ -48,7 +47,6 @@ impl Default for ViewToggles {
             onion: false,
             onion_frames: 2,
             onion_spacing: 4,
-            follow: false,
         }
     }
 }
@@ -104,6 +102,8 @@ pub struct ViewportPanel {
     has_gpu: bool,
     /// Frame the cloth once the viewport's shape is known (a scene without a saved view).
     pub frame_all_pending: bool,
+    /// Frame the cloth once shown if the saved view does not see it at the opened frame.
+    reveal_pending: bool,
 }
 
 /// This frame's viewport: where it is and what the pointer did there.
@@ -131,6 +131,7 @@ impl ViewportPanel {
             rect: egui::Rect::NOTHING,
             has_gpu,
             frame_all_pending: framed,
+            reveal_pending: !framed,
         }
     }
 
@@ -173,10 +174,16 @@ impl ViewportPanel {
         w.shown.sync(&w.doc);
         if let Some((min, max)) = w.shown.take_opened_bounds() {
             self.ground = Ground::under(min, max);
-            self.frame_all_pending = true;
+            // Follow starts from where the new scene's cloth is, not the last one's.
+            self.follow_anchor = None;
+            match w.doc.scene().view {
+                Some(_) => self.reveal_pending = true,
+                None => self.frame_all_pending = true,
+            }
         }
         self.refresh(w);
-        if std::mem::take(&mut self.frame_all_pending) {
+        let reveal = std::mem::take(&mut self.reveal_pending);
+        if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.sees_cloth(w, area.aspect)) {
             self.frame_all(w, area.aspect);
         }
         self.follow_cloth(w);
@@ -217,11 +224,16 @@ impl ViewportPanel {
         }
     }
 
+    /// Whether any point of the shown cloth is in view.
+    fn sees_cloth(&self, w: &Workspace, aspect: f32) -> bool {
+        w.shown.mesh.positions.iter().any(|&p| self.camera.sees_any(p, p, aspect))
+    }
+
     /// With Follow on, moves the camera's target by as much as the cloth's
     /// centre moved since the last frame, so orbit and pan offsets are kept.
     fn follow_cloth(&mut self, w: &Workspace) {
         let centre = bounds(&w.shown.mesh.positions).map(|(min, max)| (min + max) * 0.5);
-        match (self.toggles.follow, centre, self.follow_anchor) {
+        match (w.session.follow, centre, self.follow_anchor) {
             (true, Some(centre), Some(anchor)) => {
                 self.camera.target += centre - anchor;
                 self.follow_anchor = Some(centre);
@@ -340,7 +352,7 @@ impl ViewportPanel {
     }
 
     /// The View section of the left panel: stage and toggles.
-    pub fn view_ui(&mut self, ui: &mut egui::Ui) {
+    pub fn view_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.strong("View");
         egui::ComboBox::from_label("Stage").selected_text(self.stage.label()).show_ui(ui, |ui| {
             for stage in Stage::ALL {
@@ -356,16 +368,16 @@ impl ViewportPanel {
             ui.toggle_value(&mut self.toggles.ground, "Ground");
             ui.toggle_value(&mut self.toggles.onion, "Onion skin")
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
-            ui.toggle_value(&mut self.toggles.follow, "Follow")
+            ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
         });
         if self.toggles.onion {
             ui.horizontal(|ui| {
                 let label = ui.label("Ghosts").id;
-                let drag = egui::DragValue::new(&mut self.toggles.onion_frames).range(1..=8);
+                let drag = number_field(&mut self.toggles.onion_frames).range(1..=8);
                 ui.add(drag).labelled_by(label).on_hover_text("Ghosts on each side of the playhead");
                 let label = ui.label("every").id;
-                let drag = egui::DragValue::new(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
+                let drag = number_field(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
                 ui.add(drag).labelled_by(label);
             });
         }

@@ -43,9 +43,23 @@ pub struct Session {
     /// The cloth point under the mouse in the viewport, and in the grid editor.
     pub hovered: Option<(u32, u32)>,
     pub grid_hovered: Option<(u32, u32)>,
+    /// The viewport's camera moves with the cloth's centre, keeping how it
+    /// looks at it (saved with the view).
+    pub follow: bool,
 }
 
 impl Session {
+    /// A fresh session on `scene`: the playhead and Follow where its saved
+    /// view had them (the playhead kept on the timeline), else at the
+    /// timeline's start with Follow off.
+    pub fn opening(scene: &Scene) -> Session {
+        let timeline = &scene.timeline;
+        let frame = scene.view.as_ref().and_then(|v| v.frame).unwrap_or(timeline.start);
+        let mut session = Session::at(f64::from(frame.clamp(timeline.start, timeline.end)));
+        session.follow = scene.view.as_ref().is_some_and(|v| v.follow);
+        session
+    }
+
     /// A fresh session with the playhead at `frame`.
     pub fn at(frame: f64) -> Session {
         Session { frame, ..Session::default() }
@@ -65,7 +79,7 @@ pub struct Workspace {
 impl Workspace {
     pub fn new(scene: Scene, path: Option<PathBuf>) -> Workspace {
         Workspace {
-            session: Session::at(f64::from(scene.timeline.start)),
+            session: Session::opening(&scene),
             shown: Shown::new(scene.clone()),
             doc: Document::new(scene, path),
             message: None,
@@ -73,9 +87,10 @@ impl Workspace {
         }
     }
 
-    /// Replaces the document (New, Open, Restore): a new session, nothing asked of the worker.
+    /// Replaces the document (New, Open, Restore): a new session (see
+    /// [`Session::opening`]), nothing asked of the worker.
     pub fn replace_document(&mut self, scene: Scene, path: Option<PathBuf>) {
-        self.session = Session::at(f64::from(scene.timeline.start));
+        self.session = Session::opening(&scene);
         self.doc = Document::new(scene, path);
         self.shown.forget_document();
     }

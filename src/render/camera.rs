@@ -52,7 +52,8 @@ impl OrbitCamera {
         }
     }
 
-    /// The view to save in a scene so it reopens looking the same way.
+    /// The view to save in a scene so it reopens looking the same way (the
+    /// camera only: no playhead, Follow off; the editor adds those).
     pub fn to_view(&self) -> View {
         let t = self.target.as_dvec3();
         View {
@@ -61,6 +62,8 @@ impl OrbitCamera {
             pitch_deg: self.pitch_deg as f64,
             distance_m: self.distance_m as f64,
             fov_y_deg: self.fov_y_deg as f64,
+            frame: None,
+            follow: false,
         }
     }
 
@@ -172,6 +175,28 @@ impl OrbitCamera {
         self.distance_m = distance_m.max(0.05).clamp(MIN_DISTANCE_M, MAX_DISTANCE_M);
     }
 
+    /// Whether any corner or the centre of the box `min..max` is in view at
+    /// `aspect` (width / height). An empty or non-finite box is not.
+    pub fn sees_any(&self, min: Vec3, max: Vec3, aspect: f32) -> bool {
+        if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
+            return false;
+        }
+        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let clip_from_world = self.clip_from_view(aspect) * self.view_from_world();
+        let inside = |p: Vec3| {
+            let clip = clip_from_world * p.extend(1.0);
+            clip.w > 1e-6 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
+        };
+        let corner = |k: u32| {
+            Vec3::new(
+                if k & 1 == 0 { min.x } else { max.x },
+                if k & 2 == 0 { min.y } else { max.y },
+                if k & 4 == 0 { min.z } else { max.z },
+            )
+        };
+        inside((min + max) * 0.5) || (0..8).any(|k| inside(corner(k)))
+    }
+
     /// The pixel where `world` is drawn in a target of `size_px`, or `None`
     /// when the point is behind the eye.
     pub fn project(&self, world: Vec3, size_px: (u32, u32)) -> Option<Vec2> {
@@ -223,6 +248,21 @@ mod tests {
             fov_y_deg: 50.0,
         };
         assert_eq!(OrbitCamera::from_view(&camera.to_view()), camera);
+    }
+
+    #[test]
+    fn a_box_is_seen_once_framed_and_not_from_far_beside_it() {
+        let (min, max) = (Vec3::new(4.0, 0.0, -1.0), Vec3::new(6.0, 1.0, 1.0));
+        let mut camera = OrbitCamera::default();
+        assert!(!camera.sees_any(min, max, 1.5), "the default camera looks at the origin");
+        let angles = (camera.yaw_deg, camera.pitch_deg);
+        camera.frame_bounds(min, max, 1.5);
+        assert_eq!((camera.yaw_deg, camera.pitch_deg), angles, "framing keeps the orbit angles");
+        assert!(camera.sees_any(min, max, 1.5));
+        let aside = Vec3::Y.cross(camera.backward()).normalize() * 50.0;
+        assert!(!camera.sees_any(min + aside, max + aside, 1.5));
+        assert!(!camera.sees_any(max, min, 1.5), "an empty box");
+        assert!(!camera.sees_any(min, Vec3::splat(f32::NAN), 1.5));
     }
 
     #[test]

@@ -183,6 +183,8 @@ mod tests {
                 pitch_deg: -12.5,
                 distance_m: 4.0,
                 fov_y_deg: 40.0,
+                frame: Some(36),
+                follow: true,
             }),
         }
     }

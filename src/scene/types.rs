@@ -26,7 +26,8 @@ pub struct Scene {
     pub keys: Vec<Key>,
     #[serde(default)]
     pub layers: Vec<Layer>,
-    /// Where the editor's camera looked when the scene was saved; absent, views frame the cloth.
+    /// Where the editor's camera looked when the scene was saved (with the
+    /// playhead and Follow); absent, views frame the cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub view: Option<View>,
 }
@@ -113,11 +114,22 @@ pub struct View {
     /// Vertical field of view, 5 to 120.
     #[serde(default = "View::default_fov_y_deg")]
     pub fov_y_deg: f64,
+    /// The editor's playhead when the view was saved: a scene opens there
+    /// (kept on the timeline). Absent: the timeline's start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<i32>,
+    /// Whether the editor's camera follows the cloth as it travels.
+    #[serde(default, skip_serializing_if = "View::is_false")]
+    pub follow: bool,
 }
 
 impl View {
     fn default_fov_y_deg() -> f64 {
         35.0
+    }
+
+    fn is_false(value: &bool) -> bool {
+        !*value
     }
 }
 
