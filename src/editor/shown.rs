@@ -90,6 +90,12 @@ impl Shown {
         scene_bounds(&mut self.evaluator, &self.scene)
     }
 
+    /// Whether the shown scene's cloth travels much farther than its size
+    /// ([`crate::picture::framing::travels`]): views without a saved camera follow it.
+    pub fn travels(&mut self) -> bool {
+        crate::picture::framing::travels(&mut self.evaluator, &self.scene)
+    }
+
     /// Remembers the window's context, so the worker can wake it.
     pub fn set_context(&self, ctx: &egui::Context) {
         let _ = self.repaint_context.set(ctx.clone());

@@ -94,8 +94,8 @@ pub struct ViewportPanel {
     pub toggles: ViewToggles,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
-    /// The cloth's centre when the camera last followed it.
-    follow_anchor: Option<glam::Vec3>,
+    /// The playhead and the cloth's centre when the camera last followed it.
+    follow_anchor: Option<(f64, glam::Vec3)>,
     /// Where the viewport was drawn last frame (points).
     pub rect: egui::Rect,
     /// Whether the GPU viewport is available (false only in tests without wgpu).
@@ -115,11 +115,15 @@ pub struct ViewportArea {
 }
 
 impl ViewportPanel {
-    /// A viewport on `w`'s scene: its saved view, else a camera framing its keys (framed again once shown).
+    /// A viewport on `w`'s scene: its saved view, else a camera framing its
+    /// keys (framed again once shown) that follows a travelling cloth.
     pub fn new(w: &mut Workspace, has_gpu: bool) -> ViewportPanel {
         let scene = w.doc.scene();
         let saved = scene.view.as_ref().map(OrbitCamera::from_view);
         let framed = saved.is_none();
+        if framed {
+            w.session.follow = w.shown.travels();
+        }
         let (min, max) = w.shown.bounds();
         ViewportPanel {
             camera: saved.unwrap_or_else(|| OrbitCamera::framing(min, max, 16.0 / 9.0)),
@@ -178,7 +182,10 @@ impl ViewportPanel {
             self.follow_anchor = None;
             match w.doc.scene().view {
                 Some(_) => self.reveal_pending = true,
-                None => self.frame_all_pending = true,
+                None => {
+                    self.frame_all_pending = true;
+                    w.session.follow = w.shown.travels();
+                }
             }
         }
         self.refresh(w);
@@ -230,15 +237,20 @@ impl ViewportPanel {
     }
 
     /// With Follow on, moves the camera's target by as much as the cloth's
-    /// centre moved since the last frame, so orbit and pan offsets are kept.
+    /// centre moved since the playhead was last elsewhere, so orbit and pan
+    /// offsets are kept. An edit at the same frame (a pin dragged) moves the
+    /// centre without moving the camera, so the pin stays under the mouse.
     fn follow_cloth(&mut self, w: &Workspace) {
         let centre = bounds(&w.shown.mesh.positions).map(|(min, max)| (min + max) * 0.5);
+        let frame = w.frame();
         match (w.session.follow, centre, self.follow_anchor) {
-            (true, Some(centre), Some(anchor)) => {
-                self.camera.target += centre - anchor;
-                self.follow_anchor = Some(centre);
+            (true, Some(centre), Some((anchor_frame, anchor))) => {
+                if anchor_frame != frame {
+                    self.camera.target += centre - anchor;
+                }
+                self.follow_anchor = Some((frame, centre));
             }
-            (true, Some(centre), None) => self.follow_anchor = Some(centre),
+            (true, Some(centre), None) => self.follow_anchor = Some((frame, centre)),
             _ => self.follow_anchor = None,
         }
     }

@@ -19,47 +19,68 @@ pub struct Framing {
     pub ground: Ground,
     /// Whether the camera and ground move with the cloth (see [`Framing::of_scene`]).
     pub follow: bool,
+    /// While following, the camera's target minus the cloth's centre (m).
+    follow_offset: Vec3,
 }
 
 impl Framing {
     /// The scene's saved view if it has one; otherwise a camera framing all
     /// the keys, so the view holds still through the animation, for pictures
     /// of `aspect` (width / height). The ground lies under every key.
-    /// When the cloth travels much farther than its own size (a flying carpet),
-    /// a fixed view would show it tiny: the camera then keeps the framing of
-    /// the largest single key and follows the cloth's centre ([`Framing::follow`]),
-    /// the ground grid showing the travel.
+    /// When the cloth travels much farther than its own size (a flying carpet,
+    /// see [`travels`]), a fixed view would show it tiny: the camera then keeps
+    /// the framing of the largest single key and follows the cloth's centre
+    /// ([`Framing::follow`]), the ground grid showing the travel. A saved view
+    /// follows when its `follow` is set, keeping the offset from the cloth it
+    /// had at its saved frame (the timeline's start when it has none).
     pub fn of_scene(evaluator: &mut Evaluator, scene: &Scene, aspect: f32) -> Framing {
         let (rest_min, rest_max) = scene_bounds(evaluator, scene);
         let (min, max) = padded((rest_min, rest_max));
         let key_extent_m = largest_key_extent(evaluator, scene);
-        let follow = scene.view.is_none() && (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m;
         let ground_height_m = Ground::under(rest_min, rest_max).height_m;
-        let (camera, mut ground) = if let Some(view) = &scene.view {
-            (OrbitCamera::from_view(view), Ground::under(min, max))
-        } else if follow {
+        let mut follow_offset = Vec3::ZERO;
+        let (camera, mut ground, follow) = if let Some(view) = &scene.view {
+            let camera = OrbitCamera::from_view(view);
+            if view.follow {
+                let frame = view.frame.unwrap_or(scene.timeline.start).clamp(scene.timeline.start, scene.timeline.end);
+                let mesh = evaluator.evaluate_frame(scene, f64::from(frame));
+                if let Some((lo, hi)) = bounds(&mesh.positions) {
+                    follow_offset = camera.target - (lo + hi) * 0.5;
+                }
+            }
+            (camera, Ground::under(min, max), view.follow)
+        } else if (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m {
             let half = Vec3::splat(key_extent_m * 0.5);
             let center = (min + max) * 0.5;
             let mut camera = OrbitCamera::framing(min, max, aspect);
             camera.frame_bounds(center - half, center + half, aspect);
-            (camera, Ground::under(center - half, center + half))
+            (camera, Ground::under(center - half, center + half), true)
         } else {
-            (OrbitCamera::framing(min, max, aspect), Ground::under(min, max))
+            (OrbitCamera::framing(min, max, aspect), Ground::under(min, max), false)
         };
         ground.height_m = ground_height_m;
-        Framing { camera, ground, follow }
+        Framing { camera, ground, follow, follow_offset }
     }
 
-    /// When following, centres the camera's target and the ground on `mesh`.
+    /// When following, keeps the camera's target at its offset from `mesh`'s
+    /// centre and centres the ground under it.
     pub fn follow(&mut self, mesh: &Mesh) {
         if self.follow
             && let Some((lo, hi)) = bounds(&mesh.positions)
         {
             let center = (lo + hi) * 0.5;
-            self.camera.target = center;
+            self.camera.target = center + self.follow_offset;
             self.ground.center = Vec2::new(center.x, center.z);
         }
     }
+}
+
+/// Whether the cloth travels much farther than its own size: its keys'
+/// rest shapes span more than [`FOLLOW_TRAVEL_RATIO`] times the largest
+/// key's own size. Views without a saved camera follow such a cloth.
+pub fn travels(evaluator: &mut Evaluator, scene: &Scene) -> bool {
+    let (min, max) = padded(scene_bounds(evaluator, scene));
+    (max - min).max_element() > FOLLOW_TRAVEL_RATIO * largest_key_extent(evaluator, scene)
 }
 
 /// The box holding every key's relaxed rest shape; `(0, 1)` when there is none.
@@ -94,4 +115,64 @@ fn largest_key_extent(evaluator: &mut Evaluator, scene: &Scene) -> f32 {
 fn padded((min, max): (Vec3, Vec3)) -> (Vec3, Vec3) {
     let margin = Vec3::splat((max - min).max_element() * 0.1);
     (min - margin, max + margin)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene;
+
+    fn carpet() -> Scene {
+        scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/magic_carpet.ron"))).unwrap()
+    }
+
+    fn centre(mesh: &Mesh) -> Vec3 {
+        let (lo, hi) = bounds(&mesh.positions).unwrap();
+        (lo + hi) * 0.5
+    }
+
+    #[test]
+    fn a_travelling_cloth_without_a_view_is_followed_and_a_still_one_is_not() {
+        let mut evaluator = Evaluator::new();
+        let mut scene = carpet();
+        assert!(travels(&mut evaluator, &scene));
+        assert!(Framing::of_scene(&mut evaluator, &scene, 1.5).follow);
+        scene.keys.truncate(1);
+        assert!(!travels(&mut evaluator, &scene));
+        assert!(!Framing::of_scene(&mut evaluator, &scene, 1.5).follow);
+    }
+
+    #[test]
+    fn a_saved_view_that_follows_keeps_its_offset_from_the_cloth() {
+        let mut evaluator = Evaluator::new();
+        let mut scene = carpet();
+        let target = Vec3::new(0.3, 1.0, -0.2);
+        let view = scene::View {
+            target: (0.3, 1.0, -0.2),
+            yaw_deg: 40.0,
+            pitch_deg: 15.0,
+            distance_m: 4.0,
+            fov_y_deg: 35.0,
+            frame: Some(36),
+            follow: true,
+        };
+        scene.view = Some(view.clone());
+        let mut framing = Framing::of_scene(&mut evaluator, &scene, 1.5);
+        assert!(framing.follow);
+        let at_36 = evaluator.evaluate_frame(&scene, 36.0);
+        framing.follow(&at_36);
+        assert!(framing.camera.target.distance(target) < 1e-5, "{}", framing.camera.target);
+        let at_100 = evaluator.evaluate_frame(&scene, 100.0);
+        framing.follow(&at_100);
+        let moved = centre(&at_100) - centre(&at_36);
+        assert!(moved.length() > 1.0, "the carpet flies");
+        assert!(framing.camera.target.distance(target + moved) < 1e-4);
+        assert_eq!((framing.camera.yaw_deg, framing.camera.pitch_deg), (40.0, 15.0));
+
+        // Not following: the saved camera stays put.
+        scene.view = Some(scene::View { follow: false, ..view });
+        let mut framing = Framing::of_scene(&mut evaluator, &scene, 1.5);
+        framing.follow(&at_100);
+        assert_eq!(framing.camera.target, target);
+    }
 }
