@@ -912,3 +912,44 @@ fn a_scene_saved_mid_flight_opens_with_the_cloth_in_view() {
     assert!(cloth_on_screen(&reopened), "the carpet at frame 0 is brought into view");
     assert_eq!(orbit_angles(&reopened), (view.yaw_deg as f32, view.pitch_deg as f32));
 }
+
+#[test]
+fn the_panels_hold_still_while_scrubbing_playing_and_relaxing() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let places = |harness: &Harness<'_, DrapeApp>| {
+        [
+            harness.get_by_label("Grid editor").rect(),
+            harness.get_by_role_and_label(Role::SpinButton, "fps").rect(),
+            harness.get_by_role_and_label(Role::SpinButton, "Start").rect(),
+            harness.get_by_label("Add key").rect(),
+        ]
+    };
+    let on_key = places(&harness);
+
+    // Off a key (the notice), on the last frame (a wider number), onion skin on.
+    harness.state_mut().set_frame(30.0);
+    settle(&mut harness);
+    assert_eq!(places(&harness), on_key, "off a key");
+    harness.state_mut().set_frame(120.0);
+    settle(&mut harness);
+    assert_eq!(places(&harness), on_key, "at frame 120");
+    harness.get_by_label("Onion skin").click();
+    settle(&mut harness);
+    assert_eq!(places(&harness), on_key, "with onion skin");
+
+    // Playing (Pause in place of Play).
+    harness.key_press(Key::Space);
+    harness.step();
+    assert!(harness.state().playing());
+    assert_eq!(places(&harness), on_key, "while playing");
+    harness.key_press(Key::Space);
+    harness.step();
+
+    // While a new rest shape relaxes (no verdict yet).
+    harness.state_mut().set_frame(0.0);
+    harness.state_mut().apply("Elasticity", |s| s.keys[0].elasticity = 1.1);
+    harness.step();
+    assert_eq!(places(&harness), on_key, "while relaxing");
+}

@@ -15,6 +15,9 @@ use crate::scene::{
     MIN_ELASTICITY, MIN_GRID_SIDE, Scene,
 };
 
+/// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
+const ADD_KEY_WIDTH: f32 = 96.0;
+
 /// The Cloth panel's own state: the grid editor's view.
 #[derive(Default)]
 pub struct ClothPanel {
@@ -142,16 +145,24 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
     let key = w.doc.scene().keys[index].clone();
     ui.strong(format!("Fabric — key at frame {}", key.frame))
         .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
+    // One row on a key or off it, so nothing below moves while scrubbing. Off a key, edits
+    // change the key back at its own frame: the button offers a key here instead.
     let playhead = w.frame().round() as i32;
-    if playhead != key.frame {
-        // Off a key, edits would change the key back at its own frame: offer a key here instead.
-        ui.horizontal_wrapped(|ui| {
-            ui.weak(format!("The playhead is at frame {playhead}; edits change the key at frame {}.", key.frame));
-            if ui.small_button(format!("Add a key at {playhead}")).on_hover_text("K").clicked() {
-                w.add_key_here();
-            }
-        });
-    }
+    let on_key = playhead == key.frame;
+    ui.horizontal(|ui| {
+        let button =
+            egui::Button::new(format!("Add key at {playhead}")).small().min_size(egui::vec2(ADD_KEY_WIDTH, 0.0));
+        let hint = "K: a rest-shape key at the playhead, from the current pose";
+        if ui.add_enabled(!on_key, button).on_hover_text(hint).on_disabled_hover_text(hint).clicked() {
+            w.add_key_here();
+        }
+        let text = if on_key {
+            "Edits change this key.".to_owned()
+        } else {
+            format!("Edits change the key at frame {}.", key.frame)
+        };
+        ui.add(egui::Label::new(egui::RichText::new(text).weak()).truncate());
+    });
     egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
         let mut elasticity = key.elasticity;
         let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";
@@ -182,14 +193,15 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         field(w, &r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
         ui.end_row();
     });
-    if let Some(report) = w.shown_relax_report() {
-        let verdict = format!("Rest shape {}", report.verdict());
-        if report.converged {
-            ui.weak(verdict)
-        } else {
-            ui.colored_label(ui.visuals().warn_fg_color, verdict)
-        };
-    }
+    // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
+    let (text, color, full) = match w.shown_relax_report() {
+        Some(report) if report.converged => {
+            (report.summary(), ui.visuals().weak_text_color(), format!("Rest shape {}", report.verdict()))
+        }
+        Some(report) => (report.summary(), ui.visuals().warn_fg_color, format!("Rest shape {}", report.verdict())),
+        None => ("Relaxing…".to_owned(), ui.visuals().weak_text_color(), "The rest shape is being relaxed.".to_owned()),
+    };
+    ui.add(egui::Label::new(egui::RichText::new(text).color(color)).truncate()).on_hover_text(full);
 }
 
 /// Exact values for the selected pins: one pin's position, or several pins' shared offset.

@@ -14,6 +14,11 @@ use super::param_edit::{key_frames, move_keys};
 use super::workspace::Workspace;
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
 
+/// Widths (points) that hold the transport row still while the playhead moves.
+const PLAY_BUTTON_WIDTH: f32 = 56.0;
+const FRAME_FIELD_WIDTH: f32 = 48.0;
+const SECONDS_WIDTH: f32 = 56.0;
+
 /// Height of the track (ruler and keys), points.
 const TRACK_HEIGHT: f32 = 34.0;
 /// Half the width of a key diamond, points.
@@ -110,19 +115,26 @@ impl TimelinePanel {
     fn transport_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         let timeline = w.doc.scene().timeline.clone();
         ui.horizontal(|ui| {
+            // Fixed widths: Play/Pause and the frame readouts do not push the fields along.
             let label = if w.session.playing { "Pause" } else { "Play" };
-            if ui.button(label).on_hover_text("Space").clicked() {
+            if ui
+                .add(egui::Button::new(label).min_size(egui::vec2(PLAY_BUTTON_WIDTH, 0.0)))
+                .on_hover_text("Space")
+                .clicked()
+            {
                 w.toggle_play();
             }
             ui.toggle_value(&mut self.looping, "Loop").on_hover_text("Play the range over and over");
             ui.separator();
             let label = ui.label("Frame").id;
             let mut frame = w.frame().round() as i32;
-            let r = ui.add(number_field(&mut frame).range(timeline.start..=timeline.end)).labelled_by(label);
+            let field = number_field(&mut frame).range(timeline.start..=timeline.end);
+            let r = ui.add_sized([FRAME_FIELD_WIDTH, ui.spacing().interact_size.y], field).labelled_by(label);
             if r.changed() {
                 w.set_frame(f64::from(frame));
             }
-            ui.label(format!("{:.2} s", w.frame() / timeline.fps));
+            let seconds = egui::Label::new(format!("{:.2} s", w.frame() / timeline.fps));
+            ui.add_sized([SECONDS_WIDTH, ui.spacing().interact_size.y], seconds);
             ui.separator();
             let mut fps = timeline.fps;
             let label = ui.label("fps").id;

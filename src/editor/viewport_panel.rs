@@ -383,7 +383,8 @@ impl ViewportPanel {
             ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
         });
-        if self.toggles.onion {
+        // Always there (greyed out with onion skin off), so the panels below hold still.
+        ui.add_enabled_ui(self.toggles.onion, |ui| {
             ui.horizontal(|ui| {
                 let label = ui.label("Ghosts").id;
                 let drag = number_field(&mut self.toggles.onion_frames).range(1..=8);
@@ -392,6 +393,6 @@ impl ViewportPanel {
                 let drag = number_field(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
                 ui.add(drag).labelled_by(label);
             });
-        }
+        });
     }
 }

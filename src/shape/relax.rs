@@ -117,6 +117,16 @@ pub struct RelaxReport {
 }
 
 impl RelaxReport {
+    /// A one-line verdict for a narrow panel ("Settled: last sweep moved
+    /// 0.00032 mm"); [`RelaxReport::verdict`] says it in full.
+    pub fn summary(&self) -> String {
+        if self.converged {
+            format!("Settled: last sweep moved {}", format_small_mm(self.last_move_m * 1e3))
+        } else {
+            "NOT settled: raise Iterations".to_owned()
+        }
+    }
+
     /// The outcome in a user's words, with what to do when the cap stopped it:
     /// "settled in 135 sweeps (last sweep moved points at most 0.00012 mm)".
     pub fn verdict(&self) -> String {
