@@ -126,6 +126,13 @@ fn key_event(key: Key) -> Event {
     Event::Key { key, physical_key: None, pressed: true, repeat: false, modifiers: Modifiers::NONE }
 }
 
+/// The grid editor's rect once scrolled into view, as a user scrolls the Cloth panel to it.
+fn grid_editor_rect(harness: &mut Harness<'_, DrapeApp>) -> egui::Rect {
+    harness.get_by_label("Grid editor").scroll_to_me();
+    harness.run_ok();
+    harness.get_by_label("Grid editor").rect()
+}
+
 fn pin_pos(scene: &Scene, key: usize, grid: (u32, u32)) -> (f64, f64, f64) {
     scene.keys[key].pins.iter().find(|p| p.grid == grid).map(|p| p.pos).expect("pinned")
 }
@@ -164,7 +171,7 @@ fn model_undo_save_and_reopen() {
     snapshot(&mut harness, "editor_opened");
 
     // Pin the middle of the cloth in the grid editor: it is pinned where the cloth hangs.
-    let grid_rect = harness.get_by_label("Grid editor").rect();
+    let grid_rect = grid_editor_rect(&mut harness);
     let middle = (10, 16);
     let cols = opened.cloth.cols();
     let hanging = harness.state().mesh().positions[middle.1 as usize * cols + middle.0 as usize];
@@ -266,7 +273,7 @@ fn a_scene_that_fails_to_load_leaves_the_work_alone() {
 fn delete_unpins_the_selected_pins_and_the_last_pin_stays() {
     let workspace = Workspace::new();
     let mut harness = open_editor(&workspace, new_scene(), None);
-    let grid_rect = harness.get_by_label("Grid editor").rect();
+    let grid_rect = grid_editor_rect(&mut harness);
     let cloth = harness.state().scene().cloth.clone();
     // Select both top corners with Shift+click, then Delete: one of them must stay (a key needs a pin).
     click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::SHIFT);
@@ -796,7 +803,7 @@ fn a_number_typed_and_tabbed_in_one_frame_lands_in_its_field() {
     };
 
     // A new pin's X and Y typed in one frame: both land, each in its own axis.
-    let grid_rect = harness.get_by_label("Grid editor").rect();
+    let grid_rect = grid_editor_rect(&mut harness);
     let cloth = harness.state().scene().cloth.clone();
     click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (10, 2)), Modifiers::NONE);
     settle(&mut harness);
@@ -952,4 +959,89 @@ fn the_panels_hold_still_while_scrubbing_playing_and_relaxing() {
     harness.state_mut().apply("Elasticity", |s| s.keys[0].elasticity = 1.1);
     harness.step();
     assert_eq!(places(&harness), on_key, "while relaxing");
+}
+
+fn wheel(delta_y: f32, modifiers: Modifiers) -> Event {
+    Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta: egui::vec2(0.0, delta_y),
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Wheel,
+        modifiers,
+    }
+}
+
+/// The frame a click at `pos` on the track scrubs to.
+fn frame_clicked(harness: &mut Harness<'_, DrapeApp>, pos: Pos2) -> f64 {
+    click_at(harness, pos, Modifiers::NONE);
+    harness.state().frame()
+}
+
+#[test]
+fn the_timeline_zooms_about_the_mouse_pans_and_jumps_between_keys() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    harness.state_mut().set_frame(60.0);
+    settle(&mut harness);
+
+    // Ctrl+wheel with the mouse on the playhead: the playhead stays under the mouse, the frames spread out.
+    let at_60 = timeline_pos(&harness, 60.0);
+    let full_frames_per_point = 60.0 / f64::from(at_60.x - timeline_pos(&harness, 0.0).x);
+    harness.event(Event::PointerMoved(at_60));
+    harness.run_ok();
+    harness.event_modifiers(wheel(300.0, Modifiers::COMMAND), Modifiers::COMMAND);
+    harness.run_ok();
+    assert_eq!(frame_clicked(&mut harness, at_60), 60.0, "the playhead's frame is still under the mouse");
+    let right = at_60 + egui::vec2(120.0, 0.0);
+    let zoomed = frame_clicked(&mut harness, right) - 60.0;
+    assert!(zoomed > 0.0 && zoomed < 0.7 * 120.0 * full_frames_per_point, "{zoomed} frames in 120 points");
+
+    // The wheel pans a zoomed track: the frame under the mouse changes, the zoom does not.
+    harness.state_mut().set_frame(60.0);
+    harness.event(Event::PointerMoved(at_60));
+    harness.event(wheel(-200.0, Modifiers::NONE));
+    harness.run_ok();
+    let panned = frame_clicked(&mut harness, at_60);
+    assert!(panned > 60.0, "panned later: {panned}");
+
+    // Fit shows the whole range again.
+    harness.get_by_label("Fit").click();
+    harness.run_ok();
+    let at_30 = timeline_pos(&harness, 30.0);
+    assert_eq!(frame_clicked(&mut harness, at_30), 30.0);
+
+    // Up / Down: next and previous rest-shape key (0, 24, 48, 72, 120).
+    harness.state_mut().set_frame(30.0);
+    harness.run_ok();
+    harness.key_press(Key::ArrowUp);
+    harness.run_ok();
+    assert_eq!(harness.state().frame(), 48.0);
+    harness.key_press(Key::ArrowUp);
+    harness.run_ok();
+    assert_eq!(harness.state().frame(), 72.0);
+    harness.key_press(Key::ArrowDown);
+    harness.key_press(Key::ArrowDown);
+    harness.run_ok();
+    assert_eq!(harness.state().frame(), 24.0);
+}
+
+#[test]
+fn every_frame_playback_never_skips_a_frame() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    harness.get_by_label("Every frame").click();
+    harness.run_ok();
+    harness.key_press(Key::Space);
+    harness.step();
+    assert!(harness.state().playing());
+    // Each redraw comes 100 ms late (2.4 frame times at 24 fps): one frame each, none skipped.
+    let mut shown = vec![harness.state().frame()];
+    for _ in 0..5 {
+        std::thread::sleep(Duration::from_millis(100));
+        harness.step();
+        shown.push(harness.state().frame());
+    }
+    assert_eq!(shown, [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
 }

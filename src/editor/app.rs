@@ -353,6 +353,12 @@ impl DrapeApp {
         if pressed(KeyCode::ArrowRight) {
             w.set_frame(w.frame().round() + 1.0);
         }
+        if pressed(KeyCode::ArrowUp) {
+            w.jump_to_key(true);
+        }
+        if pressed(KeyCode::ArrowDown) {
+            w.jump_to_key(false);
+        }
         if pressed(KeyCode::Home) {
             w.set_frame(f64::from(timeline.start));
         }

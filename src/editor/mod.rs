@@ -32,6 +32,7 @@ pub mod shaper;
 pub mod shortcuts;
 pub mod shown;
 mod timeline;
+mod timeline_zoom;
 mod typing_pace;
 #[cfg(test)]
 mod ui_driver;

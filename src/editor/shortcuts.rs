@@ -25,6 +25,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("F", "Frame the cloth in the viewport"),
     ("Space", "Play / pause"),
     ("Left / Right", "Step one frame back / forward"),
+    ("Up / Down", "Next / previous key (rest-shape keys and the selected layer's keys)"),
     ("Home / End", "First / last frame"),
     ("Middle-drag, Alt+left-drag", "Orbit"),
     ("Shift+middle-drag", "Pan"),

@@ -11,6 +11,7 @@ use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use super::number_field::number_field;
 use super::param_edit::{key_frames, move_keys};
+use super::timeline_zoom::TimelineZoom;
 use super::workspace::Workspace;
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
 
@@ -19,8 +20,10 @@ const PLAY_BUTTON_WIDTH: f32 = 56.0;
 const FRAME_FIELD_WIDTH: f32 = 48.0;
 const SECONDS_WIDTH: f32 = 56.0;
 
-/// Height of the track (ruler and keys), points.
-const TRACK_HEIGHT: f32 = 34.0;
+/// Height of the track, points: the ruler with its labels, then a row for the
+/// selected layer's parameter keys, then one for the rest-shape keys, so a
+/// dot and a diamond on one frame never hide each other or a label.
+const TRACK_HEIGHT: f32 = 46.0;
 /// Half the width of a key diamond, points.
 const DIAMOND: f32 = 6.0;
 /// Labels on the ruler at least this far apart, points.
@@ -62,10 +65,15 @@ impl Track {
     }
 }
 
-/// The timeline's own state: loop playback, and a key being dragged.
+/// The timeline's own state: how it plays, its zoom, and a key being dragged.
 pub struct TimelinePanel {
     /// Playback wraps round to the start (else it stops at the end).
     pub looping: bool,
+    /// Playback shows every frame, one after another, even when the display
+    /// cannot keep up (else it keeps the scene's clock and skips frames).
+    pub every_frame: bool,
+    /// The part of the timeline the track shows.
+    zoom: TimelineZoom,
     /// The rest-shape key being dragged.
     key_drag: Option<usize>,
     /// The frame of the selected layer's parameter keys being dragged.
@@ -74,14 +82,20 @@ pub struct TimelinePanel {
 
 impl Default for TimelinePanel {
     fn default() -> Self {
-        TimelinePanel { looping: true, key_drag: None, param_key_drag: None }
+        TimelinePanel {
+            looping: true,
+            every_frame: false,
+            zoom: TimelineZoom::default(),
+            key_drag: None,
+            param_key_drag: None,
+        }
     }
 }
 
 impl TimelinePanel {
-    /// The same panel for a new document: its drags dropped, loop kept.
+    /// The same panel for a new document: its drags and zoom dropped, how it plays kept.
     pub fn for_new_document(&self) -> TimelinePanel {
-        TimelinePanel { looping: self.looping, ..TimelinePanel::default() }
+        TimelinePanel { looping: self.looping, every_frame: self.every_frame, ..TimelinePanel::default() }
     }
 
     pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
@@ -90,7 +104,8 @@ impl TimelinePanel {
         self.track_ui(ui, w);
     }
 
-    /// Moves the playhead while playing, holding whole frames like the scene's clock.
+    /// Moves the playhead while playing, holding whole frames like the scene's
+    /// clock, or (every frame) one frame per frame time at most.
     pub fn advance_playback(&self, ctx: &egui::Context, w: &mut Workspace) {
         let session = &mut w.session;
         if !session.playing {
@@ -100,6 +115,25 @@ impl TimelinePanel {
         let (started_at, started_frame) = *session.play_started.get_or_insert((Instant::now(), session.frame));
         let start = f64::from(timeline.start);
         let length = f64::from(timeline.end - timeline.start) + 1.0;
+        if self.every_frame {
+            // The clock restarts at each frame shown, so a slow frame delays the next instead of skipping it.
+            let frame_secs = 1.0 / timeline.fps;
+            let waited = started_at.elapsed().as_secs_f64();
+            if waited < frame_secs {
+                ctx.request_repaint_after(std::time::Duration::from_secs_f64(frame_secs - waited));
+                return;
+            }
+            let next = started_frame.round() + 1.0;
+            if next > f64::from(timeline.end) && !self.looping {
+                session.frame = f64::from(timeline.end);
+                session.playing = false;
+                return;
+            }
+            session.frame = if next > f64::from(timeline.end) { start } else { next };
+            session.play_started = Some((Instant::now(), session.frame));
+            ctx.request_repaint();
+            return;
+        }
         let played = started_at.elapsed().as_secs_f64() * timeline.fps;
         // Loops over start..=end (or stops at the end).
         let offset = started_frame - start + played;
@@ -125,6 +159,10 @@ impl TimelinePanel {
                 w.toggle_play();
             }
             ui.toggle_value(&mut self.looping, "Loop").on_hover_text("Play the range over and over");
+            ui.toggle_value(&mut self.every_frame, "Every frame").on_hover_text(
+                "Play every frame, slower than real time if the display cannot keep up \
+                 (off: keep the scene's clock, skipping frames)",
+            );
             ui.separator();
             let label = ui.label("Frame").id;
             let mut frame = w.frame().round() as i32;
@@ -156,6 +194,16 @@ impl TimelinePanel {
             if ui.add_enabled(selected, egui::Button::new("Delete key")).clicked() {
                 w.delete_selected_key();
             }
+            ui.separator();
+            let hint = "Show the whole timeline (Ctrl+wheel over the track zooms, the wheel or a middle drag pans)";
+            if ui
+                .add_enabled(self.zoom.is_zoomed(), egui::Button::new("Fit"))
+                .on_hover_text(hint)
+                .on_disabled_hover_text(hint)
+                .clicked()
+            {
+                self.zoom.reset();
+            }
         });
     }
 
@@ -165,20 +213,26 @@ impl TimelinePanel {
         let (rect, response) = ui.allocate_exact_size(Vec2::new(width, TRACK_HEIGHT), Sense::click_and_drag());
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Slider, true, "Timeline"));
         let inner = rect.shrink2(Vec2::new(DIAMOND + 2.0, 0.0));
-        let track = Track { rect: inner, start: f64::from(timeline.start), end: f64::from(timeline.end) };
+        self.zoom_and_pan(ui, &response, inner, &timeline);
+        if w.session.playing {
+            self.zoom.keep_in_view(w.frame(), timeline.start, timeline.end);
+        }
+        let (shown_start, shown_end) = self.zoom.shown(timeline.start, timeline.end);
+        let track = Track { rect: inner, start: shown_start, end: shown_end };
         let painter = ui.painter_at(rect);
         let visuals = ui.visuals().clone();
         painter.rect_filled(rect, 3.0, visuals.extreme_bg_color);
 
         // Ruler.
-        let points_per_frame = inner.width() / (timeline.end - timeline.start).max(1) as f32;
+        let points_per_frame = inner.width() / (shown_end - shown_start).max(1.0) as f32;
         let step = ruler_step(points_per_frame);
         let minor = if step >= 10 { step / 5 } else { 1 };
-        let first = timeline.start.div_euclid(minor) * minor;
+        let (first_shown, last_shown) = (shown_start.ceil() as i32, shown_end.floor() as i32);
         let weak = visuals.weak_text_color();
-        let mut at = first;
-        while at <= timeline.end {
-            if at >= timeline.start {
+        let font = egui::FontId::proportional(10.0);
+        let mut at = first_shown.div_euclid(minor) * minor;
+        while at <= last_shown {
+            if at >= first_shown {
                 let x = track.x(f64::from(at));
                 let major = at.rem_euclid(step) == 0;
                 let height = if major { 9.0 } else { 4.0 };
@@ -187,8 +241,11 @@ impl TimelinePanel {
                     Stroke::new(1.0, weak),
                 );
                 if major {
-                    let font = egui::FontId::proportional(10.0);
-                    painter.text(Pos2::new(x + 2.0, rect.top() + 8.0), egui::Align2::LEFT_TOP, at, font, weak);
+                    // Right of its tick, or left of it where the label would run off the track.
+                    let galley = painter.layout_no_wrap(at.to_string(), font.clone(), weak);
+                    let left =
+                        if x + 2.0 + galley.size().x <= rect.right() { x + 2.0 } else { x - 2.0 - galley.size().x };
+                    painter.galley(Pos2::new(left, rect.top() + 8.0), galley, weak);
                 }
             }
             at += minor;
@@ -263,7 +320,8 @@ impl TimelinePanel {
         painter.line_segment([Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())], Stroke::new(2.0, red));
 
         // Interaction: a press on a key selects it and a drag retimes it; elsewhere it scrubs.
-        if response.drag_started() || response.clicked() || response.secondary_clicked() {
+        if response.drag_started_by(egui::PointerButton::Primary) || response.clicked() || response.secondary_clicked()
+        {
             let origin = ui.input(|i| i.pointer.press_origin()).or(pointer);
             self.param_key_drag = origin.and_then(dot_under);
             self.key_drag = if self.param_key_drag.is_some() { None } else { origin.and_then(key_under) };
@@ -275,8 +333,7 @@ impl TimelinePanel {
             }
         }
         if let Some(pos) = pointer
-            && (response.dragged() || response.clicked())
-            && !response.secondary_clicked()
+            && (response.dragged_by(egui::PointerButton::Primary) || response.clicked())
         {
             let frame = track.frame(pos.x).round();
             match (self.key_drag, self.param_key_drag, selected_layer) {
@@ -304,6 +361,34 @@ impl TimelinePanel {
             egui::Popup::context_menu(&response)
                 .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
                 .show(|ui| key_menu(ui, w, index));
+        }
+    }
+
+    /// Ctrl+wheel over the track zooms about the frame under the mouse; the
+    /// wheel and a middle drag pan a zoomed track.
+    fn zoom_and_pan(
+        &mut self,
+        ui: &egui::Ui,
+        response: &egui::Response,
+        inner: Rect,
+        timeline: &crate::scene::Timeline,
+    ) {
+        let (start, end) = self.zoom.shown(timeline.start, timeline.end);
+        let frames_per_point = (end - start) / f64::from(inner.width().max(1.0));
+        if let Some(pos) = response.hover_pos() {
+            let (zoom, scroll) = ui.input(|i| (i.zoom_delta(), i.smooth_scroll_delta));
+            if zoom != 1.0 {
+                let track = Track { rect: inner, start, end };
+                self.zoom.zoom_about(f64::from(zoom), track.frame(pos.x), timeline.start, timeline.end);
+            } else {
+                let along = if scroll.x != 0.0 { scroll.x } else { scroll.y };
+                if along != 0.0 {
+                    self.zoom.pan(-f64::from(along) * frames_per_point, timeline.start, timeline.end);
+                }
+            }
+        }
+        if response.dragged_by(egui::PointerButton::Middle) {
+            self.zoom.pan(-f64::from(response.drag_delta().x) * frames_per_point, timeline.start, timeline.end);
         }
     }
 

@@ -108,6 +108,25 @@ impl Workspace {
         }
     }
 
+    /// Moves the playhead to the next (`later`) or previous key: a rest-shape
+    /// key, or a parameter key of the selected layer. Stays put past the last.
+    pub fn jump_to_key(&mut self, later: bool) {
+        let scene = self.doc.scene();
+        let mut frames: Vec<i32> = scene.keys.iter().map(|k| k.frame).collect();
+        if let Some(layer) = self.session.selected_layer.and_then(|i| scene.layers.get(i)) {
+            frames.extend(super::param_edit::key_frames(layer));
+        }
+        let here = self.frame().round() as i32;
+        let target = if later {
+            frames.into_iter().filter(|f| *f > here).min()
+        } else {
+            frames.into_iter().filter(|f| *f < here).max()
+        };
+        if let Some(frame) = target {
+            self.set_frame(f64::from(frame));
+        }
+    }
+
     pub fn toggle_play(&mut self) {
         self.session.playing = !self.session.playing;
         self.session.play_started = None;
