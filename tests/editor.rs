@@ -1045,3 +1045,42 @@ fn every_frame_playback_never_skips_a_frame() {
     }
     assert_eq!(shown, [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
 }
+
+#[test]
+fn auto_key_puts_an_edit_off_a_key_on_a_new_key_in_one_undo_step() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let opened = scene::load(&carpet).unwrap();
+    let mut harness = open_editor(&workspace, opened.clone(), Some(carpet));
+    harness.state_mut().set_frame(30.0);
+    settle(&mut harness);
+    let frames =
+        |harness: &Harness<'_, DrapeApp>| harness.state().scene().keys.iter().map(|k| k.frame).collect::<Vec<_>>();
+    assert_eq!(frames(&harness), [0, 24, 48, 72, 120]);
+
+    // Off: the edit changes the key in effect (frame 24).
+    harness.get_by_role_and_label(Role::Slider, "Stiffness").set_value_accesskit(0.5);
+    harness.run_ok();
+    assert_eq!(frames(&harness), [0, 24, 48, 72, 120]);
+    assert_eq!(harness.state().scene().keys[1].stiffness, 0.5);
+    harness.state_mut().undo();
+
+    // On: a key at 30 holding the pose there, with the edit; the key at 24 keeps its value.
+    harness.get_by_label("Auto key").click();
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::Slider, "Stiffness").set_value_accesskit(0.5);
+    harness.run_ok();
+    assert_eq!(frames(&harness), [0, 24, 30, 48, 72, 120]);
+    assert_eq!(harness.state().scene().keys[2].stiffness, 0.5);
+    assert_eq!(harness.state().scene().keys[1], opened.keys[1]);
+    assert_eq!(harness.state().document().undo_label(), Some("Stiffness"));
+    settle(&mut harness);
+
+    // On a key now: further edits change it, no more keys.
+    harness.get_by_role_and_label(Role::Slider, "Stiffness").set_value_accesskit(0.6);
+    harness.run_ok();
+    assert_eq!(frames(&harness), [0, 24, 30, 48, 72, 120]);
+    harness.state_mut().undo();
+    harness.state_mut().undo();
+    assert_eq!(harness.state().scene(), &opened, "one undo step took the new key and its edit");
+}

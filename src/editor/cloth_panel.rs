@@ -11,7 +11,7 @@ use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
 use super::workspace::Workspace;
 use crate::scene::{
-    ClothTexture, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MAX_STRETCH_LIMIT,
+    ClothTexture, Key, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MAX_STRETCH_LIMIT,
     MIN_ELASTICITY, MIN_GRID_SIDE, Scene,
 };
 
@@ -73,6 +73,20 @@ impl ClothPanel {
             }
         }
         selected_pin_fields(ui, w);
+    }
+}
+
+/// Applies `change` to the key being edited when `response` changed the
+/// value (with auto-key off a key, to a new key at the playhead); a drag on
+/// the widget is one undo step.
+fn key_field(w: &mut Workspace, response: &Response, label: &str, change: impl FnOnce(&mut Key)) {
+    if response.drag_started() {
+        w.doc.begin_gesture(label);
+    }
+    if response.changed()
+        && let Some(index) = w.key_to_edit(label)
+    {
+        w.apply(label, |s| change(&mut s.keys[index]));
     }
 }
 
@@ -169,20 +183,20 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let label = ui.label("Elasticity").on_hover_text(hint).id;
         let slider = number_slider(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
         let r = ui.add(slider).labelled_by(label);
-        field(w, &r, "Elasticity", |s| s.keys[index].elasticity = elasticity);
+        key_field(w, &r, "Elasticity", |k| k.elasticity = elasticity);
         ui.end_row();
 
         let mut stiffness = key.stiffness;
         let label = ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.").id;
         let r = ui.add(number_slider(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
-        field(w, &r, "Stiffness", |s| s.keys[index].stiffness = stiffness);
+        key_field(w, &r, "Stiffness", |k| k.stiffness = stiffness);
         ui.end_row();
 
         let mut iterations = key.relax.iterations;
         let label = ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.").id;
         let drag = number_field(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
         let r = ui.add(drag).labelled_by(label);
-        field(w, &r, "Relaxation iterations", |s| s.keys[index].relax.iterations = iterations);
+        key_field(w, &r, "Relaxation iterations", |k| k.relax.iterations = iterations);
         ui.end_row();
 
         let mut tolerance = key.relax.tolerance;
@@ -190,7 +204,7 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let label = ui.label("Tolerance").on_hover_text(hint).id;
         let slider = number_slider(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
         let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
-        field(w, &r, "Relaxation tolerance", |s| s.keys[index].relax.tolerance = tolerance);
+        key_field(w, &r, "Relaxation tolerance", |k| k.relax.tolerance = tolerance);
         ui.end_row();
     });
     // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
@@ -221,8 +235,13 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
                 for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
                     let label = ui.label(axis).id;
                     let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
-                    let new = pos_after(pin.pos, axis, *value);
-                    field(w, &r, "Move pin", |s| edits::move_pin(&mut s.keys[index], grid, new));
+                    // Set on the pin as the edited key holds it (a new auto-key holds the pose here).
+                    let value = *value;
+                    key_field(w, &r, "Move pin", |k| {
+                        if let Some(now) = k.pins.iter().find(|p| p.grid == grid).map(|p| p.pos) {
+                            edits::move_pin(k, grid, pos_after(now, axis, value));
+                        }
+                    });
                 }
             });
         }
@@ -239,10 +258,11 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
                     let label = ui.label(axis).id;
                     let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
                     let delta = *value - axis_of(centre, axis);
-                    field(w, &r, "Move pins", |s| {
+                    key_field(w, &r, "Move pins", |k| {
                         for pin in many {
-                            let new = pos_after(pin.pos, axis, axis_of(pin.pos, axis) + delta);
-                            edits::move_pin(&mut s.keys[index], pin.grid, new);
+                            if let Some(now) = k.pins.iter().find(|p| p.grid == pin.grid).map(|p| p.pos) {
+                                edits::move_pin(k, pin.grid, pos_after(now, axis, axis_of(now, axis) + delta));
+                            }
                         }
                     });
                 }

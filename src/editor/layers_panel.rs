@@ -8,7 +8,7 @@ use eframe::egui;
 use super::number_field::number_field;
 
 use super::curve_view::CurveView;
-use super::param_edit::{key_at, param_mut, param_names, set_at, toggle_key};
+use super::param_edit::{key_at, param_mut, param_names, set_at_keying, toggle_key};
 use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::scene::{FollowThrough, Layer, Param, WaveAxis};
@@ -213,9 +213,10 @@ impl LayersPanel {
                     w.doc.begin_gesture(&what);
                 }
                 if response.changed() {
+                    let auto_key = w.session.auto_key;
                     w.apply(&what, |s| {
                         if let Some(p) = param_mut(&mut s.layers[index], param) {
-                            set_at(p, frame, value);
+                            set_at_keying(p, frame, value, auto_key);
                         }
                     });
                 }

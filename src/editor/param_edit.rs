@@ -26,6 +26,15 @@ pub fn set_at(param: &mut Param, frame: i32, value: f64) {
     }
 }
 
+/// Sets the value at `frame` as [`set_at`] does, except that with `auto_key`
+/// a constant becomes keyed: one key at `frame` holding `value`.
+pub fn set_at_keying(param: &mut Param, frame: i32, value: f64, auto_key: bool) {
+    match param {
+        Param::Constant(_) if auto_key => *param = Param::Keys(vec![ParamKey { frame, value, ease: Ease::default() }]),
+        _ => set_at(param, frame, value),
+    }
+}
+
 /// Adds a key at `frame` holding the current value there, or removes the key
 /// at `frame`; removing the last key leaves a constant of its value.
 pub fn toggle_key(param: &mut Param, frame: i32) {
@@ -132,6 +141,18 @@ mod tests {
         assert_eq!(p, Param::Constant(2.0));
         toggle_key(&mut p, 10);
         assert_eq!(frames(&p), [(10, 2.0)]);
+    }
+
+    #[test]
+    fn with_auto_key_a_constant_becomes_keyed_where_it_is_edited() {
+        let mut p = Param::Constant(1.0);
+        set_at_keying(&mut p, 10, 2.0, true);
+        assert_eq!(frames(&p), [(10, 2.0)]);
+        set_at_keying(&mut p, 30, 3.0, true);
+        assert_eq!(frames(&p), [(10, 2.0), (30, 3.0)]);
+        let mut q = Param::Constant(1.0);
+        set_at_keying(&mut q, 10, 2.0, false);
+        assert_eq!(q, Param::Constant(2.0));
     }
 
     #[test]

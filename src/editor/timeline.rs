@@ -19,6 +19,8 @@ use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
 const PLAY_BUTTON_WIDTH: f32 = 56.0;
 const FRAME_FIELD_WIDTH: f32 = 48.0;
 const SECONDS_WIDTH: f32 = 56.0;
+/// Auto key is red while on, as in other animation tools: edits are keying.
+const AUTO_KEY_RED: Color32 = Color32::from_rgb(170, 40, 40);
 
 /// Height of the track, points: the ruler with its labels, then a row for the
 /// selected layer's parameter keys, then one for the rest-shape keys, so a
@@ -159,6 +161,21 @@ impl TimelinePanel {
                 w.toggle_play();
             }
             ui.toggle_value(&mut self.looping, "Loop").on_hover_text("Play the range over and over");
+            let auto_key = egui::Button::selectable(w.session.auto_key, "Auto key").fill(if w.session.auto_key {
+                AUTO_KEY_RED
+            } else {
+                Color32::TRANSPARENT
+            });
+            if ui
+                .add(auto_key)
+                .on_hover_text(
+                    "Edits off a key add a key at the playhead and change that one \
+                     (pins, fabric, layer parameters)",
+                )
+                .clicked()
+            {
+                w.session.auto_key = !w.session.auto_key;
+            }
             ui.toggle_value(&mut self.every_frame, "Every frame").on_hover_text(
                 "Play every frame, slower than real time if the display cannot keep up \
                  (off: keep the scene's clock, skipping frames)",

@@ -125,13 +125,15 @@ impl ViewportPanel {
         if !w.session.selection.contains(&grabbed) {
             select(&mut w.session.selection, grabbed, add);
         }
-        let index = w.edit_key_index();
+        // With auto-key off a key, the drag moves the pins of a new key at the playhead.
+        let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
+        w.doc.begin_gesture(label);
+        let Some(index) = w.key_to_edit(label) else { return };
         let key = &w.doc.scene().keys[index];
         let pins: Vec<_> =
             key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
         let Some(&(_, start)) = pins.iter().find(|(grid, _)| *grid == grabbed) else { return };
         let anchor = Vec3::new(start.0 as f32, start.1 as f32, start.2 as f32);
-        w.doc.begin_gesture(if pins.len() == 1 { "Move pin" } else { "Move pins" });
         self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: None, key: index });
     }
 

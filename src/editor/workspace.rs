@@ -46,6 +46,9 @@ pub struct Session {
     /// The viewport's camera moves with the cloth's centre, keeping how it
     /// looks at it (saved with the view).
     pub follow: bool,
+    /// Auto-key: an edit off a key adds a key at the playhead and changes
+    /// that one (rest-shape keys, and layer parameters). Kept across documents.
+    pub auto_key: bool,
 }
 
 impl Session {
@@ -90,7 +93,9 @@ impl Workspace {
     /// Replaces the document (New, Open, Restore): a new session (see
     /// [`Session::opening`]), nothing asked of the worker.
     pub fn replace_document(&mut self, scene: Scene, path: Option<PathBuf>) {
+        let auto_key = self.session.auto_key;
         self.session = Session::opening(&scene);
+        self.session.auto_key = auto_key;
         self.doc = Document::new(scene, path);
         self.shown.forget_document();
     }
@@ -179,10 +184,27 @@ impl Workspace {
         }
     }
 
+    /// The key an edit of the key in effect (`label`) goes to: that key, or
+    /// with auto-key on and the playhead off it, a new key at the playhead
+    /// holding the pose there, made in the same undo step as the edit.
+    /// `None` (with a message) when the new key cannot be made yet.
+    pub fn key_to_edit(&mut self, label: &str) -> Option<usize> {
+        let index = self.edit_key_index();
+        let playhead = self.frame().round() as i32;
+        if !self.session.auto_key || self.doc.scene().keys[index].frame == playhead {
+            return Some(index);
+        }
+        self.doc.begin_gesture(label);
+        let keys_before = self.doc.scene().keys.len();
+        self.add_key_here();
+        (self.doc.scene().keys.len() > keys_before).then(|| self.edit_key_index())
+    }
+
     /// Pins grid point `point` of the key being edited where the cloth is now, or unpins it.
     pub fn toggle_pin(&mut self, point: (u32, u32)) {
-        let index = self.edit_key_index();
-        if edits::is_pinned(&self.doc.scene().keys[index], point) {
+        let pinned = edits::is_pinned(&self.doc.scene().keys[self.edit_key_index()], point);
+        let Some(index) = self.key_to_edit(if pinned { "Unpin" } else { "Pin" }) else { return };
+        if pinned {
             self.apply("Unpin", |s| edits::unpin(&mut s.keys[index], &[point]));
             self.session.selection.retain(|p| *p != point);
             return;
@@ -203,9 +225,9 @@ impl Workspace {
         if self.session.selection.is_empty() {
             return;
         }
-        let index = self.edit_key_index();
         let selection = self.session.selection.clone();
         let label = if selection.len() == 1 { "Unpin" } else { "Unpin pins" };
+        let Some(index) = self.key_to_edit(label) else { return };
         self.apply(label, |s| edits::unpin(&mut s.keys[index], &selection));
     }
 
