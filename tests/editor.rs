@@ -89,14 +89,15 @@ fn click_at(harness: &mut Harness<'_, DrapeApp>, pos: Pos2, modifiers: Modifiers
 
 /// Presses at `from`, moves to `to` in a few steps, releases: a drag as a hand makes it.
 fn drag(harness: &mut Harness<'_, DrapeApp>, from: Pos2, to: Pos2) {
+    drag_holding(harness, from, to, Modifiers::NONE);
+}
+
+/// A drag with `modifiers` held throughout.
+fn drag_holding(harness: &mut Harness<'_, DrapeApp>, from: Pos2, to: Pos2, modifiers: Modifiers) {
+    harness.event(Event::ModifiersChanged(modifiers));
     harness.event(Event::PointerMoved(from));
     harness.run_ok();
-    let press = |pressed, pos| Event::PointerButton {
-        pos,
-        button: PointerButton::Primary,
-        pressed,
-        modifiers: Modifiers::NONE,
-    };
+    let press = |pressed, pos| Event::PointerButton { pos, button: PointerButton::Primary, pressed, modifiers };
     harness.event(press(true, from));
     harness.run_ok();
     for step in 1..=6 {
@@ -104,6 +105,8 @@ fn drag(harness: &mut Harness<'_, DrapeApp>, from: Pos2, to: Pos2) {
         harness.run_ok();
     }
     harness.event(press(false, to));
+    harness.run_ok();
+    harness.event(Event::ModifiersChanged(Modifiers::NONE));
     harness.run_ok();
 }
 
@@ -178,7 +181,7 @@ fn model_undo_save_and_reopen() {
     click_at(&mut harness, GridEditor::point_in(grid_rect, &opened.cloth, middle), Modifiers::NONE);
     let pinned = pin_pos(harness.state().scene(), 0, middle);
     assert_eq!(pinned, (hanging.x as f64, hanging.y as f64, hanging.z as f64));
-    assert_eq!(harness.state().selection(), [middle]);
+    assert!(harness.state().selection().is_empty(), "a new pin is not left selected");
     assert!(harness.state().title().contains('*'), "the title marks unsaved work");
     settle(&mut harness);
     snapshot(&mut harness, "editor_pinned");
@@ -284,8 +287,8 @@ fn delete_unpins_the_selected_pins_and_the_last_pin_stays() {
     harness.run_ok();
     assert_eq!(harness.state().scene().keys[0].pins.len(), 2, "an edit leaving no pin is refused");
     assert!(harness.query_by_label_contains("at least one pin").is_some());
-    // One pin selected: Delete unpins it.
-    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::SHIFT);
+    // One pin selected (Ctrl+click takes the other out): Delete unpins it.
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::COMMAND);
     assert_eq!(harness.state().selection(), [(32, 0)]);
     harness.key_press(Key::Delete);
     harness.run_ok();
@@ -808,6 +811,8 @@ fn a_number_typed_and_tabbed_in_one_frame_lands_in_its_field() {
     click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (10, 2)), Modifiers::NONE);
     settle(&mut harness);
     let z = pin_pos(harness.state().scene(), 0, (10, 2)).2;
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (10, 2)), Modifiers::NONE);
+    assert_eq!(harness.state().selection(), [(10, 2)]);
     let field = spin(&mut harness, "X");
     click_at(&mut harness, field, Modifiers::NONE);
     let typed = vec![Event::Text("0.25".into()), key_event(Key::Tab), Event::Text("-0.75".into()), key_event(Key::Tab)];
@@ -1083,4 +1088,65 @@ fn auto_key_puts_an_edit_off_a_key_on_a_new_key_in_one_undo_step() {
     harness.state_mut().undo();
     harness.state_mut().undo();
     assert_eq!(harness.state().scene(), &opened, "one undo step took the new key and its edit");
+}
+
+#[test]
+fn selection_follows_click_shift_ctrl_and_box_in_grid_editor_and_viewport() {
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    let grid_rect = grid_editor_rect(&mut harness);
+    let cloth = harness.state().scene().cloth.clone();
+    let at = |point| GridEditor::point_in(grid_rect, &cloth, point);
+    let (a, b, c) = ((0, 0), (32, 0), (16, 30));
+
+    // A plain click on a free point pins it without selecting it (or anything else).
+    click_at(&mut harness, at(a), Modifiers::NONE);
+    assert_eq!(harness.state().selection(), [a]);
+    click_at(&mut harness, at(c), Modifiers::NONE);
+    settle(&mut harness);
+    assert!(edits_pinned(&harness, c));
+    assert!(harness.state().selection().is_empty());
+
+    // Shift adds (twice still once), Ctrl toggles, a plain click selects only that pin.
+    click_at(&mut harness, at(a), Modifiers::SHIFT);
+    click_at(&mut harness, at(b), Modifiers::SHIFT);
+    click_at(&mut harness, at(b), Modifiers::SHIFT);
+    assert_eq!(harness.state().selection(), [a, b]);
+    click_at(&mut harness, at(c), Modifiers::COMMAND);
+    click_at(&mut harness, at(a), Modifiers::COMMAND);
+    assert_eq!(harness.state().selection(), [b, c]);
+    click_at(&mut harness, at(a), Modifiers::NONE);
+    assert_eq!(harness.state().selection(), [a]);
+
+    // A box round the top row selects its two pins; Shift+box adds.
+    drag(&mut harness, at(a) - egui::vec2(3.0, 3.0), at((32, 3)) + egui::vec2(3.0, 0.0));
+    assert_eq!(harness.state().selection(), [a, b]);
+    drag_holding(&mut harness, at((14, 28)), at((18, 32)), Modifiers::SHIFT);
+    assert_eq!(harness.state().selection(), [a, b, c]);
+
+    // In the viewport: a click on a pin selects it alone, a click on the empty background clears.
+    let pin_on_screen = |harness: &Harness<'_, DrapeApp>, (i, j): (u32, u32)| {
+        let p = harness.state().mesh().positions[j as usize * 33 + i as usize];
+        harness.state().screen_pos(p).unwrap()
+    };
+    let b_on_screen = pin_on_screen(&harness, b);
+    click_at(&mut harness, b_on_screen, Modifiers::NONE);
+    assert_eq!(harness.state().selection(), [b]);
+    let a_on_screen = pin_on_screen(&harness, a);
+    click_at(&mut harness, a_on_screen, Modifiers::SHIFT);
+    assert_eq!(harness.state().selection(), [b, a]);
+    let corner = harness.state().viewport_rect().left_top() + egui::vec2(8.0, 8.0);
+    click_at(&mut harness, corner, Modifiers::NONE);
+    assert!(harness.state().selection().is_empty());
+
+    // A box in the viewport round the two top pins selects them.
+    let (lo, hi) = (a_on_screen.min(b_on_screen), a_on_screen.max(b_on_screen));
+    drag(&mut harness, lo - egui::vec2(12.0, 12.0), hi + egui::vec2(12.0, 12.0));
+    let mut selected = harness.state().selection().to_vec();
+    selected.sort();
+    assert_eq!(selected, [a, b]);
+}
+
+fn edits_pinned(harness: &Harness<'_, DrapeApp>, point: (u32, u32)) -> bool {
+    harness.state().scene().keys[0].pins.iter().any(|p| p.grid == point)
 }

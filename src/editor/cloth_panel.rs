@@ -9,6 +9,7 @@ use super::number_field::{number_field, number_slider};
 use super::edits;
 use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
+use super::selection;
 use super::workspace::Workspace;
 use crate::scene::{
     ClothTexture, Key, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MAX_STRETCH_LIMIT,
@@ -41,7 +42,7 @@ impl ClothPanel {
         let scene = w.doc.scene().clone();
         let key = &scene.keys[index];
         ui.strong(format!("Pins ({})", key.pins.len()));
-        ui.weak("Click: pin / unpin · Shift+click: select · Drag: box-select");
+        ui.weak("Click: pin, or select a pin · Shift: add · Ctrl: toggle · Drag: box-select · Delete: unpin");
         let (actions, hovered) = self.grid_editor.show(
             ui,
             &scene.cloth,
@@ -52,24 +53,10 @@ impl ClothPanel {
         w.session.grid_hovered = hovered;
         for action in actions {
             match action {
-                GridAction::TogglePin(point) => w.toggle_pin(point),
-                GridAction::ToggleSelected(point) => {
-                    if let Some(at) = w.session.selection.iter().position(|p| *p == point) {
-                        w.session.selection.remove(at);
-                    } else {
-                        w.session.selection.push(point);
-                    }
-                }
-                GridAction::SelectBox { pins, add } => {
-                    if !add {
-                        w.session.selection.clear();
-                    }
-                    for pin in pins {
-                        if !w.session.selection.contains(&pin) {
-                            w.session.selection.push(pin);
-                        }
-                    }
-                }
+                GridAction::Pin(point, how) => w.pin_here(point, how),
+                GridAction::PickPin(point, how) => selection::pick(&mut w.session.selection, &[point], how),
+                GridAction::SelectBox { pins, how } => selection::pick(&mut w.session.selection, &pins, how),
+                GridAction::ClickNothing(how) => selection::click_on_nothing(&mut w.session.selection, how),
             }
         }
         selected_pin_fields(ui, w);

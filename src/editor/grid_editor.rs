@@ -1,22 +1,26 @@
 //! The 2D grid editor (the paper's Fig. 3a): the cloth's grid seen flat, its
-//! pins as red dots. Click a point to pin or unpin it; Shift+click selects a
-//! pin without changing it; drag a box to select the pins inside it.
+//! pins as red dots. Click a point to pin it, click a pin to select it
+//! (Shift adds, Ctrl toggles), drag a box to select the pins inside it.
 //!
 //! The widget only reports what the user did; the app turns that into edits.
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2};
 
+use super::selection::Pick;
 use crate::scene::{Cloth, Key};
 
-/// What the user did in the grid editor this frame.
+/// What the user did in the grid editor this frame; the [`Pick`] says
+/// what it does to the selection (see [`super::selection`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum GridAction {
-    /// Pin this point (where the cloth is now) or unpin it.
-    TogglePin((u32, u32)),
-    /// Add this pin to the selection, or take it out (Shift+click).
-    ToggleSelected((u32, u32)),
-    /// A box was dragged round these pins; `add` keeps the earlier selection (Shift).
-    SelectBox { pins: Vec<(u32, u32)>, add: bool },
+    /// A click on an unpinned point: pin it where the cloth is now.
+    Pin((u32, u32), Pick),
+    /// A click on a pin.
+    PickPin((u32, u32), Pick),
+    /// A box was dragged round these pins.
+    SelectBox { pins: Vec<(u32, u32)>, how: Pick },
+    /// A click on no grid point.
+    ClickNothing(Pick),
 }
 
 /// Drawing sizes in points.
@@ -142,9 +146,10 @@ impl GridEditor {
         }
 
         let mut actions = Vec::new();
-        let shift = click_modifiers(ui).shift;
+        let how = Pick::from_modifiers(click_modifiers(ui));
         if response.drag_started() {
-            self.box_start = response.interact_pointer_pos();
+            // From where the button went down, not where egui first called it a drag.
+            self.box_start = ui.input(|i| i.pointer.press_origin()).or(response.interact_pointer_pos());
         }
         if let (Some(start), Some(now)) = (self.box_start, response.interact_pointer_pos()) {
             let selection = Rect::from_two_pos(start, now);
@@ -162,21 +167,19 @@ impl GridEditor {
                     .filter(|p| selection.expand(PIN_RADIUS).contains(point_pos(rect, grid, p.grid)))
                     .map(|p| p.grid)
                     .collect();
-                actions.push(GridAction::SelectBox { pins, add: shift });
+                actions.push(GridAction::SelectBox { pins, how });
                 self.box_start = None;
             }
         }
         if !response.dragged() && !response.drag_stopped() {
             self.box_start = None;
         }
-        if response.clicked()
-            && let Some(point) = response.interact_pointer_pos().and_then(|p| nearest_point(rect, grid, p))
-        {
-            let pinned = key.pins.iter().any(|p| p.grid == point);
-            actions.push(if shift && pinned {
-                GridAction::ToggleSelected(point)
-            } else {
-                GridAction::TogglePin(point)
+        if response.clicked() {
+            let point = response.interact_pointer_pos().and_then(|p| nearest_point(rect, grid, p));
+            actions.push(match point {
+                Some(point) if key.pins.iter().any(|p| p.grid == point) => GridAction::PickPin(point, how),
+                Some(point) => GridAction::Pin(point, how),
+                None => GridAction::ClickNothing(how),
             });
         }
         (actions, hovered)

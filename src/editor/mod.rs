@@ -28,6 +28,7 @@ pub mod pin_drag;
 pub mod prompt;
 pub mod recent;
 pub mod recovery;
+pub mod selection;
 pub mod shaper;
 pub mod shortcuts;
 pub mod shown;

@@ -6,6 +6,7 @@ use eframe::egui::{self, Key, PointerButton, Response};
 use glam::{Vec2, Vec3};
 
 use super::pin_drag::{AxisLock, PinDrag};
+use super::selection::{self, Pick};
 use super::viewport_panel::ViewportPanel;
 use super::workspace::Workspace;
 use super::{edits, picking};
@@ -60,33 +61,76 @@ impl ViewportPanel {
         if alt {
             return;
         }
+        if self.box_select.is_some() {
+            self.continue_box_select(ui, w, response, size_px);
+            return;
+        }
         if response.drag_started_by(PointerButton::Primary) {
             // The drag starts where the button went down, a few pixels before egui calls it a drag.
-            let origin = ui.input(|i| i.pointer.press_origin()).map(to_px);
-            let grabbed = origin.filter(|_| same_grid).and_then(|at| self.point_at(w, at, size_px, pixels_per_point));
-            if let Some(point) = grabbed
-                && edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point)
-            {
-                self.start_pin_drag(w, point, shift);
-                self.continue_pin_drag(ui, w, response, size_px, pointer_px);
+            let origin = ui.input(|i| i.pointer.press_origin());
+            let grabbed =
+                origin.map(to_px).filter(|_| same_grid).and_then(|at| self.point_at(w, at, size_px, pixels_per_point));
+            match grabbed {
+                Some(point) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
+                    self.start_pin_drag(w, point, shift);
+                    self.continue_pin_drag(ui, w, response, size_px, pointer_px);
+                }
+                // Off the pins a drag draws a box round the pins to select.
+                _ => self.box_select = origin,
             }
             return;
         }
         if response.clicked_by(PointerButton::Primary) {
-            let shift = super::grid_editor::click_modifiers(ui).shift;
+            let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
             match w.session.hovered {
-                Some(point) => {
-                    let key = &w.doc.scene().keys[w.edit_key_index()];
-                    if edits::is_pinned(key, point) {
-                        select(&mut w.session.selection, point, shift);
-                    } else {
-                        w.toggle_pin(point);
-                    }
+                Some(point) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
+                    selection::pick(&mut w.session.selection, &[point], how);
                 }
-                None if !shift => w.session.selection.clear(),
-                None => {}
+                Some(point) => w.pin_here(point, how),
+                None => selection::click_on_nothing(&mut w.session.selection, how),
             }
         }
+    }
+
+    /// Draws the selection box while the button is held; on release, picks
+    /// the pins drawn inside it (Shift adds, Ctrl toggles).
+    fn continue_box_select(&mut self, ui: &egui::Ui, w: &mut Workspace, response: &Response, size_px: (u32, u32)) {
+        let (Some(start), Some(now)) = (self.box_select, response.interact_pointer_pos().or(response.hover_pos()))
+        else {
+            self.box_select = None;
+            return;
+        };
+        let area = egui::Rect::from_two_pos(start, now);
+        let color = ui.visuals().selection.stroke.color;
+        let painter = ui
+            .painter()
+            .clone()
+            .with_layer_id(egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("box-select")));
+        painter.rect(area, 0.0, color.gamma_multiply(0.12), egui::Stroke::new(1.0, color), egui::StrokeKind::Middle);
+        if !response.drag_stopped() && ui.input(|i| i.pointer.primary_down()) {
+            return;
+        }
+        self.box_select = None;
+        if !w.shown_grid_is_current() {
+            return;
+        }
+        let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
+        let rect = response.rect;
+        let cols = w.shown.scene.cloth.cols();
+        let key = &w.doc.scene().keys[w.edit_key_index()];
+        let points_per_px = rect.width() / size_px.0.max(1) as f32;
+        let inside: Vec<(u32, u32)> = key
+            .pins
+            .iter()
+            .map(|p| p.grid)
+            .filter(|&(i, j)| {
+                let Some(&at) = w.shown.mesh.positions.get(j as usize * cols + i as usize) else { return false };
+                self.camera
+                    .project(at, size_px)
+                    .is_some_and(|px| area.contains(rect.min + egui::vec2(px.x, px.y) * points_per_px))
+            })
+            .collect();
+        selection::pick(&mut w.session.selection, &inside, how);
     }
 
     /// The grid point under `pointer_px`: a pin of the key being edited when
@@ -123,7 +167,7 @@ impl ViewportPanel {
 
     fn start_pin_drag(&mut self, w: &mut Workspace, grabbed: (u32, u32), add: bool) {
         if !w.session.selection.contains(&grabbed) {
-            select(&mut w.session.selection, grabbed, add);
+            selection::pick(&mut w.session.selection, &[grabbed], if add { Pick::Add } else { Pick::Replace });
         }
         // With auto-key off a key, the drag moves the pins of a new key at the playhead.
         let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
@@ -191,19 +235,5 @@ impl ViewportPanel {
     fn finish_pin_drag(&mut self, w: &mut Workspace) {
         self.pin_drag = None;
         w.end_gesture();
-    }
-}
-
-/// Selects `point` alone, or with `add` toggles it in the selection.
-fn select(selection: &mut Vec<(u32, u32)>, point: (u32, u32), add: bool) {
-    if add {
-        match selection.iter().position(|p| *p == point) {
-            Some(at) => {
-                selection.remove(at);
-            }
-            None => selection.push(point),
-        }
-    } else {
-        *selection = vec![point];
     }
 }

@@ -94,6 +94,8 @@ pub struct ViewportPanel {
     pub toggles: ViewToggles,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
+    /// Where a box selection started (points), while the button is held.
+    pub box_select: Option<egui::Pos2>,
     /// The playhead and the cloth's centre when the camera last followed it.
     follow_anchor: Option<(f64, glam::Vec3)>,
     /// Where the viewport was drawn last frame (points).
@@ -131,6 +133,7 @@ impl ViewportPanel {
             toggles: ViewToggles::default(),
             stage: Stage::default(),
             pin_drag: None,
+            box_select: None,
             follow_anchor: None,
             rect: egui::Rect::NOTHING,
             has_gpu,

@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use super::document::Document;
 use super::edits;
+use super::selection::{self, Pick};
 use super::shown::Shown;
 use crate::scene::Scene;
 use crate::shape::RelaxReport;
@@ -200,15 +201,23 @@ impl Workspace {
         (self.doc.scene().keys.len() > keys_before).then(|| self.edit_key_index())
     }
 
-    /// Pins grid point `point` of the key being edited where the cloth is now, or unpins it.
+    /// Pins grid point `point` of the key being edited where the cloth is now
+    /// (as a plain click does), or unpins it.
     pub fn toggle_pin(&mut self, point: (u32, u32)) {
-        let pinned = edits::is_pinned(&self.doc.scene().keys[self.edit_key_index()], point);
-        let Some(index) = self.key_to_edit(if pinned { "Unpin" } else { "Pin" }) else { return };
-        if pinned {
-            self.apply("Unpin", |s| edits::unpin(&mut s.keys[index], &[point]));
-            self.session.selection.retain(|p| *p != point);
+        if !edits::is_pinned(&self.doc.scene().keys[self.edit_key_index()], point) {
+            self.pin_here(point, Pick::Replace);
             return;
         }
+        let Some(index) = self.key_to_edit("Unpin") else { return };
+        self.apply("Unpin", |s| edits::unpin(&mut s.keys[index], &[point]));
+        self.session.selection.retain(|p| *p != point);
+    }
+
+    /// Pins grid point `point` of the key being edited where the cloth is now;
+    /// `how` (the click's modifiers) says what the selection does
+    /// ([`selection::after_pinning`]).
+    pub fn pin_here(&mut self, point: (u32, u32), how: Pick) {
+        let Some(index) = self.key_to_edit("Pin") else { return };
         let cloth = &self.shown.scene.cloth;
         let vertex = point.1 as usize * cloth.cols() + point.0 as usize;
         let same_grid = self.shown_grid_is_current();
@@ -218,7 +227,7 @@ impl Workspace {
         };
         let pos = (f64::from(p.x), f64::from(p.y), f64::from(p.z));
         self.apply("Pin", |s| edits::pin_point(&mut s.keys[index], point, pos));
-        self.session.selection = vec![point];
+        selection::after_pinning(&mut self.session.selection, point, how);
     }
 
     pub fn delete_selected_pins(&mut self) {
