@@ -1150,3 +1150,37 @@ fn selection_follows_click_shift_ctrl_and_box_in_grid_editor_and_viewport() {
 fn edits_pinned(harness: &Harness<'_, DrapeApp>, point: (u32, u32)) -> bool {
     harness.state().scene().keys[0].pins.iter().any(|p| p.grid == point)
 }
+
+#[test]
+fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
+    use drape::editor::pin_drag::AxisLock;
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    let grid_rect = grid_editor_rect(&mut harness);
+    let cloth = harness.state().scene().cloth.clone();
+    assert!(harness.state().gizmo().is_none(), "nothing selected, no gizmo");
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::NONE);
+    let gizmo = harness.state().gizmo().expect("a gizmo on the selected pin");
+    let before = pin_pos(harness.state().scene(), 0, (0, 0));
+
+    // Drag the red arrow along itself and off to the side: the pin moves along X only.
+    let origin = harness.state().screen_pos(gizmo.origin).unwrap();
+    let along = gizmo.tip(AxisLock::X).unwrap() - origin;
+    let grab = origin + along * 0.7;
+    drag(&mut harness, grab, grab + along * 0.8 + egui::vec2(0.0, 40.0));
+    let after = pin_pos(harness.state().scene(), 0, (0, 0));
+    assert!(after.0 > before.0 + 0.05, "along +X: {before:?} → {after:?}");
+    assert_eq!((after.1, after.2), (before.1, before.2), "locked to X");
+    assert_eq!(harness.state().document().undo_label(), Some("Move pin"));
+    assert_eq!(harness.state().selection(), [(0, 0)], "the drag keeps the selection");
+
+    // A click on an arrow does not pin the cloth behind it.
+    settle(&mut harness);
+    let pins = harness.state().scene().keys[0].pins.len();
+    let gizmo = harness.state().gizmo().unwrap();
+    let x_tip = gizmo.tip(AxisLock::X).unwrap();
+    let on_arrow = x_tip + (harness.state().screen_pos(gizmo.origin).unwrap() - x_tip) * 0.4;
+    click_at(&mut harness, on_arrow, Modifiers::NONE);
+    assert_eq!(harness.state().scene().keys[0].pins.len(), pins);
+    assert_eq!(harness.state().selection(), [(0, 0)]);
+}

@@ -139,6 +139,11 @@ impl DrapeApp {
         &self.work.shown.scene
     }
 
+    /// The translate gizmo on the selected pins, as drawn last frame.
+    pub fn gizmo(&self) -> Option<super::gizmo::Gizmo> {
+        self.viewport.gizmo(&self.work, self.viewport.size_px)
+    }
+
     pub fn camera(&self) -> &OrbitCamera {
         &self.viewport.camera
     }

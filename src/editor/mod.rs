@@ -19,6 +19,7 @@ pub mod edits;
 mod export_window;
 pub mod file_dialog;
 pub mod files;
+pub mod gizmo;
 pub mod grid_editor;
 mod layers_panel;
 mod number_field;

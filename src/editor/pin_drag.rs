@@ -33,4 +33,6 @@ pub struct PinDrag {
     pub lock: Option<AxisLock>,
     /// Key index the pins belong to.
     pub key: usize,
+    /// Started on a gizmo arrow (drawn highlighted while it lasts).
+    pub by_gizmo: bool,
 }

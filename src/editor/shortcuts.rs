@@ -37,6 +37,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Drag on empty space", "Box-select pins (Shift adds, Ctrl toggles)"),
     ("Click on empty space", "Clear the selection"),
     ("Drag a pin", "Move the selected pins in the view plane"),
+    ("Drag a gizmo arrow", "Move the selected pins along X (red), Y (green) or Z (blue)"),
     ("X / Y / Z while dragging", "Lock the move to that axis (again: unlock)"),
     ("Esc while dragging", "Put the pins back"),
 ];

@@ -68,6 +68,14 @@ impl ViewportPanel {
         if response.drag_started_by(PointerButton::Primary) {
             // The drag starts where the button went down, a few pixels before egui calls it a drag.
             let origin = ui.input(|i| i.pointer.press_origin());
+            if let Some(press) = origin
+                && let Some(gizmo) = self.gizmo(w, size_px)
+                && let Some(axis) = gizmo.axis_at(press)
+            {
+                self.start_gizmo_drag(w, gizmo.origin, axis, to_px(press), size_px);
+                self.continue_pin_drag(ui, w, response, size_px, pointer_px);
+                return;
+            }
             let grabbed =
                 origin.map(to_px).filter(|_| same_grid).and_then(|at| self.point_at(w, at, size_px, pixels_per_point));
             match grabbed {
@@ -81,6 +89,11 @@ impl ViewportPanel {
             return;
         }
         if response.clicked_by(PointerButton::Primary) {
+            // A click on a gizmo arrow is not a click on the cloth behind it.
+            let on_gizmo = response.interact_pointer_pos().zip(self.gizmo(w, size_px)).and_then(|(p, g)| g.axis_at(p));
+            if on_gizmo.is_some() {
+                return;
+            }
             let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
             match w.session.hovered {
                 Some(point) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
@@ -178,7 +191,31 @@ impl ViewportPanel {
             key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
         let Some(&(_, start)) = pins.iter().find(|(grid, _)| *grid == grabbed) else { return };
         let anchor = Vec3::new(start.0 as f32, start.1 as f32, start.2 as f32);
-        self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: None, key: index });
+        self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: None, key: index, by_gizmo: false });
+    }
+
+    /// A drag on the gizmo's `axis` arrow: the selected pins move along it,
+    /// from the point of the axis under `press_px`.
+    fn start_gizmo_drag(
+        &mut self,
+        w: &mut Workspace,
+        gizmo_origin: Vec3,
+        axis: AxisLock,
+        press_px: Vec2,
+        size_px: (u32, u32),
+    ) {
+        let Some(anchor) = picking::drag_along_axis(&self.camera, size_px, gizmo_origin, axis.vector(), press_px)
+        else {
+            return;
+        };
+        let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
+        w.doc.begin_gesture(label);
+        let Some(index) = w.key_to_edit(label) else { return };
+        let key = &w.doc.scene().keys[index];
+        let pins: Vec<_> =
+            key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
+        let Some(&(grabbed, _)) = pins.first() else { return };
+        self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: Some(axis), key: index, by_gizmo: true });
     }
 
     fn continue_pin_drag(

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use eframe::egui::{self, Sense};
 use eframe::egui_wgpu;
 
+use super::gizmo::Gizmo;
 use super::number_field::number_field;
 use super::pin_drag::{AxisLock, PinDrag};
 use super::shown::OnionSkin;
@@ -94,6 +95,8 @@ pub struct ViewportPanel {
     pub toggles: ViewToggles,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
+    /// The viewport's size in pixels, last frame.
+    pub size_px: (u32, u32),
     /// Where a box selection started (points), while the button is held.
     pub box_select: Option<egui::Pos2>,
     /// The playhead and the cloth's centre when the camera last followed it.
@@ -134,6 +137,7 @@ impl ViewportPanel {
             stage: Stage::default(),
             pin_drag: None,
             box_select: None,
+            size_px: (1, 1),
             follow_anchor: None,
             rect: egui::Rect::NOTHING,
             has_gpu,
@@ -172,6 +176,7 @@ impl ViewportPanel {
             (rect.width() * pixels_per_point).round().max(1.0) as u32,
             (rect.height() * pixels_per_point).round().max(1.0) as u32,
         );
+        self.size_px = size_px;
         self.pointer_input(ui, w, &response, size_px);
         ViewportArea { rect, response, size_px, aspect }
     }
@@ -213,6 +218,15 @@ impl ViewportPanel {
             overlay_painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
             overlay_painter.galley(at, galley, egui::Color32::WHITE);
         }
+        if let Some(gizmo) = self.gizmo(w, area.size_px) {
+            let painter = ui
+                .painter()
+                .clone()
+                .with_layer_id(egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("viewport-gizmo")));
+            let dragged = self.pin_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock);
+            let hovered = area.response.hover_pos().and_then(|p| gizmo.axis_at(p));
+            gizmo.paint(&painter, dragged.or(hovered));
+        }
         if !self.has_gpu {
             return;
         }
@@ -225,6 +239,29 @@ impl ViewportPanel {
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
+    }
+
+    /// The translate gizmo at the selected pins' centre: where the pins are
+    /// drawn (the evaluated cloth), or during a drag where the key now holds
+    /// them. `None` with nothing selected, pins hidden or another grid shown.
+    pub fn gizmo(&self, w: &Workspace, size_px: (u32, u32)) -> Option<Gizmo> {
+        if !self.toggles.pins || w.session.selection.is_empty() || !w.shown_grid_is_current() {
+            return None;
+        }
+        let key = &w.doc.scene().keys[w.edit_key_index()];
+        let cols = w.shown.scene.cloth.cols();
+        let selected = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid));
+        let points: Vec<glam::Vec3> = match &self.pin_drag {
+            Some(_) => selected.map(|p| glam::DVec3::new(p.pos.0, p.pos.1, p.pos.2).as_vec3()).collect(),
+            None => selected
+                .filter_map(|p| w.shown.mesh.positions.get(p.grid.1 as usize * cols + p.grid.0 as usize).copied())
+                .collect(),
+        };
+        if points.is_empty() {
+            return None;
+        }
+        let centre = points.iter().copied().sum::<glam::Vec3>() / points.len() as f32;
+        Gizmo::at(centre, &self.camera, self.rect, size_px)
     }
 
     /// Frames the cloth on screen.
