@@ -133,7 +133,7 @@ fn render_scene(name: &str, frames: &[i32], overlays: SceneOverlays) -> Vec<Rgba
 }
 
 /// (scene, frames): rest poses, and frames where in-betweens and layers show.
-const GOLDEN_FRAMES: [(&str, &[i32]); 8] = [
+const GOLDEN_FRAMES: [(&str, &[i32]); 9] = [
     ("curtain", &[0]),
     ("tablecloth", &[0]),
     ("tent", &[0]),
@@ -142,6 +142,7 @@ const GOLDEN_FRAMES: [(&str, &[i32]); 8] = [
     ("tablecloth_pull", &[0, 30]),
     ("swing", &[12]),
     ("magic_carpet", &[0, 36, 100]),
+    ("magic_carpet_tutorial", &[24, 96]),
 ];
 
 #[test]

@@ -157,11 +157,8 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         if ui.add_enabled(!on_key, button).on_hover_text(hint).on_disabled_hover_text(hint).clicked() {
             w.add_key_here();
         }
-        let text = if on_key {
-            "Edits change this key.".to_owned()
-        } else {
-            format!("Edits change the key at frame {}.", key.frame)
-        };
+        let text =
+            if on_key { "Edits change this key.".to_owned() } else { format!("Edits change key {}.", key.frame) };
         ui.add(egui::Label::new(egui::RichText::new(text).weak()).truncate());
     });
     egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
@@ -244,11 +241,14 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
                 for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
                     let label = ui.label(axis).id;
                     let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
-                    let delta = *value - axis_of(centre, axis);
+                    // Each pin keeps its offset from the centre; written value + offset so pins
+                    // level with the centre get the typed number exactly.
+                    let (value, from) = (*value, axis_of(centre, axis));
                     key_field(w, &r, "Move pins", |k| {
                         for pin in many {
                             if let Some(now) = k.pins.iter().find(|p| p.grid == pin.grid).map(|p| p.pos) {
-                                edits::move_pin(k, pin.grid, pos_after(now, axis, axis_of(now, axis) + delta));
+                                let to = value + (axis_of(now, axis) - from);
+                                edits::move_pin(k, pin.grid, pos_after(now, axis, to));
                             }
                         }
                     });
