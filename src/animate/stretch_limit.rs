@@ -66,9 +66,12 @@ pub struct StretchLimiter {
     allowed2_u: Vec<f32>,
     /// The same for the edge from k to k + cols (along v).
     allowed2_v: Vec<f32>,
-    /// Points whose edges the current evening pass checks, and those the next one will.
-    dirty: Vec<bool>,
-    next_dirty: Vec<bool>,
+    /// Points whose edges the next evening pass checks, one bit per rank in
+    /// `order`: a pass visits the set bits in walk order (the order a scan
+    /// of all of `order` skipping the rest would take) without scanning
+    /// every point. `marks` is the current pass's set.
+    next_marks: Vec<u64>,
+    marks: Vec<u64>,
 }
 
 /// What one key shape allows its edges: the rest lengths, and the length of
@@ -126,14 +129,15 @@ impl StretchLimiter {
         self.allowed(limit, reaches, n);
         // Gentle layers leave every edge within its limit: then the walk
         // would move nothing, and a scan in memory order is all it costs.
-        if !self.mark_over(cols, rows, ratio, points, 1.0) {
+        if !self.mark_over(cols, rows, ratio, points, 1.0, false) {
             return;
         }
         self.sort(ratio);
         self.lead(cols, rows, ratio, points);
-        if !self.mark_over(cols, rows, ratio, points, (1.0 + SLACK) * (1.0 + SLACK)) {
+        if !self.mark_over(cols, rows, ratio, points, (1.0 + SLACK) * (1.0 + SLACK), true) {
             return;
         }
+
         let passes = MAX_EVEN_PASSES.min(MAX_EVEN_EDGE_VISITS / (2 * n)).max(1);
         for pass in 0..passes {
             if !self.even_out(cols, rows, ratio, points, pass % 2 == 1) {
@@ -142,13 +146,19 @@ impl StretchLimiter {
         }
     }
 
-    /// Marks the ends of every edge longer than `scale2` × its squared limit
-    /// (and not held by pins at both ends) for the next evening pass; returns
-    /// whether there was one.
-    fn mark_over(&mut self, cols: usize, rows: usize, ratio: &[f32], points: &PointArrays, scale2: f32) -> bool {
+    /// Whether any edge is longer than `scale2` × its squared limit (and not
+    /// held by pins at both ends); with `mark`, marks the ends of every such
+    /// edge for the next evening pass (the ranks must be sorted).
+    fn mark_over(
+        &mut self,
+        cols: usize,
+        rows: usize,
+        ratio: &[f32],
+        points: &PointArrays,
+        scale2: f32,
+        mark: bool,
+    ) -> bool {
         let PointArrays { x, y, z } = points;
-        self.next_dirty.clear();
-        self.next_dirty.resize(cols * rows, false);
         let mut any = false;
         for k in 0..cols * rows {
             let (i, j) = (k % cols, k / cols);
@@ -161,7 +171,19 @@ impl StretchLimiter {
                 let d = [x[q] - x[k], y[q] - y[k], z[q] - z[k]];
                 let over = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > allowed2 * scale2;
                 if over && (ratio[k] > 0.0 || ratio[q] > 0.0) {
-                    (self.next_dirty[k], self.next_dirty[q], any) = (true, true, true);
+                    if !any {
+                        // The marks are by rank, which `sort` sets: the first call only asks.
+                        if !mark {
+                            return true;
+                        }
+                        self.next_marks.clear();
+                        self.next_marks.resize((cols * rows).div_ceil(64), 0);
+                    }
+                    any = true;
+                    for p in [k, q] {
+                        let r = self.rank[p] as usize;
+                        self.next_marks[r / 64] |= 1 << (r % 64);
+                    }
                 }
             }
         }
@@ -231,64 +253,74 @@ impl StretchLimiter {
     /// Returns whether any edge was over.
     fn even_out(&mut self, cols: usize, rows: usize, ratio: &[f32], points: &mut PointArrays, backwards: bool) -> bool {
         let PointArrays { x, y, z } = points;
-        let n = cols * rows;
         let slack2 = (1.0 + SLACK) * (1.0 + SLACK);
         let mut over = false;
-        std::mem::swap(&mut self.dirty, &mut self.next_dirty);
-        self.next_dirty.clear();
-        self.next_dirty.resize(n, false);
-        for position in 0..n {
-            let k = self.order[if backwards { n - 1 - position } else { position }] as usize;
-            if !self.dirty[k] {
-                continue;
-            }
-            let rank = self.rank[k];
-            let (i, j) = (k % cols, k / cols);
-            let edges = [
-                (i > 0, k.wrapping_sub(1), k.wrapping_sub(1), false),
-                (i + 1 < cols, k + 1, k, false),
-                (j > 0, k.wrapping_sub(cols), k.wrapping_sub(cols), true),
-                (j + 1 < rows, k + cols, k, true),
-            ];
-            for (exists, q, edge, along_v) in edges {
-                if !exists || self.rank[q] > rank {
-                    continue;
-                }
-                let allowed2 = if along_v { self.allowed2_v[edge] } else { self.allowed2_u[edge] };
-                let d = [x[q] - x[k], y[q] - y[k], z[q] - z[k]];
-                let length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                if !(length2 > allowed2 * slack2) {
-                    continue;
-                }
-                let (free_k, free_q) = (ratio[k] > 0.0, ratio[q] > 0.0);
-                let share_k = match (free_k, free_q) {
-                    (true, true) => 0.5,
-                    (true, false) => 1.0,
-                    (false, true) => 0.0,
-                    (false, false) => continue,
-                };
-                over = true;
-                let cut = (OMEGA * (1.0 - (allowed2 / length2).sqrt())).min(1.0);
-                let (cut_k, cut_q) = (cut * share_k, cut * (1.0 - share_k));
-                for (axis, a) in [&mut *x, &mut *y, &mut *z].into_iter().enumerate() {
-                    a[k] += d[axis] * cut_k;
-                    a[q] -= d[axis] * cut_q;
-                }
-                // Both ends moved: every edge of theirs is checked again next pass.
-                for moved in [k, q] {
-                    let (i, j) = (moved % cols, moved / cols);
-                    self.next_dirty[moved] = true;
-                    if i > 0 {
-                        self.next_dirty[moved - 1] = true;
+        // This pass's points in walk order (reversed when `backwards`); the
+        // marks start empty for the next pass.
+        std::mem::swap(&mut self.marks, &mut self.next_marks);
+        self.next_marks.clear();
+        self.next_marks.resize(self.marks.len(), 0);
+        let words = self.marks.len();
+        for w in 0..words {
+            let w = if backwards { words - 1 - w } else { w };
+            let mut bits = self.marks[w];
+            while bits != 0 {
+                let bit = if backwards { 63 - bits.leading_zeros() } else { bits.trailing_zeros() };
+                bits &= !(1u64 << bit);
+                let position = (w * 64) as u32 + bit;
+                let k = self.order[position as usize] as usize;
+                let rank = position;
+                let (i, j) = (k % cols, k / cols);
+                let edges = [
+                    (i > 0, k.wrapping_sub(1), k.wrapping_sub(1), false),
+                    (i + 1 < cols, k + 1, k, false),
+                    (j > 0, k.wrapping_sub(cols), k.wrapping_sub(cols), true),
+                    (j + 1 < rows, k + cols, k, true),
+                ];
+                for (exists, q, edge, along_v) in edges {
+                    if !exists || self.rank[q] > rank {
+                        continue;
                     }
-                    if i + 1 < cols {
-                        self.next_dirty[moved + 1] = true;
+                    let allowed2 = if along_v { self.allowed2_v[edge] } else { self.allowed2_u[edge] };
+                    let d = [x[q] - x[k], y[q] - y[k], z[q] - z[k]];
+                    let length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    if !(length2 > allowed2 * slack2) {
+                        continue;
                     }
-                    if j > 0 {
-                        self.next_dirty[moved - cols] = true;
+                    let (free_k, free_q) = (ratio[k] > 0.0, ratio[q] > 0.0);
+                    let share_k = match (free_k, free_q) {
+                        (true, true) => 0.5,
+                        (true, false) => 1.0,
+                        (false, true) => 0.0,
+                        (false, false) => continue,
+                    };
+                    over = true;
+                    let cut = (OMEGA * (1.0 - (allowed2 / length2).sqrt())).min(1.0);
+                    let (cut_k, cut_q) = (cut * share_k, cut * (1.0 - share_k));
+                    for (axis, a) in [&mut *x, &mut *y, &mut *z].into_iter().enumerate() {
+                        a[k] += d[axis] * cut_k;
+                        a[q] -= d[axis] * cut_q;
                     }
-                    if j + 1 < rows {
-                        self.next_dirty[moved + cols] = true;
+                    // Both ends moved: every edge of theirs is checked again next pass.
+                    for moved in [k, q] {
+                        let (i, j) = (moved % cols, moved / cols);
+                        let mut mark = |p: usize| {
+                            let r = self.rank[p] as usize;
+                            self.next_marks[r / 64] |= 1 << (r % 64);
+                        };
+                        mark(moved);
+                        if i > 0 {
+                            mark(moved - 1);
+                        }
+                        if i + 1 < cols {
+                            mark(moved + 1);
+                        }
+                        if j > 0 {
+                            mark(moved - cols);
+                        }
+                        if j + 1 < rows {
+                            mark(moved + cols);
+                        }
                     }
                 }
             }
