@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::falloff::pin_distance_ratio;
+use super::falloff::pin_distance_field;
 use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
@@ -24,6 +24,8 @@ pub struct KeyShape {
     pub points: PointArrays,
     /// d_cp/d_max per vertex for this key's pins (0 at the pins, 1 farthest).
     pub ratio: Vec<f32>,
+    /// d_max: the largest material distance to the closest pin (m).
+    pub d_max_m: f32,
     /// Which vertices this key pins.
     pub pinned: Vec<bool>,
     /// Each structural edge's reach in this key, for the stretch limit.
@@ -48,11 +50,11 @@ impl KeyShape {
     fn from_rest(cloth: &Cloth, key: &Key, rest: RestShape) -> KeyShape {
         let positions: Vec<Vec3> = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
         let points = PointArrays::from_vec3s(&positions);
-        let ratio = pin_distance_ratio(cloth, &key.pins);
+        let (ratio, d_max_m) = pin_distance_field(cloth, &key.pins);
         let pinned = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
         let rest_m = (cloth.spacing_u_m() * key.elasticity, cloth.spacing_v_m() * key.elasticity);
         let reach = EdgeReach::of(&points, cloth.cols(), cloth.rows(), rest_m.0 as f32, rest_m.1 as f32);
-        KeyShape { rest, positions, points, ratio, pinned, reach }
+        KeyShape { rest, positions, points, ratio, d_max_m: d_max_m as f32, pinned, reach }
     }
 }
 

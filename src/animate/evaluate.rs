@@ -222,6 +222,7 @@ impl Evaluator {
                             scene.timeline.fps,
                             frame,
                             weight,
+                            scene.cloth.stretch_limit as f32,
                             ratio,
                             attenuation,
                             points,

@@ -8,6 +8,12 @@ use crate::scene::{Cloth, Pin};
 /// the cloth. Exactly 0 at the pins, 1 at the farthest point. With no pins, or
 /// when every point is pinned, the field is all zeros (nothing may move).
 pub fn pin_distance_ratio(cloth: &Cloth, pins: &[Pin]) -> Vec<f32> {
+    pin_distance_field(cloth, pins).0
+}
+
+/// [`pin_distance_ratio`] and d_max, the largest material distance to the
+/// closest pin (m; 0 with no pins or every point pinned).
+pub fn pin_distance_field(cloth: &Cloth, pins: &[Pin]) -> (Vec<f32>, f64) {
     let (cols, rows) = (cloth.cols(), cloth.rows());
     let (du, dv) = (cloth.spacing_u_m(), cloth.spacing_v_m());
     let pins_uv: Vec<(f64, f64)> = pins.iter().map(|p| (f64::from(p.grid.0) * du, f64::from(p.grid.1) * dv)).collect();
@@ -23,9 +29,9 @@ pub fn pin_distance_ratio(cloth: &Cloth, pins: &[Pin]) -> Vec<f32> {
     }
     let d_max = distance.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
     if d_max <= 0.0 {
-        return vec![0.0; cols * rows];
+        return (vec![0.0; cols * rows], 0.0);
     }
-    distance.iter().map(|&d| if d.is_finite() { (d / d_max) as f32 } else { 0.0 }).collect()
+    (distance.iter().map(|&d| if d.is_finite() { (d / d_max) as f32 } else { 0.0 }).collect(), d_max)
 }
 
 /// a = ratio^falloff for a ratio in [0, 1]. A point with ratio 0 is held by
