@@ -9,7 +9,13 @@
 //! the GPU), `timeline`, `layers_panel` (with [`curve_view`]), `cloth_panel`
 //! (with [`grid_editor`]), [`files`] and `export_window`. No panel imports
 //! another panel or the app; what one panel changes for another (the
-//! playhead, selected pins, key or layer) lives in the workspace's session.
+//! playhead, selected pins, key or layer, Follow, auto-key) lives in the
+//! workspace's session.
+//!
+//! Shared behaviour has one home: every typed number is a `number_field`
+//! (and `typing_pace` keeps typing and Tab in separate frames), the pin
+//! selection rules are [`selection`]'s, the translate gizmo's geometry
+//! [`gizmo`]'s, and the timeline's zoom window `timeline_zoom`'s.
 pub mod app;
 pub mod bezier_handles;
 mod cloth_panel;
