@@ -90,6 +90,11 @@ impl Shown {
         scene_bounds(&mut self.evaluator, &self.scene)
     }
 
+    /// Counts the versions of the document shown (each with all its rest shapes relaxed).
+    pub fn version(&self) -> u64 {
+        self.version
+    }
+
     /// Whether the shown scene's cloth travels much farther than its size
     /// ([`crate::picture::framing::travels`]): views without a saved camera follow it.
     pub fn travels(&mut self) -> bool {

@@ -95,6 +95,8 @@ pub struct ViewportPanel {
     pub toggles: ViewToggles,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
+    /// The shown document version the ground was last checked against.
+    ground_version: u64,
     /// The viewport's size in pixels, last frame.
     pub size_px: (u32, u32),
     /// Where a box selection started (points), while the button is held.
@@ -138,6 +140,7 @@ impl ViewportPanel {
             pin_drag: None,
             box_select: None,
             size_px: (1, 1),
+            ground_version: 0,
             follow_anchor: None,
             rect: egui::Rect::NOTHING,
             has_gpu,
@@ -194,6 +197,14 @@ impl ViewportPanel {
                     self.frame_all_pending = true;
                     w.session.follow = w.shown.travels();
                 }
+            }
+        }
+        if w.shown.version() != self.ground_version {
+            // Keys moved beyond the ground (a carpet flown further): lay a new one under them all.
+            self.ground_version = w.shown.version();
+            let (min, max) = w.shown.bounds();
+            if !self.ground.covers(min, max) {
+                self.ground = Ground::under(min, max);
             }
         }
         self.refresh(w);

@@ -95,6 +95,12 @@ impl Ground {
             grid_spacing_m,
         }
     }
+
+    /// Whether the box `min..max` lies above this ground and inside its square.
+    pub fn covers(&self, min: Vec3, max: Vec3) -> bool {
+        let inside = |v: f32, c: f32| (v - c).abs() <= self.half_size_m;
+        min.y >= self.height_m && [min, max].iter().all(|p| inside(p.x, self.center.x) && inside(p.z, self.center.y))
+    }
 }
 
 /// A translucent copy of the cloth at another time (onion skin). `M` holds
@@ -501,6 +507,17 @@ fn frame_uniform(camera: &OrbitCamera, options: &RenderOptions, size_px: (u32, u
 mod tests {
     use super::*;
     use crate::render::pipelines::{MARKER_INSTANCE, SEGMENT_INSTANCE};
+
+    #[test]
+    fn a_ground_covers_what_it_was_laid_under_and_not_a_cloth_flown_past_it() {
+        let (min, max) = (Vec3::new(-0.5, 0.8, -1.6), Vec3::new(0.5, 1.2, 0.0));
+        let ground = Ground::under(min, max);
+        assert!(ground.covers(min, max));
+        assert!(!ground.covers(min + Vec3::Z * 10.0, max + Vec3::Z * 10.0), "flown 10 m on");
+        assert!(!ground.covers(min - Vec3::Y * 2.0, max), "dropped below the ground");
+        let wider = Ground::under(min.min(min + Vec3::Z * 10.0), max.max(max + Vec3::Z * 10.0));
+        assert!(wider.covers(min + Vec3::Z * 10.0, max + Vec3::Z * 10.0));
+    }
 
     #[test]
     fn instance_structs_match_their_vertex_layouts() {
