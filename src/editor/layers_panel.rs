@@ -140,10 +140,7 @@ impl LayersPanel {
                     w.session.solo_layer = solo.then_some(index);
                 }
                 let selected = w.session.selected_layer == Some(index);
-                let kind = if layer.kind() == "FollowThrough" { "Follow-through" } else { layer.kind() };
-                let title =
-                    if layer.name().is_empty() { format!("{kind} {}", index + 1) } else { layer.name().to_owned() };
-                if ui.selectable_label(selected, title).on_hover_text(label).clicked() {
+                if ui.selectable_label(selected, title(layer, index)).on_hover_text(label).clicked() {
                     w.session.selected_layer = if selected { None } else { Some(index) };
                 }
             });
@@ -182,7 +179,9 @@ impl LayersPanel {
         let mut name = layer.name().to_owned();
         ui.horizontal(|ui| {
             let label = ui.label("Name").id;
-            let edit = ui.add(egui::TextEdit::singleline(&mut name).desired_width(140.0)).labelled_by(label);
+            // An unnamed layer shows the title the list gives it, greyed, until it is named.
+            let field = egui::TextEdit::singleline(&mut name).desired_width(140.0).hint_text(title(layer, index));
+            let edit = ui.add(field).labelled_by(label);
             if edit.changed() {
                 w.apply("Rename layer", |s| *s.layers[index].name_mut() = name.clone());
             }
@@ -335,6 +334,15 @@ fn index_after_move(index: usize, from: usize, to: usize) -> usize {
     } else {
         index
     }
+}
+
+/// The layer's name in the list, or for an unnamed one its kind and place ("Wave 4").
+fn title(layer: &Layer, index: usize) -> String {
+    if !layer.name().is_empty() {
+        return layer.name().to_owned();
+    }
+    let kind = if layer.kind() == "FollowThrough" { "Follow-through" } else { layer.kind() };
+    format!("{kind} {}", index + 1)
 }
 
 #[cfg(test)]
