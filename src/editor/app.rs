@@ -207,6 +207,22 @@ impl DrapeApp {
         self.work.toggle_pin(point);
     }
 
+    pub fn copy_selected_pins(&mut self) {
+        self.work.copy_selected_pins();
+    }
+
+    pub fn paste_pins(&mut self) {
+        self.work.paste_pins();
+    }
+
+    pub fn mirror_selected_pins(&mut self) {
+        self.work.mirror_selected_pins();
+    }
+
+    pub fn select_pins(&mut self, pins: &[(u32, u32)]) {
+        self.work.session.selection = pins.to_vec();
+    }
+
     pub fn delete_selected_pins(&mut self) {
         self.work.delete_selected_pins();
     }
@@ -283,9 +299,20 @@ impl DrapeApp {
                     self.redo();
                 }
                 ui.separator();
+                let selected = !self.work.session.selection.is_empty();
                 let button = egui::Button::new("Unpin selected").shortcut_text("Delete");
-                if ui.add_enabled(!self.work.session.selection.is_empty(), button).clicked() {
+                if ui.add_enabled(selected, button).clicked() {
                     self.work.delete_selected_pins();
+                }
+                if ui.add_enabled(selected, egui::Button::new("Copy pin positions").shortcut_text("Ctrl+C")).clicked() {
+                    self.work.copy_selected_pins();
+                }
+                let copied = !self.work.session.copied_pins.is_empty();
+                if ui.add_enabled(copied, egui::Button::new("Paste pin positions").shortcut_text("Ctrl+V")).clicked() {
+                    self.work.paste_pins();
+                }
+                if ui.add_enabled(selected, egui::Button::new("Mirror pins (x ↔ −x)")).clicked() {
+                    self.work.mirror_selected_pins();
                 }
             });
             ui.menu_button("View", |ui| {
@@ -382,6 +409,19 @@ impl DrapeApp {
         }
         if pressed(KeyCode::K) {
             w.add_key_here();
+        }
+        // Ctrl+C / Ctrl+V arrive as copy and paste events, not key presses.
+        let (copy, paste) = ctx.input(|i| {
+            (
+                i.events.iter().any(|e| matches!(e, egui::Event::Copy)),
+                i.events.iter().any(|e| matches!(e, egui::Event::Paste(_))),
+            )
+        });
+        if copy {
+            w.copy_selected_pins();
+        }
+        if paste {
+            w.paste_pins();
         }
     }
 
@@ -557,6 +597,7 @@ pub fn run(
 mod tests {
     use super::*;
     use crate::animate::Evaluator;
+    use crate::editor::edits;
 
     fn app() -> DrapeApp {
         let scene = crate::scene::parse(DEFAULT_SCENE, "magic_carpet.ron").unwrap();
@@ -594,6 +635,34 @@ mod tests {
         assert_eq!(app.shown_scene(), app.scene());
         let expected = Evaluator::default().evaluate_frame(app.scene(), app.frame());
         assert_eq!(*app.mesh(), expected);
+    }
+
+    #[test]
+    fn pin_positions_copy_to_another_key_and_mirror_across_the_middle() {
+        let mut app = app();
+        let front = [(0, 0), (20, 0)];
+        app.select_pins(&front);
+        app.copy_selected_pins();
+        let copied: Vec<_> = front.iter().map(|g| pin_at(&app, 0, *g)).collect();
+        // Onto the key at 48 (the carpet's stretch): its front pins take key 0's positions.
+        app.set_frame(48.0);
+        let index = app.edit_key_index();
+        app.select_pins(&[]);
+        app.paste_pins();
+        assert_eq!(front.iter().map(|g| pin_at(&app, index, *g)).collect::<Vec<_>>(), copied);
+        assert_eq!(app.selection(), front);
+        assert_eq!(app.document().undo_label(), Some("Paste pins"));
+        // Move the left front pin, then mirror the right one from it.
+        app.apply("Move pin", |s| edits::move_pin(&mut s.keys[index], (0, 0), (-0.3, 1.4, 2.0)));
+        app.select_pins(&[(20, 0)]);
+        app.mirror_selected_pins();
+        assert_eq!(pin_at(&app, index, (20, 0)), (0.3, 1.4, 2.0));
+        app.undo();
+        assert_eq!(pin_at(&app, index, (20, 0)), copied[1]);
+    }
+
+    fn pin_at(app: &DrapeApp, key: usize, grid: (u32, u32)) -> (f64, f64, f64) {
+        app.scene().keys[key].pins.iter().find(|p| p.grid == grid).map(|p| p.pos).expect("pinned")
     }
 
     #[test]

@@ -22,6 +22,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Ctrl+Shift+Z, Ctrl+Y", "Redo"),
     ("Delete", "Unpin the selected pins (or delete the key selected on the timeline)"),
     ("K", "Add a rest-shape key at the playhead, from the current pose"),
+    ("Ctrl+C / Ctrl+V", "Copy the selected pins' positions / paste them on the key being edited"),
     ("F", "Frame the cloth in the viewport"),
     ("Space", "Play / pause"),
     ("Left / Right", "Step one frame back / forward"),

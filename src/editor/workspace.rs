@@ -12,7 +12,7 @@ use super::document::Document;
 use super::edits;
 use super::selection::{self, Pick};
 use super::shown::Shown;
-use crate::scene::Scene;
+use crate::scene::{Pin, Scene};
 use crate::shape::RelaxReport;
 
 /// How long a status message stays, seconds.
@@ -50,6 +50,8 @@ pub struct Session {
     /// Auto-key: an edit off a key adds a key at the playhead and changes
     /// that one (rest-shape keys, and layer parameters). Kept across documents.
     pub auto_key: bool,
+    /// Pin positions copied from a key (grid point, metres), to paste on another.
+    pub copied_pins: Vec<Pin>,
 }
 
 impl Session {
@@ -94,9 +96,9 @@ impl Workspace {
     /// Replaces the document (New, Open, Restore): a new session (see
     /// [`Session::opening`]), nothing asked of the worker.
     pub fn replace_document(&mut self, scene: Scene, path: Option<PathBuf>) {
-        let auto_key = self.session.auto_key;
+        let (auto_key, copied_pins) = (self.session.auto_key, std::mem::take(&mut self.session.copied_pins));
         self.session = Session::opening(&scene);
-        self.session.auto_key = auto_key;
+        (self.session.auto_key, self.session.copied_pins) = (auto_key, copied_pins);
         self.doc = Document::new(scene, path);
         self.shown.forget_document();
     }
@@ -238,6 +240,49 @@ impl Workspace {
         let label = if selection.len() == 1 { "Unpin" } else { "Unpin pins" };
         let Some(index) = self.key_to_edit(label) else { return };
         self.apply(label, |s| edits::unpin(&mut s.keys[index], &selection));
+    }
+
+    /// Copies the selected pins' positions in the key being edited (Ctrl+C).
+    pub fn copy_selected_pins(&mut self) {
+        let key = &self.doc.scene().keys[self.edit_key_index()];
+        let copied: Vec<Pin> = key.pins.iter().filter(|p| self.session.selection.contains(&p.grid)).cloned().collect();
+        if copied.is_empty() {
+            return;
+        }
+        self.report(
+            format!("Copied {} pin position{}.", copied.len(), if copied.len() == 1 { "" } else { "s" }),
+            false,
+        );
+        self.session.copied_pins = copied;
+    }
+
+    /// Puts the copied pin positions on the key being edited (Ctrl+V): each
+    /// grid point is pinned there at its copied position (a pin already there
+    /// moves), and the pasted pins become the selection.
+    pub fn paste_pins(&mut self) {
+        let copied = self.session.copied_pins.clone();
+        if copied.is_empty() {
+            return;
+        }
+        let Some(index) = self.key_to_edit("Paste pins") else { return };
+        self.apply("Paste pins", |s| {
+            for pin in &copied {
+                edits::pin_point(&mut s.keys[index], pin.grid, pin.pos);
+            }
+        });
+        self.session.selection = copied.iter().map(|p| p.grid).collect();
+    }
+
+    /// The selected pins take their partners' positions across the cloth's
+    /// middle column, reflected in x = 0 ([`edits::mirror_pins`]).
+    pub fn mirror_selected_pins(&mut self) {
+        let selection = self.session.selection.clone();
+        if selection.is_empty() {
+            return;
+        }
+        let cols = self.doc.scene().cloth.grid.0;
+        let Some(index) = self.key_to_edit("Mirror pins") else { return };
+        self.apply("Mirror pins", |s| edits::mirror_pins(&mut s.keys[index], &selection, cols));
     }
 
     /// K: a new rest-shape key at the playhead's frame, holding the pose shown
