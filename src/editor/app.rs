@@ -207,12 +207,12 @@ impl DrapeApp {
         self.work.toggle_pin(point);
     }
 
-    pub fn copy_selected_pins(&mut self) {
-        self.work.copy_selected_pins();
+    pub fn copy_selected_pins(&mut self) -> Option<String> {
+        self.work.copy_selected_pins()
     }
 
-    pub fn paste_pins(&mut self) {
-        self.work.paste_pins();
+    pub fn paste_pins(&mut self, clipboard_text: Option<&str>) {
+        self.work.paste_pins(clipboard_text);
     }
 
     pub fn mirror_selected_pins(&mut self) {
@@ -304,12 +304,14 @@ impl DrapeApp {
                 if ui.add_enabled(selected, button).clicked() {
                     self.work.delete_selected_pins();
                 }
-                if ui.add_enabled(selected, egui::Button::new("Copy pin positions").shortcut_text("Ctrl+C")).clicked() {
-                    self.work.copy_selected_pins();
+                if ui.add_enabled(selected, egui::Button::new("Copy pin positions").shortcut_text("Ctrl+C")).clicked()
+                    && let Some(text) = self.work.copy_selected_pins()
+                {
+                    ctx.copy_text(text);
                 }
                 let copied = !self.work.session.copied_pins.is_empty();
                 if ui.add_enabled(copied, egui::Button::new("Paste pin positions").shortcut_text("Ctrl+V")).clicked() {
-                    self.work.paste_pins();
+                    self.work.paste_pins(None);
                 }
                 if ui.add_enabled(selected, egui::Button::new("Mirror pins (x ↔ −x)")).clicked() {
                     self.work.mirror_selected_pins();
@@ -410,18 +412,20 @@ impl DrapeApp {
         if pressed(KeyCode::K) {
             w.add_key_here();
         }
-        // Ctrl+C / Ctrl+V arrive as copy and paste events, not key presses.
+        // Ctrl+C / Ctrl+V arrive as copy and paste events (a paste only when
+        // the system clipboard holds text: a copy here always puts the pins there).
         let (copy, paste) = ctx.input(|i| {
-            (
-                i.events.iter().any(|e| matches!(e, egui::Event::Copy)),
-                i.events.iter().any(|e| matches!(e, egui::Event::Paste(_))),
-            )
+            let paste = i.events.iter().find_map(|e| match e {
+                egui::Event::Paste(text) => Some(text.clone()),
+                _ => None,
+            });
+            (i.events.iter().any(|e| matches!(e, egui::Event::Copy)), paste)
         });
-        if copy {
-            w.copy_selected_pins();
+        if copy && let Some(text) = w.copy_selected_pins() {
+            ctx.copy_text(text);
         }
-        if paste {
-            w.paste_pins();
+        if let Some(text) = paste {
+            w.paste_pins(Some(&text));
         }
     }
 
@@ -642,13 +646,13 @@ mod tests {
         let mut app = app();
         let front = [(0, 0), (20, 0)];
         app.select_pins(&front);
-        app.copy_selected_pins();
+        let text = app.copy_selected_pins().expect("pins as text");
         let copied: Vec<_> = front.iter().map(|g| pin_at(&app, 0, *g)).collect();
         // Onto the key at 48 (the carpet's stretch): its front pins take key 0's positions.
         app.set_frame(48.0);
         let index = app.edit_key_index();
         app.select_pins(&[]);
-        app.paste_pins();
+        app.paste_pins(None);
         assert_eq!(front.iter().map(|g| pin_at(&app, index, *g)).collect::<Vec<_>>(), copied);
         assert_eq!(app.selection(), front);
         assert_eq!(app.document().undo_label(), Some("Paste pins"));
@@ -659,6 +663,15 @@ mod tests {
         assert_eq!(pin_at(&app, index, (20, 0)), (0.3, 1.4, 2.0));
         app.undo();
         assert_eq!(pin_at(&app, index, (20, 0)), copied[1]);
+        // The clipboard text is the scene file's pin syntax and pastes back, here onto key 120.
+        assert!(text.contains("grid:(0,0)") && text.contains("pos:"), "{text}");
+        app.set_frame(120.0);
+        let last = app.edit_key_index();
+        app.paste_pins(Some(&text));
+        assert_eq!(front.iter().map(|g| pin_at(&app, last, *g)).collect::<Vec<_>>(), copied);
+        // Text that is not pins pastes what was copied last.
+        app.paste_pins(Some("not pins"));
+        assert_eq!(app.document().undo_label(), Some("Paste pins"));
     }
 
     fn pin_at(app: &DrapeApp, key: usize, grid: (u32, u32)) -> (f64, f64, f64) {

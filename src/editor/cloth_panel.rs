@@ -261,17 +261,16 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
         if ui.add_enabled(any, egui::Button::new("Unpin")).on_hover_text("Unpin the selected pins (Delete)").clicked() {
             w.delete_selected_pins();
         }
-        if ui
-            .add_enabled(any, egui::Button::new("Copy"))
-            .on_hover_text("Copy the selected pins' positions (Ctrl+C)")
-            .clicked()
+        let hint = "Copy the selected pins' positions (Ctrl+C)";
+        if ui.add_enabled(any, egui::Button::new("Copy")).on_hover_text(hint).clicked()
+            && let Some(text) = w.copy_selected_pins()
         {
-            w.copy_selected_pins();
+            ui.ctx().copy_text(text);
         }
         let can_paste = !w.session.copied_pins.is_empty();
         let hint = "Pin the copied grid points here at their copied positions (Ctrl+V)";
         if ui.add_enabled(can_paste, egui::Button::new("Paste")).on_hover_text(hint).clicked() {
-            w.paste_pins();
+            w.paste_pins(None);
         }
         let hint = "The selected pins take their partners' positions across the middle column, reflected in x = 0";
         if ui.add_enabled(any, egui::Button::new("Mirror")).on_hover_text(hint).clicked() {

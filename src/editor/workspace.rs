@@ -242,24 +242,33 @@ impl Workspace {
         self.apply(label, |s| edits::unpin(&mut s.keys[index], &selection));
     }
 
-    /// Copies the selected pins' positions in the key being edited (Ctrl+C).
-    pub fn copy_selected_pins(&mut self) {
+    /// Copies the selected pins' positions in the key being edited (Ctrl+C);
+    /// returns them as the scene file writes pins, for the system clipboard
+    /// (`None` with nothing selected).
+    pub fn copy_selected_pins(&mut self) -> Option<String> {
         let key = &self.doc.scene().keys[self.edit_key_index()];
         let copied: Vec<Pin> = key.pins.iter().filter(|p| self.session.selection.contains(&p.grid)).cloned().collect();
         if copied.is_empty() {
-            return;
+            return None;
         }
-        self.report(
-            format!("Copied {} pin position{}.", copied.len(), if copied.len() == 1 { "" } else { "s" }),
-            false,
-        );
+        let plural = if copied.len() == 1 { "" } else { "s" };
+        self.report(format!("Copied {} pin position{plural}.", copied.len()), false);
+        let text = ron::to_string(&copied).ok();
         self.session.copied_pins = copied;
+        text
     }
 
-    /// Puts the copied pin positions on the key being edited (Ctrl+V): each
-    /// grid point is pinned there at its copied position (a pin already there
-    /// moves), and the pasted pins become the selection.
-    pub fn paste_pins(&mut self) {
+    /// Puts copied pin positions on the key being edited (Ctrl+V): `text`
+    /// from the clipboard when it holds pins as the scene file writes them
+    /// (copied here, or from a scene file), else the pins copied last. Each
+    /// grid point is pinned there at its copied position (a pin already
+    /// there moves), and the pasted pins become the selection.
+    pub fn paste_pins(&mut self, text: Option<&str>) {
+        if let Some(pins) = text.and_then(|t| ron::from_str::<Vec<Pin>>(t.trim().trim_end_matches(',')).ok())
+            && !pins.is_empty()
+        {
+            self.session.copied_pins = pins;
+        }
         let copied = self.session.copied_pins.clone();
         if copied.is_empty() {
             return;
