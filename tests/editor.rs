@@ -64,6 +64,12 @@ fn open_editor(workspace: &Workspace, scene: Scene, path: Option<PathBuf>) -> Ha
     harness
 }
 
+/// The editor on the workspace's copy of the bundled carpet, opened from its file.
+fn open_carpet(workspace: &Workspace) -> Harness<'static, DrapeApp> {
+    let carpet = workspace.path("carpet.ron");
+    open_editor(workspace, scene::load(&carpet).unwrap(), Some(carpet))
+}
+
 /// Lets the worker finish relaxing and the UI draw the result. Between
 /// settles, frames run with `run_ok`: while a relaxation runs the status
 /// bar's spinner keeps asking for frames, as it should.
@@ -595,8 +601,7 @@ fn keys_and_layers_survive_save_and_reopen() {
 #[test]
 fn follow_keeps_the_travelling_cloth_where_it_was_on_screen() {
     let workspace = Workspace::new();
-    let carpet = workspace.path("carpet.ron");
-    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let mut harness = open_carpet(&workspace);
     let centre = |harness: &Harness<'_, DrapeApp>| {
         let (min, max) = drape::render::camera::bounds(&harness.state().mesh().positions).unwrap();
         (min + max) * 0.5
@@ -853,8 +858,7 @@ fn orbit_angles(harness: &Harness<'_, DrapeApp>) -> (f32, f32) {
 #[test]
 fn f_frames_the_cloth_and_keeps_the_orbit_angles() {
     let workspace = Workspace::new();
-    let carpet = workspace.path("carpet.ron");
-    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let mut harness = open_carpet(&workspace);
 
     // Follow off, orbit with the middle button, then fly the carpet out of view.
     harness.get_by_label("Follow").click();
@@ -928,8 +932,7 @@ fn a_scene_saved_mid_flight_opens_with_the_cloth_in_view() {
 #[test]
 fn the_panels_hold_still_while_scrubbing_playing_and_relaxing() {
     let workspace = Workspace::new();
-    let carpet = workspace.path("carpet.ron");
-    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let mut harness = open_carpet(&workspace);
     let places = |harness: &Harness<'_, DrapeApp>| {
         [
             harness.get_by_label("Grid editor").rect(),
@@ -985,8 +988,7 @@ fn frame_clicked(harness: &mut Harness<'_, DrapeApp>, pos: Pos2) -> f64 {
 #[test]
 fn the_timeline_zooms_about_the_mouse_pans_and_jumps_between_keys() {
     let workspace = Workspace::new();
-    let carpet = workspace.path("carpet.ron");
-    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let mut harness = open_carpet(&workspace);
     harness.state_mut().set_frame(60.0);
     settle(&mut harness);
 
@@ -1034,8 +1036,7 @@ fn the_timeline_zooms_about_the_mouse_pans_and_jumps_between_keys() {
 #[test]
 fn every_frame_playback_never_skips_a_frame() {
     let workspace = Workspace::new();
-    let carpet = workspace.path("carpet.ron");
-    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    let mut harness = open_carpet(&workspace);
     harness.get_by_label("Every frame").click();
     harness.run_ok();
     harness.key_press(Key::Space);

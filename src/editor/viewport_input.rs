@@ -5,7 +5,7 @@
 use eframe::egui::{self, Key, PointerButton, Response};
 use glam::{Vec2, Vec3};
 
-use super::pin_drag::{AxisLock, PinDrag};
+use super::pin_drag::{AxisLock, MovingPin, PinDrag};
 use super::selection::{self, Pick};
 use super::viewport_panel::ViewportPanel;
 use super::workspace::Workspace;
@@ -182,13 +182,7 @@ impl ViewportPanel {
         if !w.session.selection.contains(&grabbed) {
             selection::pick(&mut w.session.selection, &[grabbed], if add { Pick::Add } else { Pick::Replace });
         }
-        // With auto-key off a key, the drag moves the pins of a new key at the playhead.
-        let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
-        w.doc.begin_gesture(label);
-        let Some(index) = w.key_to_edit(label) else { return };
-        let key = &w.doc.scene().keys[index];
-        let pins: Vec<_> =
-            key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
+        let Some((index, pins)) = begin_selected_pins_drag(w) else { return };
         let Some(&(_, start)) = pins.iter().find(|(grid, _)| *grid == grabbed) else { return };
         let anchor = Vec3::new(start.0 as f32, start.1 as f32, start.2 as f32);
         self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: None, key: index, by_gizmo: false });
@@ -208,12 +202,7 @@ impl ViewportPanel {
         else {
             return;
         };
-        let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
-        w.doc.begin_gesture(label);
-        let Some(index) = w.key_to_edit(label) else { return };
-        let key = &w.doc.scene().keys[index];
-        let pins: Vec<_> =
-            key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
+        let Some((index, pins)) = begin_selected_pins_drag(w) else { return };
         let Some(&(grabbed, _)) = pins.first() else { return };
         self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: Some(axis), key: index, by_gizmo: true });
     }
@@ -273,4 +262,16 @@ impl ViewportPanel {
         self.pin_drag = None;
         w.end_gesture();
     }
+}
+
+/// Opens the undo step of a drag of the selected pins and returns the key
+/// it moves (with auto-key off a key, a new key at the playhead) and the
+/// selected pins with their start positions; `None` when no key can be made.
+fn begin_selected_pins_drag(w: &mut Workspace) -> Option<(usize, Vec<MovingPin>)> {
+    let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
+    w.doc.begin_gesture(label);
+    let index = w.key_to_edit(label)?;
+    let key = &w.doc.scene().keys[index];
+    let pins = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
+    Some((index, pins))
 }

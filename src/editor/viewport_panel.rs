@@ -284,7 +284,7 @@ impl ViewportPanel {
 
     /// Whether any point of the shown cloth is in view.
     fn sees_cloth(&self, w: &Workspace, aspect: f32) -> bool {
-        w.shown.mesh.positions.iter().any(|&p| self.camera.sees_any(p, p, aspect))
+        self.camera.sees_any_of(w.shown.mesh.positions.iter().copied(), aspect)
     }
 
     /// With Follow on, moves the camera's target by as much as the cloth's

@@ -181,12 +181,6 @@ impl OrbitCamera {
         if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
             return false;
         }
-        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
-        let clip_from_world = self.clip_from_view(aspect) * self.view_from_world();
-        let inside = |p: Vec3| {
-            let clip = clip_from_world * p.extend(1.0);
-            clip.w > 1e-6 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
-        };
         let corner = |k: u32| {
             Vec3::new(
                 if k & 1 == 0 { min.x } else { max.x },
@@ -194,7 +188,18 @@ impl OrbitCamera {
                 if k & 4 == 0 { min.z } else { max.z },
             )
         };
-        inside((min + max) * 0.5) || (0..8).any(|k| inside(corner(k)))
+        self.sees_any_of(std::iter::once((min + max) * 0.5).chain((0..8).map(corner)), aspect)
+    }
+
+    /// Whether any of `points` is in view at `aspect` (width / height); a
+    /// non-finite point is not.
+    pub fn sees_any_of(&self, points: impl IntoIterator<Item = Vec3>, aspect: f32) -> bool {
+        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let clip_from_world = self.clip_from_view(aspect) * self.view_from_world();
+        points.into_iter().any(|p| {
+            let clip = clip_from_world * p.extend(1.0);
+            p.is_finite() && clip.w > 1e-6 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
+        })
     }
 
     /// The pixel where `world` is drawn in a target of `size_px`, or `None`
