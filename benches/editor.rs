@@ -38,9 +38,11 @@ fn tablecloth(n: u32) -> Scene {
             relax: RelaxSettings::default(),
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
+            thickness: drape::scene::DEFAULT_THICKNESS_M,
         }],
         layers: Vec::new(),
         view: None,
+        colliders: Vec::new(),
     }
 }
 

@@ -29,6 +29,7 @@ fn key(frame: i32, n: u32, lift: f64) -> Key {
         relax: RelaxSettings { iterations: 200, tolerance: 1e-5 },
         ease: Ease::EaseInOut,
         inbetween_relax: 0,
+        thickness: drape::scene::DEFAULT_THICKNESS_M,
     }
 }
 
@@ -87,6 +88,7 @@ fn scene(n: u32) -> Scene {
             }),
         ],
         view: None,
+        colliders: Vec::new(),
     }
 }
 

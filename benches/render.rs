@@ -36,9 +36,11 @@ fn scene(n: u32) -> Scene {
             relax: RelaxSettings::default(),
             ease: Default::default(),
             inbetween_relax: 0,
+            thickness: drape::scene::DEFAULT_THICKNESS_M,
         }],
         layers: vec![],
         view: None,
+        colliders: Vec::new(),
     }
 }
 

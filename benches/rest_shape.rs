@@ -27,6 +27,7 @@ fn four_corner_key(n: u32) -> Key {
         relax: RelaxSettings::default(),
         ease: Ease::EaseInOut,
         inbetween_relax: 0,
+        thickness: drape::scene::DEFAULT_THICKNESS_M,
     }
 }
 

@@ -10,7 +10,8 @@ use drape::animate::blend::relaxed_inbetween;
 use drape::export::sequence::padded_frame;
 use drape::picture::SceneOverlays;
 use drape::scene::{
-    self, Key, Layer, Param, ParamSpec, ParamValue, Scene, WaveAxis, readable_number, readable_vec3, shown_name,
+    self, Collider, ColliderNumber, Key, Layer, Measure, Param, ParamSpec, ParamValue, Scene, WaveAxis,
+    readable_number, readable_vec3, shown_name,
 };
 use drape::shape::contact::count_crossings;
 use drape::shape::relax::mean_structural_error;
@@ -324,7 +325,51 @@ fn check(path: &Path) -> Result<()> {
             layer_parameters(layer)
         );
     }
+    if !scene.colliders.is_empty() {
+        say!("  colliders {}", scene.colliders.len());
+        for (index, collider) in scene.colliders.iter().enumerate() {
+            say!(
+                "    {}{}: {}",
+                collider.label(index),
+                if collider.enabled() { "" } else { " (disabled)" },
+                collider_parameters(collider)
+            );
+        }
+    }
     Ok(())
+}
+
+/// Every number of `collider` in file order, `name value`; a vector whose
+/// components are all constant reads as one `(x, y, z)`.
+fn collider_parameters(collider: &Collider) -> String {
+    let mut parts = Vec::new();
+    for field in collider.fields() {
+        let unit = match field.measure {
+            Measure::Position | Measure::Length => "m",
+            Measure::Angle => "°",
+        };
+        let number = |component| ColliderNumber { field: *field, component };
+        if field.vector {
+            let params: Vec<&Param> = (0..3).filter_map(|c| collider.param(number(Some(c)))).collect();
+            let constants: Vec<f64> =
+                params.iter().filter_map(|p| if let Param::Constant(v) = p { Some(*v) } else { None }).collect();
+            if let [x, y, z] = constants[..] {
+                let spaced = if unit == "°" { "°" } else { " m" };
+                parts.push(format!("{} {}{spaced}", field.name, readable_vec3((x, y, z))));
+            } else {
+                for (c, param) in params.into_iter().enumerate() {
+                    parts.push(format!("{} {}", number(Some(c)).label(), describe_param(param, unit)));
+                }
+            }
+        } else if let Some(param) = collider.param(number(None)) {
+            parts.push(format!("{} {}", field.name, describe_param(param, unit)));
+        }
+    }
+    match collider.thickness() {
+        Some(thickness) => parts.push(format!("thickness {}", describe_param(thickness, "m"))),
+        None => parts.push("thickness the key's".to_string()),
+    }
+    parts.join(", ")
 }
 
 /// The easing of a segment and how much straight blending shortens the cloth

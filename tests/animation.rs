@@ -29,6 +29,7 @@ fn key(frame: i32, pins: Vec<Pin>, elasticity: f64, ease: Ease) -> Key {
         relax: RelaxSettings { iterations: 150, tolerance: 1e-5 },
         ease,
         inbetween_relax: 0,
+        thickness: drape::scene::DEFAULT_THICKNESS_M,
     }
 }
 
@@ -52,6 +53,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
         ],
         layers,
         view: None,
+        colliders: Vec::new(),
     }
 }
 

@@ -42,6 +42,7 @@ impl Setup {
             relax,
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
+            thickness: drape::scene::DEFAULT_THICKNESS_M,
         }
     }
 

@@ -20,6 +20,7 @@ fn key(pins: &[PinSpec], elasticity: f64, stiffness: f64, iterations: u32) -> Ke
         relax: RelaxSettings { iterations, tolerance: 1e-5 },
         ease: Ease::EaseInOut,
         inbetween_relax: 0,
+        thickness: drape::scene::DEFAULT_THICKNESS_M,
     }
 }
 

@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, ClothTexture, Ease, Key, Layer, Param, ParamKey, ParamValue, Pin, RelaxSettings, Scene, SceneError,
-    Timeline, View, WaveAxis,
+    self, Cloth, ClothTexture, Collider, Ease, Key, Layer, Param, ParamKey, ParamValue, Pin, RelaxSettings, Scene,
+    SceneError, Timeline, View, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -16,6 +16,26 @@ const VALID_FULL: &str = "tests/data/valid_full.ron";
 
 /// Every malformed fixture and the exact message `scene::load` gives for it.
 const MALFORMED: &[(&str, &str)] = &[
+    (
+        "collider_field.ron",
+        "tests/data/malformed/collider_field.ron:12:69: unknown field `radious` in Sphere collider \
+         (expected one of: name, enabled, thickness, center, radius)",
+    ),
+    (
+        "collider_keys.ron",
+        "tests/data/malformed/collider_keys.ron:14:71: Sphere collider \"ball\": center y at frame 24 \
+         must be a finite number, not inf",
+    ),
+    (
+        "collider_kind.ron",
+        "tests/data/malformed/collider_kind.ron:12:9: unknown collider `Torus` \
+         (expected one of: Ground, Box, Cylinder, Sphere, Capsule)",
+    ),
+    (
+        "collider_size.ron",
+        "tests/data/malformed/collider_size.ron:12:67: Box collider \"table\": size y is 0: \
+         it must be greater than 0 and at most 1e4",
+    ),
     ("syntax_error.ron", "tests/data/malformed/syntax_error.ron:2:15: expected a comma before `cloth`"),
     (
         "unclosed_bracket.ron",
@@ -24,7 +44,7 @@ const MALFORMED: &[(&str, &str)] = &[
     (
         "unknown_field.ron",
         "tests/data/malformed/unknown_field.ron:12:13: unknown field `elastisity` in key \
-         (expected one of: frame, pins, elasticity, stiffness, relax, ease, inbetween_relax)",
+         (expected one of: frame, pins, elasticity, stiffness, relax, ease, inbetween_relax, thickness)",
     ),
     (
         "unknown_ease.ron",
@@ -546,17 +566,20 @@ fn key() -> impl Strategy<Value = Key> {
         finite(),
         (any::<u32>(), finite()),
         ease(),
-        any::<u32>(),
+        (any::<u32>(), finite()),
     )
-        .prop_map(|(frame, pins, elasticity, stiffness, (iterations, tolerance), ease, inbetween_relax)| Key {
-            frame,
-            pins,
-            elasticity,
-            stiffness,
-            relax: RelaxSettings { iterations, tolerance },
-            ease,
-            inbetween_relax,
-        })
+        .prop_map(
+            |(frame, pins, elasticity, stiffness, (iterations, tolerance), ease, (inbetween_relax, thickness))| Key {
+                frame,
+                pins,
+                elasticity,
+                stiffness,
+                relax: RelaxSettings { iterations, tolerance },
+                ease,
+                inbetween_relax,
+                thickness,
+            },
+        )
 }
 
 fn any_scene() -> impl Strategy<Value = Scene> {
@@ -567,19 +590,43 @@ fn any_scene() -> impl Strategy<Value = Scene> {
         (finite(), any::<i32>(), any::<i32>()),
         proptest::collection::vec(key(), 0..3),
         proptest::collection::vec(layer(), 0..3),
-        (proptest::option::of(view()), 0..3u8),
+        (proptest::option::of(view()), 0..3u8, proptest::collection::vec(collider(), 0..3)),
     )
-        .prop_map(|(version, name, (size, grid), (fps, start, end), keys, layers, (view, texture))| Scene {
-            version,
-            name,
-            cloth: Cloth {
-                texture: [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker][texture as usize],
-                ..Cloth::new(size, grid)
-            },
-            timeline: Timeline { fps, start, end },
-            keys,
-            layers,
-            view,
+        .prop_map(|(version, name, (size, grid), (fps, start, end), keys, layers, (view, texture, colliders))| {
+            Scene {
+                version,
+                name,
+                cloth: Cloth {
+                    texture: [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker][texture as usize],
+                    ..Cloth::new(size, grid)
+                },
+                timeline: Timeline { fps, start, end },
+                keys,
+                layers,
+                colliders,
+                view,
+            }
+        })
+}
+
+/// A collider of any kind with every number, its name, switch and thickness drawn.
+fn collider() -> impl Strategy<Value = Collider> {
+    (
+        0..Collider::KINDS.len(),
+        any::<String>(),
+        any::<bool>(),
+        proptest::option::of(param()),
+        proptest::collection::vec(param(), 10),
+    )
+        .prop_map(|(kind, name, enabled, thickness, values)| {
+            let mut collider = Collider::with_start_values(Collider::KINDS[kind]).expect("a listed kind");
+            *collider.name_mut() = name;
+            *collider.enabled_mut() = enabled;
+            *collider.thickness_mut() = thickness;
+            for (number, value) in collider.numbers().into_iter().zip(values) {
+                *collider.param_mut(number).expect("its own number") = value;
+            }
+            collider
         })
 }
 

@@ -151,6 +151,7 @@ mod tests {
             relax: RelaxSettings::default(),
             ease,
             inbetween_relax: 0,
+            thickness: crate::scene::DEFAULT_THICKNESS_M,
         }
     }
 

@@ -197,6 +197,7 @@ mod tests {
             relax: RelaxSettings { iterations: 20, tolerance: 1e-4 },
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
+            thickness: crate::scene::DEFAULT_THICKNESS_M,
         }
     }
 
@@ -209,6 +210,7 @@ mod tests {
             keys,
             layers: vec![],
             view: None,
+            colliders: Vec::new(),
         }
     }
 

@@ -135,6 +135,7 @@ mod tests {
                 relax: RelaxSettings::default(),
                 ease: Ease::Linear,
                 inbetween_relax: 0,
+                thickness: crate::scene::DEFAULT_THICKNESS_M,
             }
         };
         (cloth, vec![key(0, 0.0), key(12, travel_m)])

@@ -92,9 +92,11 @@ pub fn new_scene() -> Scene {
             relax: RelaxSettings::default(),
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
+            thickness: crate::scene::DEFAULT_THICKNESS_M,
         }],
         layers: Vec::new(),
         view: None,
+        colliders: Vec::new(),
     }
 }
 

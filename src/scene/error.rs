@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use crate::atomic_file::io_reason;
 
+use super::colliders::Collider;
 use super::layers::Layer;
 use super::locate::{
     Found, TextPosition, TokenKind, closing, found_at, position_after, unclosed_bracket, unclosed_comment,
@@ -172,6 +173,9 @@ fn user_name(type_name: &str) -> String {
     if Layer::KINDS.contains(&type_name) {
         return format!("{type_name} layer");
     }
+    if Collider::KINDS.contains(&type_name) {
+        return format!("{type_name} collider");
+    }
     let name = match type_name {
         "Scene" => "the scene",
         "Cloth" => "cloth",
@@ -185,6 +189,7 @@ fn user_name(type_name: &str) -> String {
         "WaveAxis" => "wave axis",
         "ClothTexture" => "cloth texture",
         "View" => "view",
+        "Collider" => "collider",
         other => other,
     };
     name.to_owned()
@@ -199,6 +204,22 @@ fn struct_from_fields(fields: &[&str]) -> Option<String> {
         return Some(format!("{kind} layer"));
     }
     let has = |f: &str| fields.contains(&f);
+    let collider = if has("center") && has("size") {
+        Some("Box")
+    } else if has("center") && has("height") {
+        Some("Cylinder")
+    } else if has("center") && has("radius") {
+        Some("Sphere")
+    } else if has("a") && has("b") {
+        Some("Capsule")
+    } else if has("height") && has("thickness") {
+        Some("Ground")
+    } else {
+        None
+    };
+    if let Some(kind) = collider {
+        return Some(format!("{kind} collider"));
+    }
     let name = if has("version") {
         "the scene"
     } else if has("pins") {

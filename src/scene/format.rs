@@ -134,6 +134,7 @@ mod tests {
             relax: RelaxSettings { iterations: 0, tolerance: 1e-9 },
             ease,
             inbetween_relax: 3,
+            thickness: crate::scene::DEFAULT_THICKNESS_M,
         };
         let animated = Param::Keys(
             Ease::ALL
@@ -177,6 +178,7 @@ mod tests {
                     ..Wave::with_start_values()
                 }),
             ],
+            colliders: Vec::new(),
             view: Some(View {
                 target: (0.5, 1.2, -0.25),
                 yaw_deg: 30.0,

@@ -1,6 +1,7 @@
 //! The scene document: serde types, RON load/save, validation and errors.
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
+//! - [`Collider`] and its kinds: what the cloth rests on and never enters.
 //! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
 //!   each parameter listed once with its unit, range, default and doc
 //!   ([`ParamSpec`]); reading, validation, the editor and `drape check` follow it.
@@ -13,6 +14,7 @@
 //! - [`readable_number`], [`readable_vec3`], [`shown_name`]: numbers and names as messages show them.
 //! - [`locate`]: where a value path such as `keys[0].pins[2].grid` starts in the text.
 
+mod colliders;
 mod display;
 mod error;
 mod format;
@@ -24,6 +26,9 @@ mod schema;
 mod types;
 mod validate;
 
+pub use colliders::{
+    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, Measure, ParamVec3, Sphere,
+};
 pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};

@@ -8,6 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::colliders::Collider;
 use super::layers::Layer;
 use super::param::Ease;
 
@@ -26,6 +27,9 @@ pub struct Scene {
     pub keys: Vec<Key>,
     #[serde(default)]
     pub layers: Vec<Layer>,
+    /// What the cloth rests on and never enters, in every key and frame.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub colliders: Vec<Collider>,
     /// Where the editor's camera looked when the scene was saved (with the
     /// playhead and Follow); absent, views frame the cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -184,6 +188,17 @@ pub struct Key {
     /// blending shortens it. 0 (the default) keeps the plain blend.
     #[serde(default)]
     pub inbetween_relax: u32,
+    /// Metres the cloth keeps from colliders' surfaces (a collider may
+    /// override it); at least 0.
+    #[serde(default = "default_thickness")]
+    pub thickness: f64,
+}
+
+/// The thickness a key gets when its file names none: 3 mm.
+pub const DEFAULT_THICKNESS_M: f64 = 0.003;
+
+pub fn default_thickness() -> f64 {
+    DEFAULT_THICKNESS_M
 }
 
 pub fn default_elasticity() -> f64 {

@@ -8,6 +8,7 @@
 use std::collections::HashSet;
 use std::fmt;
 
+use super::colliders::{Collider, Measure};
 use super::display::{readable_number, readable_vec3};
 use super::layers::Layer;
 use super::layers::ParamValue;
@@ -68,6 +69,10 @@ pub const MAX_RELAX_TOLERANCE: f64 = 1.0;
 pub const MAX_STRETCH_LIMIT: f64 = 10.0;
 /// Most re-relaxation sweeps per in-between (each costs one sweep over the cloth per frame).
 pub const MAX_INBETWEEN_RELAX: u32 = 1000;
+/// Most colliders in a scene.
+pub const MAX_COLLIDERS: usize = 256;
+/// Largest thickness the cloth keeps from a collider (m).
+pub const MAX_THICKNESS_M: f64 = 0.1;
 
 /// One problem found in a scene: the path of the offending value
 /// (`keys[0].pins[2].grid`, `layers[1].magnitude[0].value`) and a message in
@@ -169,8 +174,46 @@ impl Checker {
         for (index, layer) in scene.layers.iter().enumerate() {
             self.layer(index, layer);
         }
+        if scene.colliders.len() > MAX_COLLIDERS {
+            self.push(
+                format!("colliders[{MAX_COLLIDERS}]"),
+                format!(
+                    "the scene has {} colliders; the limit is {MAX_COLLIDERS}",
+                    group_thousands(scene.colliders.len() as u64)
+                ),
+            );
+        }
+        for (index, collider) in scene.colliders.iter().enumerate().take(MAX_COLLIDERS) {
+            self.collider(index, collider);
+        }
         if let Some(view) = &scene.view {
             self.view(view);
+        }
+    }
+
+    /// Every number of the collider: finite at every key, positions within
+    /// the world, sizes greater than 0, the thickness within its range.
+    fn collider(&mut self, index: usize, collider: &Collider) {
+        let label = collider.label(index);
+        for number in collider.numbers() {
+            let Some(param) = collider.param(number) else { continue };
+            let range = match number.field.measure {
+                Measure::Position => ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m"),
+                Measure::Length => ParamRange::Positive(MAX_PIN_COORD_M),
+                Measure::Angle => ParamRange::Any,
+            };
+            let (path, what) =
+                (format!("colliders[{index}].{}", number.path()), format!("{label}: {}", number.label()));
+            self.layer_param(&path, &what, param, range);
+        }
+        if let Some(thickness) = collider.thickness() {
+            let range = ParamRange::Within(0.0, MAX_THICKNESS_M, " m");
+            self.layer_param(
+                &format!("colliders[{index}].thickness"),
+                &format!("{label}: thickness"),
+                thickness,
+                range,
+            );
         }
     }
 
@@ -413,6 +456,18 @@ impl Checker {
             );
         }
         self.ease(&format!("{path}.ease"), &format!("ease of {at}"), &key.ease);
+        let thickness_path = format!("{path}.thickness");
+        if self.finite(&thickness_path, &format!("thickness in {at}"), key.thickness)
+            && !(0.0..=MAX_THICKNESS_M).contains(&key.thickness)
+        {
+            self.push(
+                thickness_path,
+                format!(
+                    "thickness {} m in {at} is out of range: it must be between 0 and {MAX_THICKNESS_M} m",
+                    readable_number(key.thickness)
+                ),
+            );
+        }
         if key.inbetween_relax > MAX_INBETWEEN_RELAX {
             self.push(
                 format!("{path}.inbetween_relax"),
@@ -611,9 +666,11 @@ mod tests {
                 relax: RelaxSettings::default(),
                 ease: Ease::EaseInOut,
                 inbetween_relax: 0,
+                thickness: crate::scene::DEFAULT_THICKNESS_M,
             }],
             layers: vec![],
             view: None,
+            colliders: Vec::new(),
         }
     }
 
