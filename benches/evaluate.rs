@@ -151,5 +151,30 @@ fn late_frame_ratio(_: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, evaluate, late_frame_ratio);
+/// The issue's collider case: the same 128² cloth with three primitive
+/// colliders it touches (a ball under its middle, a capsule across it and
+/// the ground), frame 1 and frame 100 000.
+fn with_colliders(c: &mut Criterion) {
+    let mut group = c.benchmark_group("evaluate");
+    group.sample_size(50).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(4));
+    let mut scene = scene(128);
+    let colliders = "[Sphere((center: (0.0, 0.55, 0.0), radius: 0.35)), \
+                     Capsule((a: (-1.0, 0.75, 0.5), b: (1.0, 0.75, 0.5), radius: 0.05)), Ground((height: 0.0))]";
+    scene.colliders = ron::from_str(colliders).expect("three colliders");
+    let mut evaluator = Evaluator::new();
+    let mut mesh = evaluator.evaluate(&scene, 0.0);
+    for frame in [1i32, 100_000] {
+        let t_secs = f64::from(frame) / scene.timeline.fps;
+        let id = BenchmarkId::new("128x128 three colliders", format!("frame {frame}"));
+        group.bench_with_input(id, &t_secs, |b, &t_secs| {
+            b.iter(|| {
+                evaluator.evaluate_into(&scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
+                black_box(&mesh);
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, evaluate, late_frame_ratio, with_colliders);
 criterion_main!(benches);

@@ -152,7 +152,7 @@ fn evaluator_with_key_shapes(scene: &Scene, stage: Stage, first: i32, last: i32)
     };
     let mut evaluator = Evaluator::new();
     let mut status = StatusLine::on_stderr();
-    build_key_shapes(&mut evaluator, &scene.cloth, keys.into_iter(), &mut status);
+    build_key_shapes(&mut evaluator, scene, keys.into_iter(), &mut status);
     evaluator
 }
 

@@ -25,7 +25,7 @@
 //! main.rs    the command line: `drape check | export | render`, or the editor
 //! ```
 //!
-//! Beside the pipeline: [`mesh`] (the grid as triangles), [`image`] (an RGBA
+//! Beside the pipeline: [`world`] (colliders as geometry at one moment), [`mesh`] (the grid as triangles), [`image`] (an RGBA
 //! picture and PNG decoding), [`look`] (the cloth's tints and textures, so a
 //! picture and an export agree) and [`atomic_file`] (writes that never leave
 //! a partial file).
@@ -38,15 +38,15 @@
 //!
 //! | module | may import |
 //! |---|---|
-//! | `atomic_file`, `mesh`, `image` | nothing of Drape |
+//! | `atomic_file`, `mesh`, `image`, `world` | nothing of Drape |
 //! | `scene` | `atomic_file` |
-//! | `shape` | `scene`, `mesh` |
-//! | `animate` | `scene`, `shape`, `mesh` |
+//! | `shape` | `scene`, `mesh`, `world` |
+//! | `animate` | `scene`, `shape`, `mesh`, `world` |
 //! | `look` | `scene` |
-//! | `render` | `scene`, `mesh`, `image`, `look` |
-//! | `picture` | `scene`, `shape`, `animate`, `mesh`, `image`, `render` |
+//! | `render` | `scene`, `mesh`, `image`, `look`, `world` |
+//! | `picture` | `scene`, `shape`, `animate`, `mesh`, `image`, `render`, `world` |
 //! | `export` | `scene`, `animate`, `mesh`, `image`, `look`, `atomic_file` |
-//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `picture`, `render`, `export`, `atomic_file` |
+//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `picture`, `render`, `export`, `atomic_file`, `world` |
 //!
 //! Only [`render`] and [`editor`] touch wgpu, only [`editor`] egui; the
 //! command line (`main.rs`) may use everything.
@@ -66,3 +66,4 @@ pub mod picture;
 pub mod render;
 pub mod scene;
 pub mod shape;
+pub mod world;

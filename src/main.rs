@@ -270,8 +270,8 @@ fn check(path: &Path) -> Result<()> {
     say!("  keys      {}", scene.keys.len());
     let mut evaluator = Evaluator::new();
     let mut status = terminal_progress::StatusLine::on_stderr();
-    terminal_progress::build_key_shapes(&mut evaluator, cloth, scene.keys.iter(), &mut status);
-    let shapes: Vec<_> = scene.keys.iter().map(|key| evaluator.key_shape(cloth, key)).collect();
+    terminal_progress::build_key_shapes(&mut evaluator, &scene, scene.keys.iter(), &mut status);
+    let shapes: Vec<_> = scene.keys.iter().map(|key| evaluator.key_shape(&scene, key)).collect();
     for (index, (key, shape)) in scene.keys.iter().zip(&shapes).enumerate() {
         let rest = &shape.rest;
         let error = mean_structural_error(&rest.relaxed, cloth.cols(), cloth.rows(), rest.rest_u_m(), rest.rest_v_m());

@@ -9,8 +9,8 @@ use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use drape::animate::{Evaluator, KeyShape};
-use drape::scene::{Cloth, Key};
+use drape::animate::{Evaluator, KeyShape, key_obstacles};
+use drape::scene::{Key, Scene};
 use drape::shape::RelaxProgress;
 
 /// Redraws at most this often: fast enough to read as live, rare enough to cost nothing.
@@ -93,13 +93,14 @@ pub fn frame_bar(total: u64, what: &'static str) -> indicatif::ProgressBar {
 /// by itself; only the progress is new.
 pub fn build_key_shapes<'k>(
     evaluator: &mut Evaluator,
-    cloth: &Cloth,
+    scene: &Scene,
     keys: impl ExactSizeIterator<Item = &'k Key>,
     status: &mut StatusLine,
 ) {
     let count = keys.len();
     for (index, key) in keys.enumerate() {
-        if evaluator.cache().get(cloth, key).is_some() {
+        let (cloth, obstacles) = (&scene.cloth, key_obstacles(scene, key));
+        if evaluator.cache().get(cloth, key, &obstacles).is_some() {
             continue;
         }
         let which = format!("key {}/{count} (frame {})", index + 1, key.frame);
@@ -115,8 +116,8 @@ pub fn build_key_shapes<'k>(
             ControlFlow::Continue(())
         };
         // The report never breaks, so the build is never cancelled.
-        if let Ok(shape) = KeyShape::build_with(cloth, key, &mut report) {
-            evaluator.cache_mut().insert(cloth, key, Arc::new(shape));
+        if let Ok(shape) = KeyShape::build_with(cloth, key, &obstacles, &mut report) {
+            evaluator.cache_mut().insert(cloth, key, &obstacles, Arc::new(shape));
         }
     }
     status.clear();

@@ -670,7 +670,7 @@ fn other_stages_export_the_key_in_effect() {
     let cache = read_pc2(&fs::read(&output).unwrap());
     let mut evaluator = drape::animate::Evaluator::new();
     for (k, frame) in (20..=30).enumerate() {
-        let shape = evaluator.key_shape(&scene.cloth, scene.key_in_effect(f64::from(frame)));
+        let shape = evaluator.key_shape(&scene, scene.key_in_effect(f64::from(frame)));
         let want: Vec<Vec3> = shape.rest.relaxed.iter().map(|p| p.as_vec3()).collect();
         assert_points_match(&format!("relaxed key at frame {frame}"), &cache.frames[k], &want, 0.0);
     }

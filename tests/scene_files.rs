@@ -322,6 +322,10 @@ fn the_reference_scene_exercises_every_variant() {
     for kind in ["Sway", "Wave", "Gusts", "FollowThrough"] {
         assert!(scene.layers.iter().any(|l| l.kind() == kind), "no {kind} layer in {VALID_FULL}");
     }
+    for kind in Collider::KINDS {
+        assert!(scene.colliders.iter().any(|c| c.kind() == *kind), "no {kind} collider in {VALID_FULL}");
+    }
+    assert!(scene.colliders.iter().any(|c| !c.enabled()) && scene.colliders.iter().any(|c| c.thickness().is_some()));
     assert_eq!(scene.keys[0].inbetween_relax, 20);
     assert_eq!(scene.keys[1].inbetween_relax, 0, "the default");
     // Defaults fill what the file leaves out (the third key, the first Sway).

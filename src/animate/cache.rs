@@ -7,11 +7,13 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+use super::colliders_at::obstacles_at;
 use super::falloff::pin_distance_field;
 use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
 use crate::shape::{Cancelled, Placement, RelaxProgress, RestShape};
+use crate::world::{ColliderShape, Obstacle};
 
 /// What animation needs from one key, built once per distinct content.
 #[derive(Debug)]
@@ -33,18 +35,23 @@ pub struct KeyShape {
 }
 
 impl KeyShape {
-    /// Relaxes `key` on `cloth` (the scene must be valid) and derives the rest.
-    pub fn build(cloth: &Cloth, key: &Key) -> KeyShape {
-        KeyShape::from_rest(cloth, key, RestShape::build(cloth, key))
+    /// Relaxes `key` on `cloth` among `obstacles` (the colliders at the
+    /// key's frame, [`key_obstacles`]; the scene must be valid) and derives the rest.
+    pub fn build(cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> KeyShape {
+        let never_cancelled = &mut |_| ControlFlow::Continue(());
+        let rest = RestShape::build_among(cloth, key, obstacles, never_cancelled)
+            .expect("a control that never breaks never cancels");
+        KeyShape::from_rest(cloth, key, rest)
     }
 
     /// [`KeyShape::build`] with relaxation progress and cancellation (see [`RestShape::build_with`]).
     pub fn build_with(
         cloth: &Cloth,
         key: &Key,
+        obstacles: &[Obstacle],
         control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     ) -> Result<KeyShape, Cancelled> {
-        Ok(KeyShape::from_rest(cloth, key, RestShape::build_with(cloth, key, control)?))
+        Ok(KeyShape::from_rest(cloth, key, RestShape::build_among(cloth, key, obstacles, control)?))
     }
 
     fn from_rest(cloth: &Cloth, key: &Key, rest: RestShape) -> KeyShape {
@@ -70,10 +77,49 @@ struct ShapeInputs {
     stiffness_bits: u64,
     iterations: u32,
     tolerance_bits: u64,
+    /// The obstacles' numbers, bit for bit.
+    obstacles: Vec<u64>,
+}
+
+/// The colliders a key's rest shape lies among: the scene's at the key's frame.
+pub fn key_obstacles(scene: &Scene, key: &Key) -> Vec<Obstacle> {
+    obstacles_at(scene, f64::from(key.frame))
+}
+
+/// Every number of `obstacles` as bits, with each kind's tag: equal lists, equal shapes.
+fn obstacle_bits(obstacles: &[Obstacle]) -> Vec<u64> {
+    let mut bits = Vec::new();
+    for obstacle in obstacles {
+        let (tag, numbers): (u64, Vec<f64>) = match obstacle.shape {
+            ColliderShape::Ground { height } => (0, vec![height]),
+            ColliderShape::Sphere { center, radius } => (1, vec![center.x, center.y, center.z, radius]),
+            ColliderShape::Capsule { a, b, radius } => (2, vec![a.x, a.y, a.z, b.x, b.y, b.z, radius]),
+            ColliderShape::Box { center, half, world_from_local } => (
+                3,
+                [center.to_array(), half.to_array()]
+                    .concat()
+                    .into_iter()
+                    .chain(world_from_local.to_cols_array())
+                    .collect(),
+            ),
+            ColliderShape::Cylinder { center, radius, half_height, world_from_local } => (
+                4,
+                center
+                    .to_array()
+                    .into_iter()
+                    .chain([radius, half_height])
+                    .chain(world_from_local.to_cols_array())
+                    .collect(),
+            ),
+        };
+        bits.push(tag);
+        bits.extend(numbers.iter().chain([&obstacle.thickness]).map(|v| v.to_bits()));
+    }
+    bits
 }
 
 impl ShapeInputs {
-    fn of(cloth: &Cloth, key: &Key) -> ShapeInputs {
+    fn of(cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> ShapeInputs {
         ShapeInputs {
             size_bits: (cloth.size.0.to_bits(), cloth.size.1.to_bits()),
             grid: cloth.grid,
@@ -86,6 +132,7 @@ impl ShapeInputs {
             stiffness_bits: key.stiffness.to_bits(),
             iterations: key.relax.iterations,
             tolerance_bits: key.relax.tolerance.to_bits(),
+            obstacles: obstacle_bits(obstacles),
         }
     }
 }
@@ -118,35 +165,35 @@ impl RestShapeCache {
     /// cached yet. The scene must be valid.
     pub fn shapes(&mut self, scene: &Scene) -> Vec<Arc<KeyShape>> {
         self.generation += 1;
-        let shapes = scene.keys.iter().map(|key| self.shape(&scene.cloth, key)).collect();
+        let shapes = scene.keys.iter().map(|key| self.shape(&scene.cloth, key, &key_obstacles(scene, key))).collect();
         self.evict();
         shapes
     }
 
-    /// The shape of one key, built if it is not cached.
-    pub fn shape(&mut self, cloth: &Cloth, key: &Key) -> Arc<KeyShape> {
+    /// The shape of one key among `obstacles` ([`key_obstacles`]), built if it is not cached.
+    pub fn shape(&mut self, cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> Arc<KeyShape> {
         let generation = self.generation;
-        let inputs = ShapeInputs::of(cloth, key);
+        let inputs = ShapeInputs::of(cloth, key, obstacles);
         if let Some(entry) = self.entries.get_mut(&inputs) {
             entry.last_used = generation;
             return entry.shape.clone();
         }
-        let shape = Arc::new(KeyShape::build(cloth, key));
+        let shape = Arc::new(KeyShape::build(cloth, key, obstacles));
         self.builds += 1;
         self.entries.insert(inputs, Entry { shape: shape.clone(), last_used: generation });
         shape
     }
 
     /// The cached shape of `key`, if there is one; never builds.
-    pub fn get(&self, cloth: &Cloth, key: &Key) -> Option<Arc<KeyShape>> {
-        self.entries.get(&ShapeInputs::of(cloth, key)).map(|entry| entry.shape.clone())
+    pub fn get(&self, cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> Option<Arc<KeyShape>> {
+        self.entries.get(&ShapeInputs::of(cloth, key, obstacles)).map(|entry| entry.shape.clone())
     }
 
     /// Stores a shape built elsewhere (the editor relaxes on a worker thread).
-    /// `shape` must be `KeyShape::build(cloth, key)`'s result for these inputs.
-    pub fn insert(&mut self, cloth: &Cloth, key: &Key, shape: Arc<KeyShape>) {
+    /// `shape` must be `KeyShape::build(cloth, key, obstacles)`'s result for these inputs.
+    pub fn insert(&mut self, cloth: &Cloth, key: &Key, obstacles: &[Obstacle], shape: Arc<KeyShape>) {
         let entry = Entry { shape, last_used: self.generation };
-        self.entries.insert(ShapeInputs::of(cloth, key), entry);
+        self.entries.insert(ShapeInputs::of(cloth, key, obstacles), entry);
     }
 
     /// How many shapes have been built (relaxations run) so far.

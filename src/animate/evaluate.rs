@@ -2,7 +2,8 @@
 //!
 //! It blends the two rest shapes around t (cached per key by content), then
 //! applies the layer stack in order and holds every edge within the cloth's
-//! stretch limit. Nothing depends on an earlier frame, so
+//! stretch limit, and last keeps every free point outside the colliders
+//! ([`super::keep_out`]). Nothing depends on an earlier frame, so
 //! the same t gives a bit-identical mesh however it was reached, and the cost
 //! does not grow with t.
 //!
@@ -15,15 +16,17 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::blend::{Segment, blend_segment, segment_at};
-use super::cache::{KeyShape, RestShapeCache};
+use super::cache::{KeyShape, RestShapeCache, key_obstacles};
+use super::colliders_at::obstacles_at;
 use super::falloff::AttenuationField;
+use super::keep_out::keep_out;
 use super::noise::FractalSampler;
 use super::stretch_limit::StretchLimiter;
 use super::track::sample;
 use super::wave::WaveTables;
 use super::{follow_through, gusts, sway, wave};
 use crate::mesh::{Mesh, NormalRows, PointArrays, grid_triangle_indices, grid_uvs};
-use crate::scene::{Cloth, Key, Layer, Scene, Timeline};
+use crate::scene::{Key, Layer, Scene, Timeline};
 
 /// What to include in an evaluation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,6 +71,8 @@ pub struct Evaluator {
     normal_rows: NormalRows,
     sampler: FractalSampler,
     stretch_limiter: StretchLimiter,
+    /// The blend before the layers, kept when colliders need to know where a point came from.
+    before_layers: PointArrays,
 }
 
 impl Evaluator {
@@ -86,8 +91,8 @@ impl Evaluator {
 
     /// The cached shape of one key (built if needed), for callers that show
     /// or export a single key's modelling stages.
-    pub fn key_shape(&mut self, cloth: &Cloth, key: &Key) -> Arc<KeyShape> {
-        self.cache.shape(cloth, key)
+    pub fn key_shape(&mut self, scene: &Scene, key: &Key) -> Arc<KeyShape> {
+        self.cache.shape(&scene.cloth, key, &key_obstacles(scene, key))
     }
 
     /// The mesh of `scene` at `t_secs`, with every layer.
@@ -129,7 +134,7 @@ impl Evaluator {
             self.evaluate_frame_into(scene, frame, options, mesh);
             return;
         }
-        let shape = self.key_shape(&scene.cloth, scene.key_in_effect(frame));
+        let shape = self.key_shape(scene, scene.key_in_effect(frame));
         let points = if stage == Stage::Approx { &shape.rest.approximated } else { &shape.rest.relaxed };
         *mesh = Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), points);
     }
@@ -188,6 +193,12 @@ impl Evaluator {
             let shapes = self.cache.shapes(scene);
             let segment = segment_at(&scene.keys, frame);
             blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
+            let obstacles = obstacles_at(scene, frame);
+            if obstacles.is_empty() {
+                self.before_layers = PointArrays::default();
+            } else {
+                self.before_layers.clone_from(points);
+            }
             self.attenuation.clear();
             if options.layers {
                 let spacing_m = (scene.cloth.spacing_u_m(), scene.cloth.spacing_v_m());
@@ -237,7 +248,15 @@ impl Evaluator {
                 let reaches = if a == b { &reaches[..1] } else { &reaches[..] };
                 let limit = scene.cloth.stretch_limit as f32;
                 self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, reaches, points);
+                if !obstacles.is_empty() {
+                    // Pushing points out of a collider can lengthen the edges
+                    // around them: limit once more, and keep out again (last, so
+                    // nothing ends inside).
+                    keep_out(&obstacles, &self.ratio, &self.before_layers, points);
+                    self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, reaches, points);
+                }
             }
+            keep_out(&obstacles, &self.ratio, &self.before_layers, points);
         }
         // The mesh's positions and normals, interleaved row by row.
         let interleave = |out: &mut Vec<Vec3>, [x, y, z]: [&[f32]; 3]| {

@@ -145,7 +145,7 @@ mod tests {
     fn trailing(travel_m: f64, limit: f32, frame: f64) -> (Vec<Vec3>, f64) {
         let (cloth, keys) = keys(travel_m);
         let mut evaluator = Evaluator::new();
-        let shapes: Vec<_> = keys.iter().map(|k| evaluator.key_shape(&cloth, k)).collect();
+        let shapes: Vec<_> = keys.iter().map(|k| evaluator.cache_mut().shape(&cloth, k, &[])).collect();
         let mut points = PointArrays::default();
         let mut ratio = Vec::new();
         blend_segment(&keys, &shapes, segment_at(&keys, frame), &mut points, &mut ratio);
@@ -169,7 +169,7 @@ mod tests {
         let middle = 8 * 17 + 8;
         let (cloth, keys) = keys(5.0);
         let mut evaluator = Evaluator::new();
-        let shapes: Vec<_> = keys.iter().map(|k| evaluator.key_shape(&cloth, k)).collect();
+        let shapes: Vec<_> = keys.iter().map(|k| evaluator.cache_mut().shape(&cloth, k, &[])).collect();
         let blended = blended_vertex(&shapes, segment_at(&keys, 8.0), middle);
         assert!(capped[middle].z < blended.z - 0.02, "the middle trails: {} vs {}", capped[middle].z, blended.z);
         assert!((held[middle] - capped[middle]).length() < 1e-3, "the cap is continuous in time");

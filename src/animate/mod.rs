@@ -10,21 +10,24 @@
 //! - [`sway`], [`wave`], [`gusts`], [`follow_through`]: the layers, whose parameters
 //!   are listed once in `scene/layers.rs`.
 //! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
+//! - [`colliders_at`], [`keep_out`]: the colliders at a frame, and every point kept outside them.
 //! - [`noise`]: the seeded value noise behind the gusts.
 //! - [`evaluate`](mod@evaluate): scene + time → mesh.
 
 pub mod blend;
 pub mod cache;
+pub mod colliders_at;
 pub mod ease;
 pub mod evaluate;
 pub mod falloff;
 pub mod follow_through;
 pub mod gusts;
+pub mod keep_out;
 pub mod noise;
 pub mod stretch_limit;
 pub mod sway;
 pub mod track;
 pub mod wave;
 
-pub use cache::{KeyShape, RestShapeCache};
+pub use cache::{KeyShape, RestShapeCache, key_obstacles};
 pub use evaluate::{EvaluateOptions, Evaluator, Stage, evaluate, frame_time_secs};

@@ -19,11 +19,14 @@ use std::time::{Duration, Instant};
 
 use crate::animate::KeyShape;
 use crate::scene::{Cloth, Key};
+use crate::world::Obstacle;
 
 /// One relaxed key, ready for the evaluator's cache.
 pub struct Built {
     pub cloth: Cloth,
     pub key: Key,
+    /// The colliders at the key's frame it was relaxed among.
+    pub obstacles: Vec<Obstacle>,
     pub shape: Arc<KeyShape>,
 }
 
@@ -43,7 +46,7 @@ pub struct ShaperStatus {
 struct Job {
     generation: u64,
     cloth: Cloth,
-    keys: Vec<Key>,
+    keys: Vec<(Key, Vec<Obstacle>)>,
 }
 
 struct Shared {
@@ -84,9 +87,10 @@ impl Shaper {
         Shaper { shared, results, worker: Some(worker), next_generation: 1 }
     }
 
-    /// Asks for the shapes of `keys` on `cloth`, replacing any pending request.
+    /// Asks for the shapes of `keys` on `cloth`, each among its colliders
+    /// ([`crate::animate::key_obstacles`]), replacing any pending request.
     /// With `supersede`, a running relaxation stops too.
-    pub fn request(&mut self, cloth: &Cloth, keys: Vec<Key>, supersede: bool) {
+    pub fn request(&mut self, cloth: &Cloth, keys: Vec<(Key, Vec<Obstacle>)>, supersede: bool) {
         let generation = self.next_generation;
         self.next_generation += 1;
         if supersede {
@@ -168,7 +172,7 @@ fn work(shared: &Shared, results: &Sender<Built>) {
 
 fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
     let total = job.keys.len();
-    for (done, key) in job.keys.into_iter().enumerate() {
+    for (done, (key, obstacles)) in job.keys.into_iter().enumerate() {
         let mut control = |progress: crate::shape::RelaxProgress| {
             if job.generation < shared.cancel_below.load(Ordering::Relaxed) {
                 return ControlFlow::Break(());
@@ -182,10 +186,10 @@ fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
             }
             ControlFlow::Continue(())
         };
-        let Ok(shape) = KeyShape::build_with(&job.cloth, &key, &mut control) else {
+        let Ok(shape) = KeyShape::build_with(&job.cloth, &key, &obstacles, &mut control) else {
             return;
         };
-        let built = Built { cloth: job.cloth.clone(), key, shape: Arc::new(shape) };
+        let built = Built { cloth: job.cloth.clone(), key, obstacles, shape: Arc::new(shape) };
         if results.send(built).is_err() {
             return;
         }
@@ -206,13 +210,13 @@ mod tests {
     fn shapes_built_on_the_worker_equal_shapes_built_here() {
         let s = scene();
         let mut shaper = Shaper::new(|| {});
-        shaper.request(&s.cloth, s.keys.clone(), true);
+        shaper.request(&s.cloth, s.keys.iter().map(|k| (k.clone(), Vec::new())).collect(), true);
         assert!(shaper.wait_idle(Duration::from_secs(60)));
         let built = shaper.take_built();
         assert_eq!(built.len(), s.keys.len());
         for (b, key) in built.iter().zip(&s.keys) {
             assert_eq!(b.key, *key);
-            assert_eq!(b.shape.positions, KeyShape::build(&s.cloth, key).positions);
+            assert_eq!(b.shape.positions, KeyShape::build(&s.cloth, key, &[]).positions);
         }
         assert!(shaper.status().is_none());
     }
@@ -225,7 +229,7 @@ mod tests {
         s.keys[0].relax.tolerance = 0.0;
         s.keys.truncate(1);
         let mut shaper = Shaper::new(|| {});
-        shaper.request(&s.cloth, s.keys.clone(), true);
+        shaper.request(&s.cloth, s.keys.iter().map(|k| (k.clone(), Vec::new())).collect(), true);
         // Wait until it is running, then ask for something small instead.
         while shaper.status().is_none_or(|status| status.iteration == 0) {
             std::thread::sleep(Duration::from_millis(1));
@@ -237,7 +241,7 @@ mod tests {
             pin.grid = (pin.grid.0.min(8), pin.grid.1.min(8));
         }
         small.keys[0].pins.dedup_by_key(|p| p.grid);
-        shaper.request(&small.cloth, small.keys.clone(), true);
+        shaper.request(&small.cloth, small.keys.iter().map(|k| (k.clone(), Vec::new())).collect(), true);
         assert!(shaper.wait_idle(Duration::from_secs(60)), "the huge relaxation was cancelled");
         let built = shaper.take_built();
         assert_eq!(built.len(), 1);

@@ -13,12 +13,16 @@ use eframe::egui;
 
 use super::document::Document;
 use super::shaper::{Shaper, ShaperStatus};
-use crate::animate::{self, Evaluator};
+use crate::animate::{self, Evaluator, key_obstacles};
 use crate::mesh::Mesh;
 use crate::picture::scene_bounds;
 use crate::render::Ghost;
 use crate::scene::{Cloth, Key, Scene};
 use crate::shape::RelaxReport;
+use crate::world::Obstacle;
+
+/// A key and the colliders at its frame: what its rest shape is built from.
+type KeyAmong = (Key, Vec<Obstacle>);
 
 /// Onion skin: ghosts of the `frames` frames before and after the playhead, `spacing` frames apart.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,7 +39,7 @@ pub struct Shown {
     /// The context the worker wakes when a shape is ready (set on the first frame).
     repaint_context: Arc<OnceLock<egui::Context>>,
     /// The shapes last asked of the worker, so a request is made once per change.
-    requested: Option<(Cloth, Vec<Key>)>,
+    requested: Option<(Cloth, Vec<KeyAmong>)>,
     /// The cloth at the playhead, in the stage shown.
     pub mesh: Arc<Mesh>,
     /// What `mesh` shows: (frame, stage, solo layer); `None` when it must be rebuilt.
@@ -141,14 +145,20 @@ impl Shown {
     /// Takes finished shapes from the worker and asks it for the ones `doc` still lacks.
     pub fn sync(&mut self, doc: &Document) {
         for built in self.shaper.take_built() {
-            self.evaluator.cache_mut().insert(&built.cloth, &built.key, built.shape);
+            self.evaluator.cache_mut().insert(&built.cloth, &built.key, &built.obstacles, built.shape);
         }
         let scene = doc.scene();
         if *scene == self.scene {
             return;
         }
         let cache = self.evaluator.cache();
-        let missing: Vec<Key> = scene.keys.iter().filter(|k| cache.get(&scene.cloth, k).is_none()).cloned().collect();
+        let missing: Vec<KeyAmong> = scene
+            .keys
+            .iter()
+            .map(|k| (k, key_obstacles(scene, k)))
+            .filter(|(k, among)| cache.get(&scene.cloth, k, among).is_none())
+            .map(|(k, among)| (k.clone(), among))
+            .collect();
         if missing.is_empty() {
             self.scene = scene.clone();
             self.version += 1;
@@ -214,7 +224,7 @@ impl Shown {
     /// The relaxation report of the shown key in effect at `frame`.
     pub fn relax_report(&self, frame: f64) -> Option<RelaxReport> {
         let key = self.scene.key_in_effect(frame);
-        let shape = self.evaluator.cache().get(&self.scene.cloth, key)?;
+        let shape = self.evaluator.cache().get(&self.scene.cloth, key, &key_obstacles(&self.scene, key))?;
         Some(shape.rest.relax_report)
     }
 

@@ -88,7 +88,7 @@ pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
     let mut min = Vec3::splat(f32::INFINITY);
     let mut max = Vec3::splat(f32::NEG_INFINITY);
     for key in &scene.keys {
-        let shape = evaluator.key_shape(&scene.cloth, key);
+        let shape = evaluator.key_shape(scene, key);
         if let Some((lo, hi)) = bounds(&shape.positions) {
             min = min.min(lo);
             max = max.max(hi);
@@ -104,7 +104,7 @@ pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
 fn largest_key_extent(evaluator: &mut Evaluator, scene: &Scene) -> f32 {
     let mut extent_m: f32 = 0.0;
     for key in &scene.keys {
-        if let Some((lo, hi)) = bounds(&evaluator.key_shape(&scene.cloth, key).positions) {
+        if let Some((lo, hi)) = bounds(&evaluator.key_shape(scene, key).positions) {
             extent_m = extent_m.max((hi - lo).max_element());
         }
     }

@@ -46,7 +46,7 @@ pub fn key_overlay(
     let mut overlay = Overlay::default();
     let key = scene.key_in_effect(frame);
     if show.catenaries || show.triangulation {
-        let shape = evaluator.key_shape(&scene.cloth, key);
+        let shape = evaluator.key_shape(scene, key);
         if show.triangulation {
             add_triangulation(&mut overlay, mesh, &shape.rest.network);
         }

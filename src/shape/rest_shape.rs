@@ -5,8 +5,10 @@ use std::ops::ControlFlow;
 use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
-use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, relax_with};
+use super::lay_around::lay_around;
+use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, relax_among};
 use crate::scene::{Cloth, Key};
+use crate::world::Obstacle;
 
 /// The modelling result of one key: catenary network (with conflicts), the
 /// approximated surface and the relaxed surface, in vertex order `j·cols + i`.
@@ -37,11 +39,25 @@ impl RestShape {
         key: &Key,
         control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     ) -> Result<RestShape, Cancelled> {
+        RestShape::build_among(cloth, key, &[], control)
+    }
+
+    /// [`RestShape::build_with`] among colliders (the key's frame's): the
+    /// approximation is laid around them ([`lay_around`]) and relaxed
+    /// outside them ([`relax_among`]). No obstacles: the same as `build_with`.
+    pub fn build_among(
+        cloth: &Cloth,
+        key: &Key,
+        obstacles: &[Obstacle],
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RestShape, Cancelled> {
         let grid = grid_spec(cloth);
         let pins = pin_points(key);
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = positions.clone();
+        let spacing = (grid.spacing_u_m, grid.spacing_v_m);
+        lay_around(&mut relaxed, (grid.cols, grid.rows), spacing, &pinned, obstacles);
         let params = RelaxParams {
             rest_u_m: grid.spacing_u_m * key.elasticity,
             rest_v_m: grid.spacing_v_m * key.elasticity,
@@ -49,7 +65,7 @@ impl RestShape {
             max_iterations: key.relax.iterations,
             tolerance: key.relax.tolerance,
         };
-        let relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
+        let relax_report = relax_among(&mut relaxed, grid.cols, grid.rows, &pinned, &params, obstacles, control)?;
         Ok(RestShape {
             grid,
             elasticity: key.elasticity,

@@ -8,6 +8,8 @@ use super::kernel::{Bound, apply, coast, move_point, nudge, point_steps, run_ste
 use super::layout::{BorderChunk, EdgeRun, LANES, Lanes, NEIGHBOURS, Run, STEPS, Split};
 use glam::DVec3;
 
+use crate::world::{Obstacle, push_out};
+
 use super::{
     Cancelled, GRAVITY_BIAS, MAX_SHEAR_DEG, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport,
     SETTLE_SWEEPS, STIFF_RADIUS_FRACTION, Settle,
@@ -29,10 +31,19 @@ pub(super) struct Sweeper {
     /// This colour's steps: interior runs first, then edge runs, then chunks;
     /// one vector's worth of spare room for the last run's throwaway lanes.
     steps: [Vec<f64>; 3],
+    /// What the cloth must stay out of, and its free points to check.
+    obstacles: Vec<Obstacle>,
+    free: Vec<(usize, usize)>,
 }
 
 impl Sweeper {
-    pub(super) fn new(cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> Sweeper {
+    pub(super) fn new(
+        cols: usize,
+        rows: usize,
+        pinned: &[bool],
+        params: &RelaxParams,
+        obstacles: &[Obstacle],
+    ) -> Sweeper {
         let min_radius = params.stiffness.clamp(0.0, 1.0)
             * STIFF_RADIUS_FRACTION
             * (params.rest_u_m * (cols - 1) as f64).max(params.rest_v_m * (rows - 1) as f64);
@@ -128,6 +139,12 @@ impl Sweeper {
             edge_runs,
             border,
             steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
+            obstacles: obstacles.to_vec(),
+            free: if obstacles.is_empty() {
+                Vec::new()
+            } else {
+                (0..rows).flat_map(|j| (0..cols).map(move |i| (i, j))).filter(|&(i, j)| !pinned[j * cols + i]).collect()
+            },
         }
     }
 
@@ -266,6 +283,7 @@ impl Sweeper {
                     max_edge2 = max_edge2.max(step2);
                 }
             }
+            self.keep_out();
             // The settling sweeps are part of what the shape is, not of the cap's budget.
             report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
             report.last_move_m = max_step2.max(max_edge2).sqrt();
@@ -322,6 +340,27 @@ impl Sweeper {
                 let k = done + k;
                 nudge([&mut px.data[at], &mut py.data[at], &mut pz.data[at]], [sx[k], sy[k], sz[k]]);
             }
+        }
+    }
+
+    /// Free points closer to an obstacle than its thickness go out the
+    /// nearest way and stop (their velocity is dropped), as cloth does on
+    /// what it lands on. Their move is not a constraint's and is not
+    /// counted towards convergence.
+    fn keep_out(&mut self) {
+        if self.obstacles.is_empty() {
+            return;
+        }
+        let [px, py, pz] = &mut self.position;
+        let [vx, vy, vz] = &mut self.velocity;
+        for &(i, j) in &self.free {
+            let p = DVec3::new(px.get(i, j), py.get(i, j), pz.get(i, j));
+            if self.obstacles.iter().all(|o| o.shape.distance(p) >= o.thickness) {
+                continue;
+            }
+            let q = push_out(&self.obstacles, p);
+            (*px.get_mut(i, j), *py.get_mut(i, j), *pz.get_mut(i, j)) = (q.x, q.y, q.z);
+            (*vx.get_mut(i, j), *vy.get_mut(i, j), *vz.get_mut(i, j)) = (0.0, 0.0, 0.0);
         }
     }
 

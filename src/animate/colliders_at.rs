@@ -1,0 +1,77 @@
+//! A scene's colliders at a frame: every animated number sampled, as the
+//! geometry `world` measures against.
+
+use glam::DVec3;
+
+use super::track::sample;
+use crate::scene::{Collider, Param, ParamVec3, Scene};
+use crate::world::{ColliderShape, Obstacle};
+
+/// The enabled colliders of `scene` at `frame`, each with the thickness the
+/// cloth keeps from it: its own, else that of the key in effect. Sizes
+/// that an overshooting easing takes below 0 read as 0; thicknesses too.
+pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
+    if scene.colliders.is_empty() || scene.keys.is_empty() {
+        return Vec::new();
+    }
+    let key_thickness = scene.key_in_effect(frame).thickness;
+    scene
+        .colliders
+        .iter()
+        .filter(|collider| collider.enabled())
+        .map(|collider| {
+            let thickness = collider.thickness().map_or(key_thickness, |t| sample(t, frame));
+            Obstacle { shape: shape_at(collider, frame), thickness: thickness.max(0.0) }
+        })
+        .collect()
+}
+
+/// One collider's solid at `frame`.
+pub fn shape_at(collider: &Collider, frame: f64) -> ColliderShape {
+    let at = |param: &Param| sample(param, frame);
+    let length = |param: &Param| sample(param, frame).max(0.0);
+    let vector = |v: &ParamVec3| DVec3::new(at(&v.0), at(&v.1), at(&v.2));
+    let rotation = |v: &ParamVec3| ColliderShape::rotation_from_deg(at(&v.0), at(&v.1), at(&v.2));
+    match collider {
+        Collider::Ground(g) => ColliderShape::Ground { height: at(&g.height) },
+        Collider::Box(b) => ColliderShape::Box {
+            center: vector(&b.center),
+            half: vector(&b.size).max(DVec3::ZERO) * 0.5,
+            world_from_local: rotation(&b.rotation_deg),
+        },
+        Collider::Cylinder(c) => ColliderShape::Cylinder {
+            center: vector(&c.center),
+            radius: length(&c.radius),
+            half_height: length(&c.height) * 0.5,
+            world_from_local: rotation(&c.rotation_deg),
+        },
+        Collider::Sphere(s) => ColliderShape::Sphere { center: vector(&s.center), radius: length(&s.radius) },
+        Collider::Capsule(c) => ColliderShape::Capsule { a: vector(&c.a), b: vector(&c.b), radius: length(&c.radius) },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Ease, ParamKey};
+
+    #[test]
+    fn a_keyed_centre_moves_and_disabled_colliders_are_left_out() {
+        let Some(mut ball) = Collider::with_start_values("Sphere") else { panic!("a sphere") };
+        if let Collider::Sphere(s) = &mut ball {
+            s.center.0 = Param::Keys(vec![
+                ParamKey { frame: 0, value: 0.0, ease: Ease::Linear },
+                ParamKey { frame: 10, value: 1.0, ease: Ease::Linear },
+            ]);
+        }
+        let text = "(version: 1, cloth: (size: (1.0, 1.0), grid: (9, 9)), keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 1.0, 0.0))])])";
+        let Ok(mut scene) = ron::from_str::<Scene>(text) else { panic!("a scene") };
+        scene.colliders = vec![ball.clone(), ball];
+        *scene.colliders[1].enabled_mut() = false;
+        let obstacles = obstacles_at(&scene, 5.0);
+        assert_eq!(obstacles.len(), 1);
+        let ColliderShape::Sphere { center, radius } = obstacles[0].shape else { panic!("a sphere") };
+        assert_eq!((center, radius), (DVec3::new(0.5, 1.0, 0.0), 0.3));
+        assert_eq!(obstacles[0].thickness, scene.keys[0].thickness, "the key's thickness");
+    }
+}

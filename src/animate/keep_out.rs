@@ -1,0 +1,116 @@
+//! Contact with the colliders, the last step of every frame: no free point
+//! ends closer to a collider than its thickness.
+//!
+//! A point the layers carried into a collider leaves it on the side it came
+//! in from: the path from where the point was before the layers (the blend
+//! of the rest shapes, which rest outside) to where the layers put it is
+//! followed to the surface, and the point slides on along the tangent plane
+//! there ([`crate::world::push_out_along`]). Neighbours that went in
+//! together come out together, onto one smooth surface, so a wave that dips
+//! into a table top flattens on it instead of poking through its underside.
+//! Pins stay where the animator put them, inside a collider or not.
+
+use glam::DVec3;
+
+use crate::mesh::PointArrays;
+use crate::world::{Obstacle, push_out, push_out_along};
+
+/// Moves every free point of `points` (`ratio` > 0) out of `obstacles`, the
+/// way it came from the same point of `before` (equal lengths; an empty
+/// `before` means "from where it is"). Points outside every obstacle are
+/// left bit for bit as they are.
+pub fn keep_out(obstacles: &[Obstacle], ratio: &[f32], before: &PointArrays, points: &mut PointArrays) {
+    let n = points.len();
+    if obstacles.is_empty() || n == 0 || ratio.len() != n {
+        return;
+    }
+    let Some((min, max)) = bounds(points) else { return };
+    // Only the obstacles the cloth can touch this frame.
+    let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).copied().collect();
+    if near.is_empty() {
+        return;
+    }
+    let has_before = before.len() == n;
+    for (k, free) in ratio.iter().map(|r| *r > 0.0).enumerate() {
+        if !free {
+            continue;
+        }
+        let p = DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
+        // Only points that end inside move: one the layers carry clean through
+        // a thin collider within a frame is not caught (stopping every path at
+        // the first surface, `slide_along`, tore cloth swung past a table's edge).
+        let q = if has_before {
+            let from = DVec3::new(before.x[k].into(), before.y[k].into(), before.z[k].into());
+            push_out_along(&near, from, p)
+        } else {
+            push_out(&near, p)
+        };
+        if q == p {
+            continue;
+        }
+        // Rounded to f32 the point may land a hair inside; nudge it out by a micrometre.
+        let q = q + (q - p).normalize_or_zero() * 1e-6;
+        (points.x[k], points.y[k], points.z[k]) = (q.x as f32, q.y as f32, q.z as f32);
+    }
+}
+
+/// The box around the finite points, if any.
+fn bounds(points: &PointArrays) -> Option<(DVec3, DVec3)> {
+    let (mut min, mut max) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for k in 0..points.len() {
+        let p = DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
+        if p.is_finite() {
+            min = min.min(p);
+            max = max.max(p);
+        }
+    }
+    (min.x <= max.x).then_some((min, max))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DMat3, Vec3};
+
+    use super::*;
+    use crate::world::ColliderShape;
+
+    fn table() -> Obstacle {
+        let shape = ColliderShape::Box {
+            center: DVec3::new(0.0, 0.72, 0.0),
+            half: DVec3::new(0.6, 0.02, 0.4),
+            world_from_local: DMat3::IDENTITY,
+        };
+        Obstacle { shape, thickness: 0.003 }
+    }
+
+    #[test]
+    fn a_row_dipped_into_a_table_comes_back_onto_its_top_and_pins_stay() {
+        let before: Vec<Vec3> = (0..9).map(|i| Vec3::new(i as f32 * 0.1 - 0.4, 0.745, 0.0)).collect();
+        // A wave dips the row: the middle points sink past the top's middle plane.
+        let after: Vec<Vec3> =
+            before.iter().enumerate().map(|(i, p)| *p - Vec3::Y * 0.04 * (i as f32 * 0.39).sin()).collect();
+        let mut points = PointArrays::from_vec3s(&after);
+        let mut ratio = vec![1.0; 9];
+        ratio[0] = 0.0;
+        points.y[0] = 0.7; // a pin inside the table stays there
+        keep_out(&[table()], &ratio, &PointArrays::from_vec3s(&before), &mut points);
+        assert_eq!(points.y[0], 0.7);
+        for (k, dipped) in after.iter().enumerate().skip(1) {
+            let p = points.get(k);
+            assert!(table().shape.distance(p.as_dvec3()) >= 0.003 - 1e-6, "point {k} at {p}");
+            assert!(p.y > 0.74, "point {k} is on the top, not under it: {p}");
+            assert!((p.x - dipped.x).abs() < 1e-6, "slid straight up: {p}");
+        }
+    }
+
+    #[test]
+    fn points_outside_are_untouched_and_no_obstacles_change_nothing() {
+        let cloth: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f32, 2.0, 0.0)).collect();
+        let mut points = PointArrays::from_vec3s(&cloth);
+        let before = points.clone();
+        keep_out(&[table()], &[1.0; 4], &PointArrays::default(), &mut points);
+        assert_eq!(points, before);
+        keep_out(&[], &[1.0; 4], &PointArrays::default(), &mut points);
+        assert_eq!(points, before);
+    }
+}

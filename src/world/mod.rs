@@ -1,0 +1,12 @@
+//! The world around the cloth as geometry: colliders at one moment, with the
+//! distance and the outward direction from any point to their surface.
+//!
+//! Pure math on numbers already sampled at a frame (`animate::world_at`
+//! samples a scene's colliders): shape and animate use it to keep the cloth
+//! outside, render to draw it.
+
+mod collider_shape;
+mod push_out;
+
+pub use collider_shape::{ColliderShape, SurfacePoint};
+pub use push_out::{Obstacle, push_out, push_out_along, slide_along};
