@@ -39,6 +39,7 @@ fn tablecloth(n: u32) -> Scene {
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
             thickness: drape::scene::DEFAULT_THICKNESS_M,
+            friction: drape::scene::DEFAULT_FRICTION,
         }],
         layers: Vec::new(),
         view: None,

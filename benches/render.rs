@@ -9,7 +9,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use drape::animate::evaluate;
 use drape::render::camera::bounds;
 use drape::render::readback::read_texture;
-use drape::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
+use drape::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer, Solids};
 use drape::scene::{Cloth, Key, Pin, RelaxSettings, Scene, Timeline};
 
 const SIZE_PX: (u32, u32) = (1280, 720);
@@ -37,6 +37,7 @@ fn scene(n: u32) -> Scene {
             ease: Default::default(),
             inbetween_relax: 0,
             thickness: drape::scene::DEFAULT_THICKNESS_M,
+            friction: drape::scene::DEFAULT_FRICTION,
         }],
         layers: vec![],
         view: None,
@@ -56,7 +57,14 @@ fn render(c: &mut Criterion) {
         let camera = OrbitCamera::framing(lo, hi, SIZE_PX.0 as f32 / SIZE_PX.1 as f32);
         let options = RenderOptions { wireframe: false, ..RenderOptions::default() };
         let overlay = Overlay::default();
-        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay };
+        let input = FrameInput {
+            mesh: &mesh,
+            camera: &camera,
+            options: &options,
+            ghosts: &[],
+            overlay: &overlay,
+            solids: &Solids::NONE,
+        };
         let mut renderer = Renderer::new(device, queue);
         let target = OffscreenTarget::new(device, SIZE_PX);
         group.bench_function(format!("{n}x{n} at 1280x720 draw"), |b| {

@@ -28,6 +28,7 @@ fn four_corner_key(n: u32) -> Key {
         ease: Ease::EaseInOut,
         inbetween_relax: 0,
         thickness: drape::scene::DEFAULT_THICKNESS_M,
+        friction: drape::scene::DEFAULT_FRICTION,
     }
 }
 
@@ -85,5 +86,26 @@ fn approximation(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, rest_shape, many_pins, approximation);
+/// A 1.6 × 1.2 m tablecloth on a 64 × 64 grid pinned at four points on a
+/// 1.2 × 0.8 m table top: the key falls onto the table (the colliders issue's
+/// "rest shape on a table", here with pins: keys without pins are not read yet).
+fn on_a_table(c: &mut Criterion) {
+    let mut group = c.benchmark_group("rest_shape_on_a_table");
+    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));
+    let n = 64u32;
+    let cloth = Cloth::new((1.6, 1.2), (n, n));
+    let at = |i: u32, j: u32, x: f64, z: f64| Pin { grid: (i, j), pos: (x, 0.743, z) };
+    let (a, b) = (n * 3 / 8, n * 5 / 8);
+    let key = Key { pins: vec![at(a, a, -0.2, -0.15), at(b, a, 0.2, -0.15), at(a, b, -0.2, 0.15), at(b, b, 0.2, 0.15)], ..four_corner_key(n) };
+    let colliders = "[Box((center: (0.0, 0.72, 0.0), size: (1.2, 0.04, 0.8))), Ground(())]";
+    let text = format!("(version: 1, cloth: (size: (1.6, 1.2), grid: ({n}, {n})), keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0, 1, 0))])], colliders: {colliders})");
+    let scene = drape::scene::parse(&text, "bench").expect("a valid scene");
+    let obstacles = drape::animate::key_obstacles(&scene, &key);
+    let build = || drape::animate::KeyShape::build(&cloth, &key, &obstacles);
+    assert!(build().rest.relax_report.converged, "the tablecloth must settle to be measured");
+    group.bench_function("64x64 four pins", |b| b.iter(|| black_box(build())));
+    group.finish();
+}
+
+criterion_group!(benches, rest_shape, many_pins, approximation, on_a_table);
 criterion_main!(benches);

@@ -131,6 +131,9 @@ enum Command {
         /// Draw the key's triangulation of its pins on the cloth.
         #[arg(long)]
         triangulation: bool,
+        /// Leave the scene's colliders out of the picture (they still shape the cloth).
+        #[arg(long)]
+        no_colliders: bool,
         /// Write a sequence or GIF even when its estimated size is over 8 GiB or over the free space on the disk.
         #[arg(long)]
         force: bool,
@@ -190,8 +193,20 @@ fn main() -> ExitCode {
             let request = export_command::ExportRequest { frame, frames, format, stage, layers: !no_layers, force };
             export_command::export(&scene, &output, request)
         }
-        Command::Render { scene, output, frame, frames, size, wireframe, pins, catenaries, triangulation, force } => {
-            let overlays = SceneOverlays { wireframe, pins, catenaries, triangulation };
+        Command::Render {
+            scene,
+            output,
+            frame,
+            frames,
+            size,
+            wireframe,
+            pins,
+            catenaries,
+            triangulation,
+            no_colliders,
+            force,
+        } => {
+            let overlays = SceneOverlays { wireframe, pins, catenaries, triangulation, hide_colliders: no_colliders };
             let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, force };
             render_command::render(&scene, &output, request)
         }

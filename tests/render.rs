@@ -15,7 +15,7 @@ use drape::picture::{SceneOverlays, SceneRenderer, render_scene_frame};
 use drape::render::headless::render_mesh;
 use drape::render::overlay::colors;
 use drape::render::pipelines::SHADER_SOURCES;
-use drape::render::{FrameInput, Ghost, GpuContext, OrbitCamera, Overlay, PinState, RenderOptions};
+use drape::render::{FrameInput, Ghost, GpuContext, OrbitCamera, Overlay, PinState, RenderOptions, Solids};
 use drape::scene::{self, ClothTexture};
 
 const GOLDEN_SIZE: (u32, u32) = (320, 180);
@@ -171,7 +171,8 @@ fn every_scene_in_the_folder_has_golden_images() {
 
 #[test]
 fn overlays_match_their_golden_image() {
-    let overlays = SceneOverlays { wireframe: true, pins: true, catenaries: true, triangulation: false };
+    let overlays =
+        SceneOverlays { wireframe: true, pins: true, catenaries: true, triangulation: false, hide_colliders: false };
     let image = render_scene("tent", &[0], overlays).remove(0);
     assert_matches_golden("tent_overlays_f0000", &image);
     // The triangulation alone, through the one-call API on a scene frame.
@@ -202,7 +203,14 @@ fn textures_and_ghosts_match_their_golden_image() {
     for texture in [ClothTexture::Carpet, ClothTexture::Checker] {
         let options = RenderOptions::default().with_texture(texture);
         let overlay = Overlay::default();
-        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &ghosts, overlay: &overlay };
+        let input = FrameInput {
+            mesh: &mesh,
+            camera: &camera,
+            options: &options,
+            ghosts: &ghosts,
+            overlay: &overlay,
+            solids: &Solids::NONE,
+        };
         let image = render_mesh(Some(&context()), input, GOLDEN_SIZE).unwrap();
         assert_matches_golden(&format!("magic_carpet_{texture:?}_ghosts_f0040").to_lowercase(), &image);
     }
@@ -227,7 +235,14 @@ fn assert_pins_project_onto_their_dots(name: &str) {
         let grid = (pin.grid.0 as usize, pin.grid.1 as usize);
         let mut overlay = Overlay::default();
         overlay.add_pins(&mesh, [(grid, PinState::Normal)]);
-        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay };
+        let input = FrameInput {
+            mesh: &mesh,
+            camera: &camera,
+            options: &options,
+            ghosts: &[],
+            overlay: &overlay,
+            solids: &Solids::NONE,
+        };
         let image = render_mesh(Some(&context()), input, size).unwrap();
         let world = mesh.positions[grid.1 * mesh.cols + grid.0];
         let pixel = camera.project(world, size).expect("the pin is in front of the camera");
@@ -392,7 +407,8 @@ fn a_pin_behind_the_cloth_shows_faintly() {
     let mut with_pin = Overlay::default();
     with_pin.add_pins(&mesh, [((0, 0), PinState::Normal)]);
     let picture = |overlay: &Overlay| {
-        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay };
+        let input =
+            FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay, solids: &Solids::NONE };
         render_mesh(Some(&context()), input, size).unwrap().pixel(x, y)
     };
     let (without, with) = (picture(&Overlay::default()), picture(&with_pin));

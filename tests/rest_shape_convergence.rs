@@ -43,6 +43,7 @@ impl Setup {
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
             thickness: drape::scene::DEFAULT_THICKNESS_M,
+            friction: drape::scene::DEFAULT_FRICTION,
         }
     }
 

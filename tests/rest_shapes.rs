@@ -21,6 +21,7 @@ fn key(pins: &[PinSpec], elasticity: f64, stiffness: f64, iterations: u32) -> Ke
         ease: Ease::EaseInOut,
         inbetween_relax: 0,
         thickness: drape::scene::DEFAULT_THICKNESS_M,
+        friction: drape::scene::DEFAULT_FRICTION,
     }
 }
 

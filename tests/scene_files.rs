@@ -44,7 +44,8 @@ const MALFORMED: &[(&str, &str)] = &[
     (
         "unknown_field.ron",
         "tests/data/malformed/unknown_field.ron:12:13: unknown field `elastisity` in key \
-         (expected one of: frame, pins, elasticity, stiffness, relax, ease, inbetween_relax, thickness)",
+         (expected one of: frame, pins, elasticity, stiffness, relax, ease, inbetween_relax, thickness, \
+         friction)",
     ),
     (
         "unknown_ease.ron",
@@ -570,10 +571,18 @@ fn key() -> impl Strategy<Value = Key> {
         finite(),
         (any::<u32>(), finite()),
         ease(),
-        (any::<u32>(), finite()),
+        (any::<u32>(), finite(), finite()),
     )
         .prop_map(
-            |(frame, pins, elasticity, stiffness, (iterations, tolerance), ease, (inbetween_relax, thickness))| Key {
+            |(
+                frame,
+                pins,
+                elasticity,
+                stiffness,
+                (iterations, tolerance),
+                ease,
+                (inbetween_relax, thickness, friction),
+            )| Key {
                 frame,
                 pins,
                 elasticity,
@@ -582,6 +591,7 @@ fn key() -> impl Strategy<Value = Key> {
                 ease,
                 inbetween_relax,
                 thickness,
+                friction,
             },
         )
 }

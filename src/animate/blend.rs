@@ -152,6 +152,7 @@ mod tests {
             ease,
             inbetween_relax: 0,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
+            friction: crate::scene::DEFAULT_FRICTION,
         }
     }
 

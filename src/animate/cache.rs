@@ -77,8 +77,9 @@ struct ShapeInputs {
     stiffness_bits: u64,
     iterations: u32,
     tolerance_bits: u64,
-    /// The obstacles' numbers, bit for bit.
+    /// The obstacles' numbers, bit for bit, and the friction on them.
     obstacles: Vec<u64>,
+    friction_bits: u64,
 }
 
 /// The colliders a key's rest shape lies among: the scene's at the key's frame.
@@ -133,6 +134,8 @@ impl ShapeInputs {
             iterations: key.relax.iterations,
             tolerance_bits: key.relax.tolerance.to_bits(),
             obstacles: obstacle_bits(obstacles),
+            // Friction only matters among obstacles: without any, a change keeps the shape.
+            friction_bits: if obstacles.is_empty() { 0 } else { key.friction.to_bits() },
         }
     }
 }
@@ -245,6 +248,7 @@ mod tests {
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
+            friction: crate::scene::DEFAULT_FRICTION,
         }
     }
 

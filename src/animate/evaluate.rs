@@ -58,6 +58,10 @@ pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
     frame / timeline.fps
 }
 
+/// Rounds of keeping out of the colliders and limiting the stretch before
+/// the last keep-out: each round shortens what the push lengthened.
+const CONTACT_ROUNDS: usize = 3;
+
 /// Evaluates scenes, keeping the rest-shape cache and scratch buffers
 /// between calls. Its results equal [`evaluate`]'s bit for bit: the cache only
 /// saves work.
@@ -73,6 +77,8 @@ pub struct Evaluator {
     stretch_limiter: StretchLimiter,
     /// The blend before the layers, kept when colliders need to know where a point came from.
     before_layers: PointArrays,
+    /// Points pinned in both keys around the frame (only with colliders).
+    held: Vec<bool>,
 }
 
 impl Evaluator {
@@ -194,10 +200,18 @@ impl Evaluator {
             let segment = segment_at(&scene.keys, frame);
             blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
             let obstacles = obstacles_at(scene, frame);
+            let (a, b) = match segment {
+                Segment::Hold(index) => (index, index),
+                Segment::Between { from, .. } => (from, from + 1),
+            };
+            self.held.clear();
             if obstacles.is_empty() {
                 self.before_layers = PointArrays::default();
             } else {
                 self.before_layers.clone_from(points);
+                // Only points pinned at both ends of the segment stay put; one
+                // being let go or caught is cloth, and keeps out like cloth.
+                self.held.extend(shapes[a].pinned.iter().zip(&shapes[b].pinned).map(|(p, q)| *p && *q));
             }
             self.attenuation.clear();
             if options.layers {
@@ -240,23 +254,22 @@ impl Evaluator {
                         ),
                     }
                 }
-                let (a, b) = match segment {
-                    Segment::Hold(index) => (index, index),
-                    Segment::Between { from, .. } => (from, from + 1),
-                };
                 let reaches = [&shapes[a].reach, &shapes[b].reach];
                 let reaches = if a == b { &reaches[..1] } else { &reaches[..] };
                 let limit = scene.cloth.stretch_limit as f32;
+                self.stretch_limiter.set_obstacles(&obstacles);
                 self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, reaches, points);
-                if !obstacles.is_empty() {
-                    // Pushing points out of a collider can lengthen the edges
-                    // around them: limit once more, and keep out again (last, so
-                    // nothing ends inside).
-                    keep_out(&obstacles, &self.ratio, &self.before_layers, points);
+                // Pushing points out of a collider can lengthen the edges around
+                // them, and the limit can pull points back in: alternate, and
+                // keep out last, so nothing ends inside.
+                for _ in 0..CONTACT_ROUNDS {
+                    if !keep_out(&obstacles, &self.held, &self.before_layers, points) {
+                        break;
+                    }
                     self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, reaches, points);
                 }
             }
-            keep_out(&obstacles, &self.ratio, &self.before_layers, points);
+            keep_out(&obstacles, &self.held, &self.before_layers, points);
         }
         // The mesh's positions and normals, interleaved row by row.
         let interleave = |out: &mut Vec<Vec3>, [x, y, z]: [&[f32]; 3]| {

@@ -136,6 +136,7 @@ mod tests {
                 ease: Ease::Linear,
                 inbetween_relax: 0,
                 thickness: crate::scene::DEFAULT_THICKNESS_M,
+                friction: crate::scene::DEFAULT_FRICTION,
             }
         };
         (cloth, vec![key(0, 0.0), key(12, travel_m)])

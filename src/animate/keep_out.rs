@@ -8,33 +8,33 @@
 //! there ([`crate::world::push_out_along`]). Neighbours that went in
 //! together come out together, onto one smooth surface, so a wave that dips
 //! into a table top flattens on it instead of poking through its underside.
-//! Pins stay where the animator put them, inside a collider or not.
+//! Pins stay where the animator put them, inside a collider or not; a pin
+//! in one key only is being let go or caught, and keeps out like cloth.
 
 use glam::DVec3;
 
 use crate::mesh::PointArrays;
 use crate::world::{Obstacle, push_out, push_out_along};
 
-/// Moves every free point of `points` (`ratio` > 0) out of `obstacles`, the
-/// way it came from the same point of `before` (equal lengths; an empty
-/// `before` means "from where it is"). Points outside every obstacle are
-/// left bit for bit as they are.
-pub fn keep_out(obstacles: &[Obstacle], ratio: &[f32], before: &PointArrays, points: &mut PointArrays) {
+/// Moves every point of `points` not `held` (pinned in both keys around
+/// the frame) out of `obstacles`, the way it came from the same point of
+/// `before` (equal lengths; an empty `before` means "from where it is").
+/// Points outside every obstacle are left bit for bit as they are. Returns
+/// whether any point moved.
+pub fn keep_out(obstacles: &[Obstacle], held: &[bool], before: &PointArrays, points: &mut PointArrays) -> bool {
     let n = points.len();
-    if obstacles.is_empty() || n == 0 || ratio.len() != n {
-        return;
+    if obstacles.is_empty() || n == 0 || held.len() != n {
+        return false;
     }
-    let Some((min, max)) = bounds(points) else { return };
+    let Some((min, max)) = bounds(points) else { return false };
     // Only the obstacles the cloth can touch this frame.
     let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).copied().collect();
     if near.is_empty() {
-        return;
+        return false;
     }
+    let mut moved = false;
     let has_before = before.len() == n;
-    for (k, free) in ratio.iter().map(|r| *r > 0.0).enumerate() {
-        if !free {
-            continue;
-        }
+    for (k, _) in held.iter().enumerate().filter(|(_, held)| !**held) {
         let p = DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
         // Only points that end inside move: one the layers carry clean through
         // a thin collider within a frame is not caught (stopping every path at
@@ -51,7 +51,9 @@ pub fn keep_out(obstacles: &[Obstacle], ratio: &[f32], before: &PointArrays, poi
         // Rounded to f32 the point may land a hair inside; nudge it out by a micrometre.
         let q = q + (q - p).normalize_or_zero() * 1e-6;
         (points.x[k], points.y[k], points.z[k]) = (q.x as f32, q.y as f32, q.z as f32);
+        moved = true;
     }
+    moved
 }
 
 /// The box around the finite points, if any.
@@ -90,10 +92,10 @@ mod tests {
         let after: Vec<Vec3> =
             before.iter().enumerate().map(|(i, p)| *p - Vec3::Y * 0.04 * (i as f32 * 0.39).sin()).collect();
         let mut points = PointArrays::from_vec3s(&after);
-        let mut ratio = vec![1.0; 9];
-        ratio[0] = 0.0;
+        let mut held = vec![false; 9];
+        held[0] = true;
         points.y[0] = 0.7; // a pin inside the table stays there
-        keep_out(&[table()], &ratio, &PointArrays::from_vec3s(&before), &mut points);
+        keep_out(&[table()], &held, &PointArrays::from_vec3s(&before), &mut points);
         assert_eq!(points.y[0], 0.7);
         for (k, dipped) in after.iter().enumerate().skip(1) {
             let p = points.get(k);
@@ -108,9 +110,9 @@ mod tests {
         let cloth: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f32, 2.0, 0.0)).collect();
         let mut points = PointArrays::from_vec3s(&cloth);
         let before = points.clone();
-        keep_out(&[table()], &[1.0; 4], &PointArrays::default(), &mut points);
+        keep_out(&[table()], &[false; 4], &PointArrays::default(), &mut points);
         assert_eq!(points, before);
-        keep_out(&[], &[1.0; 4], &PointArrays::default(), &mut points);
+        keep_out(&[], &[false; 4], &PointArrays::default(), &mut points);
         assert_eq!(points, before);
     }
 }

@@ -30,6 +30,7 @@
 //! result depends on the frame alone, like every other step of `evaluate`.
 
 use crate::mesh::PointArrays;
+use crate::world::{Obstacle, push_out};
 
 /// Passes of cyclic projection onto a point's leaders' reach: one suffices
 /// with one leader; two or more leaders rarely need more than three.
@@ -72,6 +73,9 @@ pub struct StretchLimiter {
     /// every point. `marks` is the current pass's set.
     next_marks: Vec<u64>,
     marks: Vec<u64>,
+    /// Colliders the limit keeps points out of as it moves them (see
+    /// [`StretchLimiter::set_obstacles`]); none by default.
+    obstacles: Vec<Obstacle>,
 }
 
 /// What one key shape allows its edges: the rest lengths, and the length of
@@ -105,6 +109,15 @@ impl EdgeReach {
 }
 
 impl StretchLimiter {
+    /// The colliders every point the limit moves is kept out of (the nearest
+    /// way), so that pulling an edge short never pulls it into a table: the
+    /// limit and the contact agree instead of undoing each other. Empty:
+    /// none, and the result is exactly as without.
+    pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) {
+        self.obstacles.clear();
+        self.obstacles.extend_from_slice(obstacles);
+    }
+
     /// Pulls `points` (a `cols × rows` grid) so that every structural edge
     /// is at most `(1 + limit)` × the larger rest length in `reaches` (the
     /// key shapes around the frame), or as long as it is in one of those
@@ -223,6 +236,7 @@ impl StretchLimiter {
                 lead(k + cols, self.allowed2_v[k]);
             }
             let mut p = [x[k], y[k], z[k]];
+            let moved = count > 0;
             for _ in 0..MAX_PASSES {
                 let mut within = true;
                 for &(q, allowed2) in &leaders[..count] {
@@ -233,6 +247,9 @@ impl StretchLimiter {
                         p = [x[q] + d[0] * scale, y[q] + d[1] * scale, z[q] + d[2] * scale];
                         within = false;
                     }
+                }
+                if moved && !within && !self.obstacles.is_empty() {
+                    p = kept_out(&self.obstacles, p);
                 }
                 if within {
                     break;
@@ -301,6 +318,11 @@ impl StretchLimiter {
                         a[k] += d[axis] * cut_k;
                         a[q] -= d[axis] * cut_q;
                     }
+                    if !self.obstacles.is_empty() {
+                        for end in [k, q].into_iter().filter(|&end| ratio[end] > 0.0) {
+                            [x[end], y[end], z[end]] = kept_out(&self.obstacles, [x[end], y[end], z[end]]);
+                        }
+                    }
                     // Both ends moved: every edge of theirs is checked again next pass.
                     for moved in [k, q] {
                         let (i, j) = (moved % cols, moved / cols);
@@ -368,6 +390,17 @@ impl StretchLimiter {
             }
         }
     }
+}
+
+/// `p` moved out of `obstacles` the nearest way (unchanged if outside).
+fn kept_out(obstacles: &[Obstacle], p: [f32; 3]) -> [f32; 3] {
+    let at = glam::DVec3::new(p[0].into(), p[1].into(), p[2].into());
+    if obstacles.iter().all(|o| o.shape.distance(at) >= o.thickness) {
+        return p;
+    }
+    let q = push_out(obstacles, at);
+    let q = q + (q - at).normalize_or_zero() * 1e-6;
+    [q.x as f32, q.y as f32, q.z as f32]
 }
 
 /// The longest structural edge of a `cols × rows` grid against its rest

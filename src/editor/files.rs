@@ -93,6 +93,7 @@ pub fn new_scene() -> Scene {
             ease: Ease::EaseInOut,
             inbetween_relax: 0,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
+            friction: crate::scene::DEFAULT_FRICTION,
         }],
         layers: Vec::new(),
         view: None,

@@ -11,7 +11,7 @@ use eframe::egui_wgpu::{self, CallbackResources, CallbackTrait, ScreenDescriptor
 
 use crate::mesh::Mesh;
 use crate::render::compose::Compositor;
-use crate::render::{FrameInput, Ghost, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
+use crate::render::{FrameInput, Ghost, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer, Solids};
 
 struct ViewportResources {
     renderer: Renderer,
@@ -37,6 +37,8 @@ pub struct ViewportFrame {
     pub overlay: Arc<Overlay>,
     /// Onion-skin ghosts.
     pub ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
+    /// The scene's colliders at the frame shown.
+    pub solids: Arc<Solids>,
     /// The viewport's size in physical pixels.
     pub size_px: (u32, u32),
 }
@@ -63,6 +65,7 @@ impl CallbackTrait for ViewportFrame {
             options: &self.options,
             ghosts: &ghosts,
             overlay: &self.overlay,
+            solids: &self.solids,
         };
         resources.renderer.prepare(device, queue, resources.target.size_px(), input);
         resources.renderer.encode(encoder, &resources.target);

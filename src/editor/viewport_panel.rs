@@ -15,10 +15,10 @@ use super::shown::OnionSkin;
 use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
-use crate::picture::{SceneOverlays, key_overlay};
+use crate::picture::{SceneOverlays, collider_solids, key_overlay};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
-use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions};
+use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions, Solids};
 use crate::scene::{ClothTexture, Layer};
 
 /// What the viewport shows besides the cloth.
@@ -34,6 +34,29 @@ pub struct ViewToggles {
     pub onion: bool,
     pub onion_frames: u32,
     pub onion_spacing: u32,
+    pub colliders: CollidersLook,
+}
+
+/// How the viewport draws the scene's colliders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CollidersLook {
+    #[default]
+    Shaded,
+    /// Half transparent, so the cloth behind and under them shows.
+    SeeThrough,
+    Hidden,
+}
+
+impl CollidersLook {
+    pub const ALL: [CollidersLook; 3] = [CollidersLook::Shaded, CollidersLook::SeeThrough, CollidersLook::Hidden];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            CollidersLook::Shaded => "Shaded",
+            CollidersLook::SeeThrough => "See-through",
+            CollidersLook::Hidden => "Hidden",
+        }
+    }
 }
 
 impl Default for ViewToggles {
@@ -48,6 +71,7 @@ impl Default for ViewToggles {
             onion: false,
             onion_frames: 2,
             onion_spacing: 4,
+            colliders: CollidersLook::Shaded,
         }
     }
 }
@@ -247,6 +271,7 @@ impl ViewportPanel {
             options: self.render_options(w),
             overlay: Arc::new(self.overlay(w)),
             ghosts: w.shown.ghosts.clone(),
+            solids: Arc::new(self.solids(w)),
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
@@ -314,6 +339,7 @@ impl ViewportPanel {
             pins: self.toggles.pins && self.pin_drag.is_none(),
             catenaries: self.toggles.catenaries || network,
             triangulation: self.toggles.triangulation || network,
+            hide_colliders: true,
         };
         let session = &w.session;
         let state = |grid: (u32, u32)| {
@@ -404,6 +430,16 @@ impl ViewportPanel {
         }
     }
 
+    /// The colliders of the shown scene at the playhead, as the View asks.
+    fn solids(&self, w: &Workspace) -> Solids {
+        let opacity = match self.toggles.colliders {
+            CollidersLook::Shaded => 1.0,
+            CollidersLook::SeeThrough => 0.35,
+            CollidersLook::Hidden => return Solids::NONE,
+        };
+        collider_solids(&w.shown.scene, w.frame(), opacity)
+    }
+
     fn render_options(&self, w: &Workspace) -> RenderOptions {
         let texture = if self.toggles.texture { w.shown.scene.cloth.texture } else { ClothTexture::Plain };
         RenderOptions {
@@ -433,6 +469,11 @@ impl ViewportPanel {
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
             ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
+        });
+        egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
+            for look in CollidersLook::ALL {
+                ui.selectable_value(&mut self.toggles.colliders, look, look.label());
+            }
         });
         // Always there (greyed out with onion skin off), so the panels below hold still.
         ui.add_enabled_ui(self.toggles.onion, |ui| {

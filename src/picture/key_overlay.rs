@@ -29,6 +29,9 @@ pub struct SceneOverlays {
     pub catenaries: bool,
     /// The key's triangulation of its pins, drawn on the surface.
     pub triangulation: bool,
+    /// Leaves the scene's colliders out of the picture (`--no-colliders`);
+    /// they are drawn by default.
+    pub hide_colliders: bool,
 }
 
 /// The overlays `show` asks for, for the key in effect at `frame`, drawn on

@@ -7,12 +7,15 @@
 //! - [`framing`]: the camera and ground that show every key of a scene;
 //! - [`key_overlay`](mod@key_overlay): the overlays of the key in effect (pins, catenary
 //!   network, triangulation) as plain lines and markers;
+//! - [`colliders`](mod@colliders): the scene's colliders at a frame as solids to draw;
 //! - [`scene_renderer`]: a scene at a frame to an image, frame after frame.
 
+pub mod colliders;
 pub mod framing;
 pub mod key_overlay;
 pub mod scene_renderer;
 
+pub use colliders::collider_solids;
 pub use framing::scene_bounds;
 pub use key_overlay::{SceneOverlays, key_overlay};
 pub use scene_renderer::{SceneRenderer, render_scene_frame};

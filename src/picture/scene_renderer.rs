@@ -7,9 +7,10 @@ use crate::mesh::Mesh;
 use crate::render::headless::RenderError;
 use crate::render::overlay::PinState;
 use crate::render::readback::read_texture;
-use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer};
+use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer, Solids};
 use crate::scene::Scene;
 
+use super::colliders::collider_solids;
 use super::framing::Framing;
 use super::key_overlay::{SceneOverlays, key_overlay};
 
@@ -82,12 +83,14 @@ impl SceneRenderer {
         self.framing.follow(&self.mesh);
         self.options.ground = Some(self.framing.ground);
         let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays, |_| PinState::Normal);
+        let solids = if self.overlays.hide_colliders { Solids::NONE } else { collider_solids(scene, frame, 1.0) };
         let input = FrameInput {
             mesh: &self.mesh,
             camera: &self.framing.camera,
             options: &self.options,
             ghosts: &[],
             overlay: &overlay,
+            solids: &solids,
         };
         self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
         Ok(read_texture(&self.context.device, &self.context.queue, self.target.resolved())?)

@@ -8,6 +8,7 @@
 //! - [`renderer`]: pipelines and buffers; draws a mesh, ghosts and overlays into a target;
 //! - [`target`]: the 4× MSAA offscreen target with depth, resolved to sRGB;
 //! - [`overlay`]: line segments and markers drawn over the cloth, pins among them;
+//! - [`solids`]: shapes drawn beside the cloth (colliders), opaque or see-through;
 //! - [`headless`]: one call from a mesh to an image; [`readback`]: a texture back to the CPU;
 //! - [`compose`]: copies a finished picture into another render pass (the editor's window).
 
@@ -20,6 +21,7 @@ pub mod overlay;
 pub mod pipelines;
 pub mod readback;
 pub mod renderer;
+pub mod solids;
 pub mod target;
 pub mod textures;
 pub mod uniforms;
@@ -28,4 +30,5 @@ pub use camera::OrbitCamera;
 pub use context::{ContextError, GpuContext};
 pub use overlay::{Overlay, PinState};
 pub use renderer::{FrameInput, Ghost, Ground, RenderOptions, Renderer};
+pub use solids::Solids;
 pub use target::OffscreenTarget;

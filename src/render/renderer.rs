@@ -13,6 +13,7 @@ use super::camera::OrbitCamera;
 use super::gpu_mesh::GpuMesh;
 use super::overlay::Overlay;
 use super::pipelines::{Pipelines, SHADOW_FORMAT};
+use super::solids::Solids;
 use super::target::OffscreenTarget;
 use super::textures;
 use super::uniforms::{FrameUniform, MaterialUniform, SHADOW_MAP_PX, shadow_clip_from_world};
@@ -129,6 +130,8 @@ pub struct FrameInput<'a> {
     pub options: &'a RenderOptions,
     pub ghosts: &'a [Ghost<&'a Mesh>],
     pub overlay: &'a Overlay,
+    /// Drawn with the cloth; [`Solids::NONE`] for none.
+    pub solids: &'a Solids,
 }
 
 #[repr(C)]
@@ -179,6 +182,18 @@ impl GrowingBuffer {
     }
 }
 
+/// The solids' triangles, rewritten each picture, and their material.
+struct SolidBuffers {
+    positions: GrowingBuffer,
+    normals: GrowingBuffer,
+    uvs: GrowingBuffer,
+    indices: GrowingBuffer,
+    index_count: u32,
+    opaque: bool,
+    material: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
 /// A mesh with its own material: the cloth, or one ghost.
 struct MeshSlot {
     mesh: GpuMesh,
@@ -202,6 +217,7 @@ pub struct Renderer {
     segment_count: u32,
     markers: GrowingBuffer,
     marker_count: u32,
+    solids: SolidBuffers,
     wireframe: bool,
     ground: bool,
     background: wgpu::Color,
@@ -260,7 +276,35 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&clamp_sampler) },
             ],
         });
+        let solid_material = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solids material"),
+            size: std::mem::size_of::<MaterialUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let plain_view = &texture_views[0].1;
+        let solid_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solids material"),
+            layout: &pipelines.material_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: solid_material.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(plain_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&sampler) },
+            ],
+        });
+        let vertex = wgpu::BufferUsages::VERTEX;
+        let solids = SolidBuffers {
+            positions: GrowingBuffer::new(device, "solid positions", vertex, 4096),
+            normals: GrowingBuffer::new(device, "solid normals", vertex, 4096),
+            uvs: GrowingBuffer::new(device, "solid uvs", vertex, 4096),
+            indices: GrowingBuffer::new(device, "solid indices", wgpu::BufferUsages::INDEX, 4096),
+            index_count: 0,
+            opaque: true,
+            material: solid_material,
+            bind_group: solid_bind_group,
+        };
         Renderer {
+            solids,
             frame_uniform,
             frame_bind_group,
             sampler,
@@ -369,6 +413,30 @@ impl Renderer {
             .collect();
         self.markers.write(device, queue, bytemuck::cast_slice(&markers));
         self.marker_count = markers.len() as u32;
+        self.prepare_solids(device, queue, input.solids);
+    }
+
+    fn prepare_solids(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, solids: &Solids) {
+        let valid = solids.normals.len() == solids.positions.len()
+            && solids.indices.iter().all(|&i| (i as usize) < solids.positions.len());
+        if !valid || solids.is_empty() || !(solids.opacity > 0.0) {
+            self.solids.index_count = 0;
+            return;
+        }
+        let buffers = &mut self.solids;
+        buffers.positions.write(device, queue, bytemuck::cast_slice(&solids.positions));
+        buffers.normals.write(device, queue, bytemuck::cast_slice(&solids.normals));
+        buffers.uvs.write(device, queue, bytemuck::cast_slice(&vec![[0.0f32; 2]; solids.positions.len()]));
+        buffers.indices.write(device, queue, bytemuck::cast_slice(&solids.indices));
+        buffers.index_count = solids.indices.len() as u32;
+        buffers.opaque = solids.opacity >= 1.0;
+        let [r, g, b] = solids.color;
+        let material = MaterialUniform {
+            front_tint: [r, g, b, 1.0],
+            back_tint: [r, g, b, 1.0],
+            params: [0.0, solids.opacity.clamp(0.0, 1.0), 1.0, 0.0],
+        };
+        queue.write_buffer(&buffers.material, 0, bytemuck::bytes_of(&material));
     }
 
     fn update_slot(
@@ -415,6 +483,12 @@ impl Renderer {
                 pass.set_vertex_buffer(0, cloth.mesh.positions.slice(..));
                 pass.set_index_buffer(cloth.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..cloth.mesh.index_count, 0, 0..1);
+                let solids = &self.solids;
+                if solids.index_count > 0 && solids.opaque {
+                    pass.set_vertex_buffer(0, solids.positions.buffer.slice(..));
+                    pass.set_index_buffer(solids.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..solids.index_count, 0, 0..1);
+                }
             }
         }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -448,7 +522,19 @@ impl Renderer {
             pass.set_index_buffer(slot.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..slot.mesh.index_count, 0, 0..1);
         };
+        let solids = &self.solids;
+        let draw_solids = |pass: &mut wgpu::RenderPass| {
+            pass.set_bind_group(1, &solids.bind_group, &[]);
+            pass.set_vertex_buffer(0, solids.positions.buffer.slice(..));
+            pass.set_vertex_buffer(1, solids.normals.buffer.slice(..));
+            pass.set_vertex_buffer(2, solids.uvs.buffer.slice(..));
+            pass.set_index_buffer(solids.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..solids.index_count, 0, 0..1);
+        };
         pass.set_pipeline(&self.pipelines.cloth);
+        if solids.index_count > 0 && solids.opaque {
+            draw_solids(&mut pass);
+        }
         draw_mesh(&mut pass, cloth);
         if self.wireframe {
             pass.set_pipeline(&self.pipelines.wire);
@@ -460,6 +546,9 @@ impl Renderer {
         pass.set_pipeline(&self.pipelines.ghost);
         for slot in &self.ghosts[..self.ghost_count] {
             draw_mesh(&mut pass, slot);
+        }
+        if solids.index_count > 0 && !solids.opaque {
+            draw_solids(&mut pass);
         }
         if self.segment_count > 0 {
             pass.set_pipeline(&self.pipelines.segment);

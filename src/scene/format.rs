@@ -135,6 +135,7 @@ mod tests {
             ease,
             inbetween_relax: 3,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
+            friction: crate::scene::DEFAULT_FRICTION,
         };
         let animated = Param::Keys(
             Ease::ALL

@@ -192,6 +192,17 @@ pub struct Key {
     /// override it); at least 0.
     #[serde(default = "default_thickness")]
     pub thickness: f64,
+    /// How much the cloth holds where it rests on a collider: 0 slides off,
+    /// 1 and more hold (Coulomb's coefficient). At least 0.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+}
+
+/// The friction a key gets when its file names none.
+pub const DEFAULT_FRICTION: f64 = 0.5;
+
+pub fn default_friction() -> f64 {
+    DEFAULT_FRICTION
 }
 
 /// The thickness a key gets when its file names none: 3 mm.

@@ -71,6 +71,8 @@ pub const MAX_STRETCH_LIMIT: f64 = 10.0;
 pub const MAX_INBETWEEN_RELAX: u32 = 1000;
 /// Most colliders in a scene.
 pub const MAX_COLLIDERS: usize = 256;
+/// Largest friction coefficient.
+pub const MAX_FRICTION: f64 = 10.0;
 /// Largest thickness the cloth keeps from a collider (m).
 pub const MAX_THICKNESS_M: f64 = 0.1;
 
@@ -468,6 +470,18 @@ impl Checker {
                 ),
             );
         }
+        let friction_path = format!("{path}.friction");
+        if self.finite(&friction_path, &format!("friction in {at}"), key.friction)
+            && !(0.0..=MAX_FRICTION).contains(&key.friction)
+        {
+            self.push(
+                friction_path,
+                format!(
+                    "friction {} in {at} is out of range: it must be between 0 (slides off) and {MAX_FRICTION}",
+                    readable_number(key.friction)
+                ),
+            );
+        }
         if key.inbetween_relax > MAX_INBETWEEN_RELAX {
             self.push(
                 format!("{path}.inbetween_relax"),
@@ -667,6 +681,7 @@ mod tests {
                 ease: Ease::EaseInOut,
                 inbetween_relax: 0,
                 thickness: crate::scene::DEFAULT_THICKNESS_M,
+                friction: crate::scene::DEFAULT_FRICTION,
             }],
             layers: vec![],
             view: None,

@@ -5,11 +5,13 @@
 pub mod approximate;
 pub mod catenary;
 pub mod contact;
-pub mod lay_around;
+pub mod lay_flat;
 pub mod relax;
 pub mod rest_shape;
 
 pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
 pub use catenary::Catenary;
-pub use relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, relax, relax_among, relax_with};
+pub use relax::{
+    Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, refine_among, relax, relax_among, relax_with,
+};
 pub use rest_shape::RestShape;

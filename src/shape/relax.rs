@@ -60,10 +60,12 @@ use glam::DVec3;
 
 use crate::world::Obstacle;
 
+mod drape;
 mod kernel;
 mod layout;
 mod sweeper;
 
+pub use drape::{DrapeReport, drape_among};
 use sweeper::Sweeper;
 
 /// What relaxation needs to know about the fabric.
@@ -251,11 +253,24 @@ pub fn relax_among(
 /// for a few sweeps. Same guarantees as [`relax`]: pins never move, output is
 /// deterministic, non-finite moves are skipped.
 pub fn refine(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> RelaxReport {
+    refine_among(positions, cols, rows, pinned, params, &[], &mut |_| ControlFlow::Continue(()))
+        .expect("a control that never breaks never cancels")
+}
+
+/// [`refine`] among colliders, reporting to `control` after every sweep (see
+/// [`relax_among`] for how the colliders keep the cloth out).
+pub fn refine_among(
+    positions: &mut [DVec3],
+    cols: usize,
+    rows: usize,
+    pinned: &[bool],
+    params: &RelaxParams,
+    obstacles: &[Obstacle],
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<RelaxReport, Cancelled> {
     assert_eq!(positions.len(), cols * rows);
     assert_eq!(pinned.len(), cols * rows);
-    Sweeper::new(cols, rows, pinned, params, &[])
-        .run(positions, params, Settle::No, &mut |_| ControlFlow::Continue(()))
-        .expect("a control that never breaks never cancels")
+    Sweeper::new(cols, rows, pinned, params, obstacles).run(positions, params, Settle::No, control)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]

@@ -5,8 +5,8 @@ use std::ops::ControlFlow;
 use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
-use super::lay_around::lay_around;
-use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, relax_among};
+use super::lay_flat::lay_flat;
+use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_among};
 use crate::scene::{Cloth, Key};
 use crate::world::Obstacle;
 
@@ -42,9 +42,12 @@ impl RestShape {
         RestShape::build_among(cloth, key, &[], control)
     }
 
-    /// [`RestShape::build_with`] among colliders (the key's frame's): the
-    /// approximation is laid around them ([`lay_around`]) and relaxed
-    /// outside them ([`relax_among`]). No obstacles: the same as `build_with`.
+    /// [`RestShape::build_with`] among colliders (the key's frame's). If the
+    /// cloth relaxed without them comes within a collider's thickness (at a
+    /// point or along an edge), it is built again by falling onto them: it
+    /// starts flat in its pins' plane ([`lay_flat`]) and drops
+    /// ([`drape_among`]); the approximation is kept for display. Otherwise,
+    /// and with no obstacles, the same as `build_with`.
     pub fn build_among(
         cloth: &Cloth,
         key: &Key,
@@ -56,8 +59,6 @@ impl RestShape {
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = positions.clone();
-        let spacing = (grid.spacing_u_m, grid.spacing_v_m);
-        lay_around(&mut relaxed, (grid.cols, grid.rows), spacing, &pinned, obstacles);
         let params = RelaxParams {
             rest_u_m: grid.spacing_u_m * key.elasticity,
             rest_v_m: grid.spacing_v_m * key.elasticity,
@@ -65,7 +66,23 @@ impl RestShape {
             max_iterations: key.relax.iterations,
             tolerance: key.relax.tolerance,
         };
-        let relax_report = relax_among(&mut relaxed, grid.cols, grid.rows, &pinned, &params, obstacles, control)?;
+        let mut relax_report = relax_among(&mut relaxed, grid.cols, grid.rows, &pinned, &params, &[], control)?;
+        // Colliders the hanging cloth does not reach change nothing: a ground
+        // far below a curtain leaves its shape bit for bit as without.
+        if touches(&relaxed, (grid.cols, grid.rows), obstacles) {
+            relaxed.copy_from_slice(&positions);
+            let spacing = (grid.spacing_u_m, grid.spacing_v_m);
+            lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
+            let fall =
+                drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
+            relax_report = RelaxReport {
+                iterations: fall.steps,
+                last_move: fall.last_move_m / params.rest_u_m.min(params.rest_v_m),
+                last_move_m: fall.last_move_m,
+                converged: fall.settled,
+                coarse_capped: false,
+            };
+        }
         Ok(RestShape {
             grid,
             elasticity: key.elasticity,
@@ -84,6 +101,23 @@ impl RestShape {
     pub fn rest_v_m(&self) -> f64 {
         self.grid.spacing_v_m * self.elasticity
     }
+}
+
+/// Edges are checked against the colliders at this many equal parts.
+const EDGE_SAMPLES: usize = 4;
+
+/// Whether any point of `positions` (a grid), or any point along one of its
+/// edges, is nearer an obstacle than its thickness.
+fn touches(positions: &[DVec3], (cols, rows): (usize, usize), obstacles: &[Obstacle]) -> bool {
+    let near = |p: DVec3| obstacles.iter().any(|o| o.shape.distance(p) < o.thickness);
+    (0..cols * rows).any(|k| {
+        let (i, j) = (k % cols, k / cols);
+        let ends = [(i + 1 < cols).then(|| k + 1), (j + 1 < rows).then(|| k + cols)];
+        near(positions[k])
+            || ends.into_iter().flatten().any(|q| {
+                (1..EDGE_SAMPLES).any(|t| near(positions[k].lerp(positions[q], t as f64 / EDGE_SAMPLES as f64)))
+            })
+    })
 }
 
 /// A key's pins as the approximation takes them.

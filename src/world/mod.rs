@@ -7,6 +7,8 @@
 
 mod collider_shape;
 mod push_out;
+mod tessellate;
 
 pub use collider_shape::{ColliderShape, SurfacePoint};
 pub use push_out::{Obstacle, push_out, push_out_along, slide_along};
+pub use tessellate::TriangleMesh;

@@ -8,7 +8,7 @@ use super::kernel::{Bound, apply, coast, move_point, nudge, point_steps, run_ste
 use super::layout::{BorderChunk, EdgeRun, LANES, Lanes, NEIGHBOURS, Run, STEPS, Split};
 use glam::DVec3;
 
-use crate::world::{Obstacle, push_out};
+use crate::world::{Obstacle, slide_along};
 
 use super::{
     Cancelled, GRAVITY_BIAS, MAX_SHEAR_DEG, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport,
@@ -34,6 +34,8 @@ pub(super) struct Sweeper {
     /// What the cloth must stay out of, and its free points to check.
     obstacles: Vec<Obstacle>,
     free: Vec<(usize, usize)>,
+    /// The free points' positions before the current sweep.
+    before: Vec<DVec3>,
 }
 
 impl Sweeper {
@@ -140,6 +142,7 @@ impl Sweeper {
             border,
             steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
             obstacles: obstacles.to_vec(),
+            before: Vec::new(),
             free: if obstacles.is_empty() {
                 Vec::new()
             } else {
@@ -234,6 +237,7 @@ impl Sweeper {
             let settling = iteration < settle_sweeps;
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
+            self.remember();
             for colour in 0..4 {
                 for run in self.runs[colour].iter().chain(self.edge_runs[colour].iter().map(|e| &e.run)) {
                     coast(&mut self.position, &self.velocity, run);
@@ -343,24 +347,40 @@ impl Sweeper {
         }
     }
 
-    /// Free points closer to an obstacle than its thickness go out the
-    /// nearest way and stop (their velocity is dropped), as cloth does on
-    /// what it lands on. Their move is not a constraint's and is not
-    /// counted towards convergence.
+    /// Remembers where the free points are before a sweep moves them, so
+    /// [`Sweeper::keep_out`] can follow each point's path (only with obstacles).
+    fn remember(&mut self) {
+        if self.obstacles.is_empty() {
+            return;
+        }
+        let [px, py, pz] = &self.position;
+        self.before.clear();
+        self.before.extend(self.free.iter().map(|&(i, j)| DVec3::new(px.get(i, j), py.get(i, j), pz.get(i, j))));
+    }
+
+    /// A free point whose move this sweep entered an obstacle (came closer
+    /// than its thickness, or passed through a thin one) stops where it
+    /// touched and slides along the surface ([`slide_along`]); it keeps the
+    /// part of its velocity along the surface, as cloth slides on what it
+    /// lands on. The push is not a constraint's move and is not counted
+    /// towards convergence.
     fn keep_out(&mut self) {
         if self.obstacles.is_empty() {
             return;
         }
         let [px, py, pz] = &mut self.position;
         let [vx, vy, vz] = &mut self.velocity;
-        for &(i, j) in &self.free {
+        for (&(i, j), &from) in self.free.iter().zip(&self.before) {
             let p = DVec3::new(px.get(i, j), py.get(i, j), pz.get(i, j));
-            if self.obstacles.iter().all(|o| o.shape.distance(p) >= o.thickness) {
+            let q = slide_along(&self.obstacles, from, p);
+            if q == p {
                 continue;
             }
-            let q = push_out(&self.obstacles, p);
             (*px.get_mut(i, j), *py.get_mut(i, j), *pz.get_mut(i, j)) = (q.x, q.y, q.z);
-            (*vx.get_mut(i, j), *vy.get_mut(i, j), *vz.get_mut(i, j)) = (0.0, 0.0, 0.0);
+            let outward = (q - p).normalize_or_zero();
+            let v = DVec3::new(vx.get(i, j), vy.get(i, j), vz.get(i, j));
+            let v = v - outward * v.dot(outward).min(0.0);
+            (*vx.get_mut(i, j), *vy.get_mut(i, j), *vz.get_mut(i, j)) = (v.x, v.y, v.z);
         }
     }
 
