@@ -96,9 +96,14 @@ fn on_a_table(c: &mut Criterion) {
     let cloth = Cloth::new((1.6, 1.2), (n, n));
     let at = |i: u32, j: u32, x: f64, z: f64| Pin { grid: (i, j), pos: (x, 0.743, z) };
     let (a, b) = (n * 3 / 8, n * 5 / 8);
-    let key = Key { pins: vec![at(a, a, -0.2, -0.15), at(b, a, 0.2, -0.15), at(a, b, -0.2, 0.15), at(b, b, 0.2, 0.15)], ..four_corner_key(n) };
+    let key = Key {
+        pins: vec![at(a, a, -0.2, -0.15), at(b, a, 0.2, -0.15), at(a, b, -0.2, 0.15), at(b, b, 0.2, 0.15)],
+        ..four_corner_key(n)
+    };
     let colliders = "[Box((center: (0.0, 0.72, 0.0), size: (1.2, 0.04, 0.8))), Ground(())]";
-    let text = format!("(version: 1, cloth: (size: (1.6, 1.2), grid: ({n}, {n})), keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0, 1, 0))])], colliders: {colliders})");
+    let text = format!(
+        "(version: 1, cloth: (size: (1.6, 1.2), grid: ({n}, {n})), keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0, 1, 0))])], colliders: {colliders})"
+    );
     let scene = drape::scene::parse(&text, "bench").expect("a valid scene");
     let obstacles = drape::animate::key_obstacles(&scene, &key);
     let build = || drape::animate::KeyShape::build(&cloth, &key, &obstacles);
