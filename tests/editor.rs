@@ -1185,3 +1185,26 @@ fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
     assert_eq!(harness.state().scene().keys[0].pins.len(), pins);
     assert_eq!(harness.state().selection(), [(0, 0)]);
 }
+
+/// Among colliders the fabric shows the key's thickness and friction; a
+/// change is one undo step and re-shapes the key. Scenes without colliders
+/// keep their rows (no Friction there).
+#[test]
+fn the_fabric_of_a_scene_with_colliders_sets_friction_and_thickness() {
+    let workspace = Workspace::new();
+    let carpet = open_carpet(&workspace);
+    assert!(carpet.query_by_label("Friction").is_none(), "no colliders, no friction row");
+    drop(carpet);
+    let table = scene::load(std::path::Path::new("scenes/tablecloth_pull.ron")).unwrap();
+    let mut harness = open_editor(&workspace, table, None);
+    harness.get_by_role_and_label(Role::Slider, "Friction").set_value_accesskit(1.2);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[0].friction, 1.2);
+    assert_eq!(harness.state().document().undo_label(), Some("Friction"));
+    settle(&mut harness);
+    assert_eq!(harness.state().shown_scene(), harness.state().scene(), "the key was shaped again");
+    assert!(harness.query_by_label("Thickness").is_some());
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[0].friction, 0.5, "undone");
+}

@@ -12,8 +12,8 @@ use super::grid_editor::GridEditor;
 use super::selection;
 use super::workspace::Workspace;
 use crate::scene::{
-    ClothTexture, Key, MAX_ELASTICITY, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE, MAX_STRETCH_LIMIT,
-    MIN_ELASTICITY, MIN_GRID_SIDE, Scene,
+    ClothTexture, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
+    MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Scene,
 };
 
 /// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
@@ -190,6 +190,25 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
         key_field(w, &r, "Relaxation tolerance", |k| k.relax.tolerance = tolerance);
         ui.end_row();
+
+        // Only where there is something to rest on, so other scenes' panels keep their rows.
+        if !w.doc.scene().colliders.is_empty() {
+            let mut thickness_mm = key.thickness * 1000.0;
+            let hint = "How far the cloth keeps from the colliders' surfaces (a collider may set its own).";
+            let label = ui.label("Thickness").on_hover_text(hint).id;
+            let field = number_field(&mut thickness_mm).range(0.0..=MAX_THICKNESS_M * 1000.0).speed(0.1).suffix(" mm");
+            let r = ui.add(field).labelled_by(label);
+            key_field(w, &r, "Thickness", |k| k.thickness = thickness_mm / 1000.0);
+            ui.end_row();
+
+            let mut friction = key.friction;
+            let hint = "How the cloth holds where it rests on a collider: 0 slides off, 1 holds well.";
+            let label = ui.label("Friction").on_hover_text(hint).id;
+            let r =
+                ui.add(number_slider(&mut friction, 0.0..=MAX_FRICTION.min(2.0)).max_decimals(2)).labelled_by(label);
+            key_field(w, &r, "Friction", |k| k.friction = friction);
+            ui.end_row();
+        }
     });
     // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
     let (text, color, full) = match w.shown_relax_report() {
