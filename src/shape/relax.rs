@@ -58,8 +58,6 @@ use std::ops::ControlFlow;
 
 use glam::DVec3;
 
-use crate::world::Obstacle;
-
 mod drape;
 mod kernel;
 mod layout;
@@ -217,33 +215,17 @@ pub fn relax_with(
     params: &RelaxParams,
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
 ) -> Result<RelaxReport, Cancelled> {
-    relax_among(positions, cols, rows, pinned, params, &[], control)
-}
-
-/// [`relax_with`] among colliders: after every sweep of every level, a free
-/// point closer to an obstacle than its thickness is moved out the nearest
-/// way and loses its momentum, so the cloth lies on what is under it.
-pub fn relax_among(
-    positions: &mut [DVec3],
-    cols: usize,
-    rows: usize,
-    pinned: &[bool],
-    params: &RelaxParams,
-    obstacles: &[Obstacle],
-    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
-) -> Result<RelaxReport, Cancelled> {
     assert_eq!(positions.len(), cols * rows);
     assert_eq!(pinned.len(), cols * rows);
     if is_coarsened(cols, rows) {
-        let coarse = solve_on_coarser_grid(positions, cols, rows, pinned, params, obstacles, control)?;
-        let mut report =
-            Sweeper::new(cols, rows, pinned, params, obstacles).run(positions, params, Settle::No, control)?;
+        let coarse = solve_on_coarser_grid(positions, cols, rows, pinned, params, control)?;
+        let mut report = Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::No, control)?;
         // A coarse level stopped by the cap hands on a start that depends on the cap.
         report.coarse_capped = !coarse.converged;
         report.converged &= coarse.converged;
         Ok(report)
     } else {
-        Sweeper::new(cols, rows, pinned, params, obstacles).run(positions, params, Settle::Yes, control)
+        Sweeper::new(cols, rows, pinned, params).run(positions, params, Settle::Yes, control)
     }
 }
 
@@ -253,24 +235,11 @@ pub fn relax_among(
 /// for a few sweeps. Same guarantees as [`relax`]: pins never move, output is
 /// deterministic, non-finite moves are skipped.
 pub fn refine(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> RelaxReport {
-    refine_among(positions, cols, rows, pinned, params, &[], &mut |_| ControlFlow::Continue(()))
-        .expect("a control that never breaks never cancels")
-}
-
-/// [`refine`] among colliders, reporting to `control` after every sweep (see
-/// [`relax_among`] for how the colliders keep the cloth out).
-pub fn refine_among(
-    positions: &mut [DVec3],
-    cols: usize,
-    rows: usize,
-    pinned: &[bool],
-    params: &RelaxParams,
-    obstacles: &[Obstacle],
-    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
-) -> Result<RelaxReport, Cancelled> {
     assert_eq!(positions.len(), cols * rows);
     assert_eq!(pinned.len(), cols * rows);
-    Sweeper::new(cols, rows, pinned, params, obstacles).run(positions, params, Settle::No, control)
+    Sweeper::new(cols, rows, pinned, params)
+        .run(positions, params, Settle::No, &mut |_| ControlFlow::Continue(()))
+        .expect("a control that never breaks never cancels")
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -309,7 +278,6 @@ fn solve_on_coarser_grid(
     rows: usize,
     pinned: &[bool],
     params: &RelaxParams,
-    obstacles: &[Obstacle],
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
 ) -> Result<RelaxReport, Cancelled> {
     let (coarse_cols, coarse_rows) = (coarser_side(cols), coarser_side(rows));
@@ -332,8 +300,7 @@ fn solve_on_coarser_grid(
     let ratio_v = (rows - 1) as f64 / (coarse_rows - 1) as f64;
     let coarse_params =
         RelaxParams { rest_u_m: params.rest_u_m * ratio_u, rest_v_m: params.rest_v_m * ratio_v, ..*params };
-    let report =
-        relax_among(&mut coarse, coarse_cols, coarse_rows, &coarse_pinned, &coarse_params, obstacles, control)?;
+    let report = relax_with(&mut coarse, coarse_cols, coarse_rows, &coarse_pinned, &coarse_params, control)?;
     for j in 0..rows {
         for i in 0..cols {
             let f = j * cols + i;
@@ -505,7 +472,7 @@ mod tests {
             let (start, pinned, params) = wavy_sheet(cols, rows);
             let mut go_on = |_| ControlFlow::Continue(());
             let mut portable = start.clone();
-            let mut sweeper = Sweeper::new(cols, rows, &pinned, &params, &[]);
+            let mut sweeper = Sweeper::new(cols, rows, &pinned, &params);
             sweeper.load(&portable);
             let a = sweeper.sweeps(&params, Settle::Yes, &mut go_on);
             sweeper.store(&mut portable);
@@ -517,7 +484,7 @@ mod tests {
             for (feature, _) in features.into_iter().filter(|(_, has)| *has) {
                 let avx512 = feature == "avx512f";
                 let mut vectorised = start.clone();
-                let mut sweeper = Sweeper::new(cols, rows, &pinned, &params, &[]);
+                let mut sweeper = Sweeper::new(cols, rows, &pinned, &params);
                 sweeper.load(&vectorised);
                 // SAFETY: the CPU supports the feature, checked above.
                 let b = unsafe {

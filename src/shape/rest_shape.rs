@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
 use super::lay_flat::lay_flat;
-use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_among};
+use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_with};
 use crate::scene::{Cloth, Key};
 use crate::world::Obstacle;
 
@@ -66,7 +66,7 @@ impl RestShape {
             max_iterations: key.relax.iterations,
             tolerance: key.relax.tolerance,
         };
-        let mut relax_report = relax_among(&mut relaxed, grid.cols, grid.rows, &pinned, &params, &[], control)?;
+        let mut relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
         // Colliders the hanging cloth does not reach change nothing: a ground
         // far below a curtain leaves its shape bit for bit as without.
         if touches(&relaxed, (grid.cols, grid.rows), obstacles) {

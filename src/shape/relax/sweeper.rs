@@ -8,8 +8,6 @@ use super::kernel::{Bound, apply, coast, move_point, nudge, point_steps, run_ste
 use super::layout::{BorderChunk, EdgeRun, LANES, Lanes, NEIGHBOURS, Run, STEPS, Split};
 use glam::DVec3;
 
-use crate::world::{Obstacle, slide_along};
-
 use super::{
     Cancelled, GRAVITY_BIAS, MAX_SHEAR_DEG, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport,
     SETTLE_SWEEPS, STIFF_RADIUS_FRACTION, Settle,
@@ -31,21 +29,10 @@ pub(super) struct Sweeper {
     /// This colour's steps: interior runs first, then edge runs, then chunks;
     /// one vector's worth of spare room for the last run's throwaway lanes.
     steps: [Vec<f64>; 3],
-    /// What the cloth must stay out of, and its free points to check.
-    obstacles: Vec<Obstacle>,
-    free: Vec<(usize, usize)>,
-    /// The free points' positions before the current sweep.
-    before: Vec<DVec3>,
 }
 
 impl Sweeper {
-    pub(super) fn new(
-        cols: usize,
-        rows: usize,
-        pinned: &[bool],
-        params: &RelaxParams,
-        obstacles: &[Obstacle],
-    ) -> Sweeper {
+    pub(super) fn new(cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> Sweeper {
         let min_radius = params.stiffness.clamp(0.0, 1.0)
             * STIFF_RADIUS_FRACTION
             * (params.rest_u_m * (cols - 1) as f64).max(params.rest_v_m * (rows - 1) as f64);
@@ -141,13 +128,6 @@ impl Sweeper {
             edge_runs,
             border,
             steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
-            obstacles: obstacles.to_vec(),
-            before: Vec::new(),
-            free: if obstacles.is_empty() {
-                Vec::new()
-            } else {
-                (0..rows).flat_map(|j| (0..cols).map(move |i| (i, j))).filter(|&(i, j)| !pinned[j * cols + i]).collect()
-            },
         }
     }
 
@@ -237,7 +217,6 @@ impl Sweeper {
             let settling = iteration < settle_sweeps;
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
-            self.remember();
             for colour in 0..4 {
                 for run in self.runs[colour].iter().chain(self.edge_runs[colour].iter().map(|e| &e.run)) {
                     coast(&mut self.position, &self.velocity, run);
@@ -287,7 +266,6 @@ impl Sweeper {
                     max_edge2 = max_edge2.max(step2);
                 }
             }
-            self.keep_out();
             // The settling sweeps are part of what the shape is, not of the cap's budget.
             report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
             report.last_move_m = max_step2.max(max_edge2).sqrt();
@@ -344,43 +322,6 @@ impl Sweeper {
                 let k = done + k;
                 nudge([&mut px.data[at], &mut py.data[at], &mut pz.data[at]], [sx[k], sy[k], sz[k]]);
             }
-        }
-    }
-
-    /// Remembers where the free points are before a sweep moves them, so
-    /// [`Sweeper::keep_out`] can follow each point's path (only with obstacles).
-    fn remember(&mut self) {
-        if self.obstacles.is_empty() {
-            return;
-        }
-        let [px, py, pz] = &self.position;
-        self.before.clear();
-        self.before.extend(self.free.iter().map(|&(i, j)| DVec3::new(px.get(i, j), py.get(i, j), pz.get(i, j))));
-    }
-
-    /// A free point whose move this sweep entered an obstacle (came closer
-    /// than its thickness, or passed through a thin one) stops where it
-    /// touched and slides along the surface ([`slide_along`]); it keeps the
-    /// part of its velocity along the surface, as cloth slides on what it
-    /// lands on. The push is not a constraint's move and is not counted
-    /// towards convergence.
-    fn keep_out(&mut self) {
-        if self.obstacles.is_empty() {
-            return;
-        }
-        let [px, py, pz] = &mut self.position;
-        let [vx, vy, vz] = &mut self.velocity;
-        for (&(i, j), &from) in self.free.iter().zip(&self.before) {
-            let p = DVec3::new(px.get(i, j), py.get(i, j), pz.get(i, j));
-            let q = slide_along(&self.obstacles, from, p);
-            if q == p {
-                continue;
-            }
-            (*px.get_mut(i, j), *py.get_mut(i, j), *pz.get_mut(i, j)) = (q.x, q.y, q.z);
-            let outward = (q - p).normalize_or_zero();
-            let v = DVec3::new(vx.get(i, j), vy.get(i, j), vz.get(i, j));
-            let v = v - outward * v.dot(outward).min(0.0);
-            (*vx.get_mut(i, j), *vy.get_mut(i, j), *vz.get_mut(i, j)) = (v.x, v.y, v.z);
         }
     }
 
