@@ -274,65 +274,51 @@ impl Collider {
         }
     }
 
-    pub fn name(&self) -> &str {
+    /// The fields every kind has: name, enabled, thickness.
+    fn common(&self) -> (&String, &bool, &Option<Param>) {
         match self {
-            Collider::Ground(c) => &c.name,
-            Collider::Box(c) => &c.name,
-            Collider::Cylinder(c) => &c.name,
-            Collider::Sphere(c) => &c.name,
-            Collider::Capsule(c) => &c.name,
+            Collider::Ground(c) => (&c.name, &c.enabled, &c.thickness),
+            Collider::Box(c) => (&c.name, &c.enabled, &c.thickness),
+            Collider::Cylinder(c) => (&c.name, &c.enabled, &c.thickness),
+            Collider::Sphere(c) => (&c.name, &c.enabled, &c.thickness),
+            Collider::Capsule(c) => (&c.name, &c.enabled, &c.thickness),
         }
+    }
+
+    /// [`common`](Self::common), to change.
+    fn common_mut(&mut self) -> (&mut String, &mut bool, &mut Option<Param>) {
+        match self {
+            Collider::Ground(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
+            Collider::Box(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
+            Collider::Cylinder(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
+            Collider::Sphere(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
+            Collider::Capsule(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
+        }
+    }
+
+    pub fn name(&self) -> &str {
+        self.common().0
     }
 
     pub fn name_mut(&mut self) -> &mut String {
-        match self {
-            Collider::Ground(c) => &mut c.name,
-            Collider::Box(c) => &mut c.name,
-            Collider::Cylinder(c) => &mut c.name,
-            Collider::Sphere(c) => &mut c.name,
-            Collider::Capsule(c) => &mut c.name,
-        }
+        self.common_mut().0
     }
 
     pub fn enabled(&self) -> bool {
-        match self {
-            Collider::Ground(c) => c.enabled,
-            Collider::Box(c) => c.enabled,
-            Collider::Cylinder(c) => c.enabled,
-            Collider::Sphere(c) => c.enabled,
-            Collider::Capsule(c) => c.enabled,
-        }
+        *self.common().1
     }
 
     pub fn enabled_mut(&mut self) -> &mut bool {
-        match self {
-            Collider::Ground(c) => &mut c.enabled,
-            Collider::Box(c) => &mut c.enabled,
-            Collider::Cylinder(c) => &mut c.enabled,
-            Collider::Sphere(c) => &mut c.enabled,
-            Collider::Capsule(c) => &mut c.enabled,
-        }
+        self.common_mut().1
     }
 
     /// The collider's own thickness (m), if it overrides the key's.
     pub fn thickness(&self) -> Option<&Param> {
-        match self {
-            Collider::Ground(c) => c.thickness.as_ref(),
-            Collider::Box(c) => c.thickness.as_ref(),
-            Collider::Cylinder(c) => c.thickness.as_ref(),
-            Collider::Sphere(c) => c.thickness.as_ref(),
-            Collider::Capsule(c) => c.thickness.as_ref(),
-        }
+        self.common().2.as_ref()
     }
 
     pub fn thickness_mut(&mut self) -> &mut Option<Param> {
-        match self {
-            Collider::Ground(c) => &mut c.thickness,
-            Collider::Box(c) => &mut c.thickness,
-            Collider::Cylinder(c) => &mut c.thickness,
-            Collider::Sphere(c) => &mut c.thickness,
-            Collider::Capsule(c) => &mut c.thickness,
-        }
+        self.common_mut().2
     }
 
     /// The label used in messages: `Box collider "table"`, or `Box collider 2` when unnamed.
