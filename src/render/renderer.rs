@@ -515,21 +515,13 @@ impl Renderer {
             pass.draw(0..6, 0..1);
         }
         let draw_mesh = |pass: &mut wgpu::RenderPass, slot: &MeshSlot| {
-            pass.set_bind_group(1, &slot.bind_group, &[]);
-            pass.set_vertex_buffer(0, slot.mesh.positions.slice(..));
-            pass.set_vertex_buffer(1, slot.mesh.normals.slice(..));
-            pass.set_vertex_buffer(2, slot.mesh.uvs.slice(..));
-            pass.set_index_buffer(slot.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..slot.mesh.index_count, 0, 0..1);
+            let m = &slot.mesh;
+            draw_lit(pass, &slot.bind_group, [&m.positions, &m.normals, &m.uvs], &m.indices, m.index_count);
         };
         let solids = &self.solids;
         let draw_solids = |pass: &mut wgpu::RenderPass| {
-            pass.set_bind_group(1, &solids.bind_group, &[]);
-            pass.set_vertex_buffer(0, solids.positions.buffer.slice(..));
-            pass.set_vertex_buffer(1, solids.normals.buffer.slice(..));
-            pass.set_vertex_buffer(2, solids.uvs.buffer.slice(..));
-            pass.set_index_buffer(solids.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..solids.index_count, 0, 0..1);
+            let vertices = [&solids.positions.buffer, &solids.normals.buffer, &solids.uvs.buffer];
+            draw_lit(pass, &solids.bind_group, vertices, &solids.indices.buffer, solids.index_count);
         };
         pass.set_pipeline(&self.pipelines.cloth);
         if solids.index_count > 0 && solids.opaque {
@@ -571,6 +563,23 @@ impl Renderer {
         self.encode(&mut encoder, target);
         queue.submit([encoder.finish()]);
     }
+}
+
+/// One lit mesh with the pipeline already set: its material, its positions,
+/// normals and UVs, and its triangles.
+fn draw_lit(
+    pass: &mut wgpu::RenderPass,
+    material: &wgpu::BindGroup,
+    vertices: [&wgpu::Buffer; 3],
+    indices: &wgpu::Buffer,
+    index_count: u32,
+) {
+    pass.set_bind_group(1, material, &[]);
+    for (slot, buffer) in vertices.into_iter().enumerate() {
+        pass.set_vertex_buffer(slot as u32, buffer.slice(..));
+    }
+    pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+    pass.draw_indexed(0..index_count, 0, 0..1);
 }
 
 fn frame_uniform(camera: &OrbitCamera, options: &RenderOptions, size_px: (u32, u32)) -> FrameUniform {
