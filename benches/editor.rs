@@ -40,6 +40,7 @@ fn tablecloth(n: u32) -> Scene {
             inbetween_relax: 0,
             thickness: drape::scene::DEFAULT_THICKNESS_M,
             friction: drape::scene::DEFAULT_FRICTION,
+            placement: None,
         }],
         layers: Vec::new(),
         view: None,

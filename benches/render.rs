@@ -38,6 +38,7 @@ fn scene(n: u32) -> Scene {
             inbetween_relax: 0,
             thickness: drape::scene::DEFAULT_THICKNESS_M,
             friction: drape::scene::DEFAULT_FRICTION,
+            placement: None,
         }],
         layers: vec![],
         view: None,

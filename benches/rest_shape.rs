@@ -29,6 +29,7 @@ fn four_corner_key(n: u32) -> Key {
         inbetween_relax: 0,
         thickness: drape::scene::DEFAULT_THICKNESS_M,
         friction: drape::scene::DEFAULT_FRICTION,
+        placement: None,
     }
 }
 

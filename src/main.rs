@@ -291,11 +291,19 @@ fn check(path: &Path) -> Result<()> {
         let rest = &shape.rest;
         let error = mean_structural_error(&rest.relaxed, cloth.cols(), cloth.rows(), rest.rest_u_m(), rest.rest_v_m());
         let report = rest.relax_report;
+        let held = if key.pins.is_empty() {
+            let start = key.placement_or_default();
+            format!(
+                "no pins (dropped from {} m, turned {}°)",
+                readable_vec3(start.center),
+                readable_vec3(start.rotation_deg)
+            )
+        } else {
+            format!("{} pin{}", key.pins.len(), if key.pins.len() == 1 { "" } else { "s" })
+        };
         say!(
-            "    frame {:>5}: {} pin{}, elasticity {}, stiffness {}, mean edge error {:.2}%; {}",
+            "    frame {:>5}: {held}, elasticity {}, stiffness {}, mean edge error {:.2}%; {}",
             key.frame,
-            key.pins.len(),
-            if key.pins.len() == 1 { "" } else { "s" },
             readable_number(key.elasticity),
             readable_number(key.stiffness),
             error * 100.0,

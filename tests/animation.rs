@@ -31,6 +31,7 @@ fn key(frame: i32, pins: Vec<Pin>, elasticity: f64, ease: Ease) -> Key {
         inbetween_relax: 0,
         thickness: drape::scene::DEFAULT_THICKNESS_M,
         friction: drape::scene::DEFAULT_FRICTION,
+        placement: None,
     }
 }
 

@@ -1,7 +1,7 @@
 //! Colliders end to end: rest shapes lie on them and every animated frame
 //! keeps out of them (within 0.5 mm of the thickness), with the cloth whole
 //! (no edge past 1.5 × its rest length), for a table top, a ball, a round
-//! table that slides, and the bundled tablecloth pull.
+//! table that slides, with pins and without, and the bundled scenes.
 
 use drape::animate::{Evaluator, colliders_at::obstacles_at};
 use drape::scene::{self, Scene};
@@ -114,18 +114,26 @@ fn layers_never_push_the_cloth_into_a_collider() {
     assert_kept_out_and_whole(&scene_with(1.303, BALL, true), 1.5);
 }
 
-/// Every frame of the bundled pull keeps off the table and stays whole.
-/// (`tests/animation.rs` holds it to its 10 % stretch limit too; the blend
-/// between the resting and the lifted key alone, without the limit, cuts
-/// the table's front corners and stretches edges round them to 1.68×.)
+/// Every frame of the bundled scenes with colliders keeps off them and
+/// stays whole. (`tests/animation.rs` holds them to their 10 % stretch limit
+/// too; in the tablecloth pull the blend between the resting and the lifted
+/// key alone, without the limit, cuts the table's front corners and
+/// stretches edges round them to 1.68×.)
 #[test]
-fn the_bundled_tablecloth_pull_stays_on_its_table_in_every_frame() {
-    let scene = match scene::load(std::path::Path::new("scenes/tablecloth_pull.ron")) {
-        Ok(scene) => scene,
-        Err(error) => panic!("{error}"),
-    };
-    assert!(!scene.colliders.is_empty(), "it has a real table");
-    assert_kept_out_and_whole(&scene, 1.5);
+fn the_bundled_scenes_keep_off_their_colliders_in_every_frame() {
+    for name in ["tablecloth_pull", "round_table", "cape_on_shoulders"] {
+        let scene = match scene::load(std::path::Path::new(&format!("scenes/{name}.ron"))) {
+            Ok(scene) => scene,
+            Err(error) => panic!("{error}"),
+        };
+        assert!(!scene.colliders.is_empty(), "{name} has colliders");
+        assert_kept_out_and_whole(&scene, 1.5);
+    }
+    // The resting tablecloths have no pins at all.
+    for name in ["tablecloth_pull", "round_table"] {
+        let Ok(scene) = scene::load(std::path::Path::new(&format!("scenes/{name}.ron"))) else { panic!("{name}") };
+        assert!(scene.keys[0].pins.is_empty(), "{name}");
+    }
 }
 
 /// A disabled collider, or one the cloth never reaches (a ground far below
@@ -145,4 +153,97 @@ fn colliders_the_cloth_does_not_meet_leave_it_bit_for_bit_alone() {
             assert!(same, "frame {frame}: {colliders} changed the cloth");
         }
     }
+}
+
+/// The cloth of [`scene_with`] without pins: one key that starts it flat at
+/// `placement` (a RON tuple) with `friction`, among `colliders`, with the
+/// layers if `layers`.
+fn unpinned_scene_with(placement: &str, friction: f64, colliders: &str, layers: bool) -> Scene {
+    let mut scene = scene_with(0.0, colliders, layers);
+    let text = format!("(frame: 0, pins: [], placement: {placement}, elasticity: 1.02, friction: {friction})");
+    let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    scene.keys = vec![match options.from_str(&text) {
+        Ok(key) => key,
+        Err(error) => panic!("{error}"),
+    }];
+    scene
+}
+
+/// The rest shape of the first key, which must have come to rest.
+fn settled_shape(scene: &Scene) -> Vec<Vec3> {
+    let mut evaluator = Evaluator::new();
+    let shape = evaluator.key_shape(scene, &scene.keys[0]);
+    assert!(shape.rest.relax_report.converged, "{}", shape.rest.relax_report.verdict());
+    shape.positions.clone()
+}
+
+const MIDDLE: usize = 7 * 19 + 9;
+
+#[test]
+fn a_tablecloth_without_pins_falls_onto_a_box_and_stays() {
+    let scene = unpinned_scene_with("(center: (0.0, 0.9, 0.0))", 0.5, TABLE, false);
+    let shape = settled_shape(&scene);
+    let (middle, corner) = (shape[MIDDLE], shape[0]);
+    assert!((middle.y - 0.743).abs() < 0.005, "the middle lies on the top: {middle}");
+    assert!(middle.x.abs() < 0.01 && middle.z.abs() < 0.01, "friction holds it where it fell: {middle}");
+    assert!(corner.y < 0.65, "the corner hangs over the side: {corner}");
+    assert_kept_out_and_whole(&scene, 1.5);
+    assert_kept_out_and_whole(&unpinned_scene_with("(center: (0.0, 0.9, 0.0))", 0.5, TABLE, true), 1.5);
+}
+
+#[test]
+fn a_tablecloth_without_pins_rests_on_a_round_table() {
+    let round_table = "Cylinder((name: \"round table\", center: (0.0, 0.72, 0.0), radius: 0.3, height: 0.04))";
+    let scene =
+        unpinned_scene_with("(center: (0.0, 0.9, 0.0), rotation_deg: (0.0, 30.0, 0.0))", 0.5, round_table, false);
+    let shape = settled_shape(&scene);
+    let middle = shape[MIDDLE];
+    assert!((middle.y - 0.743).abs() < 0.005, "the middle lies on the top: {middle}");
+    let highest = shape.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    // Near the rim a point may stand off the top by up to half an edge (5 cm
+    // here), where the straight edge turns over the rim without cutting it.
+    assert!(highest < 0.743 + 0.025, "nothing is left in the air above the top: {highest}");
+    assert_kept_out_and_whole(&scene, 1.5);
+    assert_kept_out_and_whole(&unpinned_scene_with("(center: (0.0, 0.9, 0.0))", 0.5, SLIDING_ROUND_TABLE, true), 1.5);
+}
+
+#[test]
+fn a_cloth_without_pins_drapes_over_a_ball() {
+    let scene = unpinned_scene_with("(center: (0.0, 1.4, 0.0))", 0.5, BALL, false);
+    let shape = settled_shape(&scene);
+    assert!((shape[MIDDLE].y - 1.303).abs() < 0.005, "the middle rests on the top of the ball: {}", shape[MIDDLE]);
+    assert!(shape[0].y < 1.0, "the corners fall past the ball's middle: {}", shape[0]);
+    assert_kept_out_and_whole(&scene, 1.5);
+}
+
+/// Friction 0 lets a cloth that overhangs one side more slide off the table
+/// onto the floor; a high friction holds it.
+#[test]
+fn without_friction_an_overhanging_cloth_slides_off_the_table() {
+    let off_centre = "(center: (0.25, 0.9, 0.0))";
+    let held = settled_shape(&unpinned_scene_with(off_centre, 2.0, TABLE, false));
+    assert!((held[MIDDLE].x - 0.25).abs() < 0.02, "friction holds it: {}", held[MIDDLE]);
+    let mut evaluator = Evaluator::new();
+    let scene = unpinned_scene_with(off_centre, 0.0, TABLE, false);
+    let slid = evaluator.key_shape(&scene, &scene.keys[0]);
+    assert!(slid.positions.iter().all(|p| p.y < 0.7), "it slid off the top: {}", slid.positions[MIDDLE]);
+}
+
+/// A key without pins needs something to hold the cloth up.
+#[test]
+fn a_key_without_pins_or_colliders_is_refused() {
+    let scene = unpinned_scene_with("(center: (0.0, 0.9, 0.0))", 0.5, "", false);
+    let Err(problems) = scene.validate() else { panic!("a key without pins or colliders passed") };
+    assert!(problems.iter().any(|p| p.message.contains("no pins")), "{problems:?}");
+}
+
+/// A cloth without pins that misses every collider stops falling and says so.
+#[test]
+fn a_cloth_without_pins_that_misses_the_colliders_says_it_fell_past_them() {
+    let scene = unpinned_scene_with("(center: (2.0, 1.4, 0.0))", 0.5, BALL, false);
+    let mut evaluator = Evaluator::new();
+    let report = evaluator.key_shape(&scene, &scene.keys[0]).rest.relax_report;
+    assert!(report.fell_off && !report.converged, "{}", report.verdict());
+    assert!(report.verdict().contains("fell past every collider"), "{}", report.verdict());
+    assert!(report.iterations < 1000, "it stops once below them: {}", report.iterations);
 }

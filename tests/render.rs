@@ -133,13 +133,15 @@ fn render_scene(name: &str, frames: &[i32], overlays: SceneOverlays) -> Vec<Rgba
 }
 
 /// (scene, frames): rest poses, and frames where in-betweens and layers show.
-const GOLDEN_FRAMES: [(&str, &[i32]); 9] = [
+const GOLDEN_FRAMES: [(&str, &[i32]); 11] = [
     ("curtain", &[0]),
     ("tablecloth", &[0]),
     ("tent", &[0]),
     ("corner", &[0]),
     ("flag", &[0, 60]),
     ("tablecloth_pull", &[0, 30]),
+    ("round_table", &[0, 36]),
+    ("cape_on_shoulders", &[0, 7]),
     ("swing", &[12]),
     ("magic_carpet", &[0, 36, 100]),
     ("magic_carpet_tutorial", &[24, 96]),

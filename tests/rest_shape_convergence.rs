@@ -44,6 +44,7 @@ impl Setup {
             inbetween_relax: 0,
             thickness: drape::scene::DEFAULT_THICKNESS_M,
             friction: drape::scene::DEFAULT_FRICTION,
+            placement: None,
         }
     }
 

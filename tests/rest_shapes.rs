@@ -22,6 +22,7 @@ fn key(pins: &[PinSpec], elasticity: f64, stiffness: f64, iterations: u32) -> Ke
         inbetween_relax: 0,
         thickness: drape::scene::DEFAULT_THICKNESS_M,
         friction: drape::scene::DEFAULT_FRICTION,
+        placement: None,
     }
 }
 

@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, ClothTexture, Collider, Ease, Key, Layer, Param, ParamKey, ParamValue, Pin, RelaxSettings, Scene,
-    SceneError, Timeline, View, WaveAxis,
+    self, Cloth, ClothTexture, Collider, Ease, Key, Layer, Param, ParamKey, ParamValue, Pin, Placement, RelaxSettings,
+    Scene, SceneError, Timeline, View, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -36,6 +36,11 @@ const MALFORMED: &[(&str, &str)] = &[
         "tests/data/malformed/collider_size.ron:12:67: Box collider \"table\": size y is 0: \
          it must be greater than 0 and at most 1e4",
     ),
+    (
+        "placement_far.ron",
+        "tests/data/malformed/placement_far.ron:9:33: placement center in the key at frame 0 is (0, 20000, 0), \
+         too far out: each component must be within ±10 000 m",
+    ),
     ("syntax_error.ron", "tests/data/malformed/syntax_error.ron:2:15: expected a comma before `cloth`"),
     (
         "unclosed_bracket.ron",
@@ -44,7 +49,7 @@ const MALFORMED: &[(&str, &str)] = &[
     (
         "unknown_field.ron",
         "tests/data/malformed/unknown_field.ron:12:13: unknown field `elastisity` in key \
-         (expected one of: frame, pins, elasticity, stiffness, relax, ease, inbetween_relax, thickness, \
+         (expected one of: frame, pins, placement, elasticity, stiffness, relax, ease, inbetween_relax, thickness, \
          friction)",
     ),
     (
@@ -76,8 +81,8 @@ const MALFORMED: &[(&str, &str)] = &[
     ),
     (
         "key_without_pins.ron",
-        "tests/data/malformed/key_without_pins.ron:8:19: key at frame 0 has no pins: \
-         the cloth needs at least one pin to hang from",
+        "tests/data/malformed/key_without_pins.ron:8:19: key at frame 0 has no pins and no collider \
+         holds the cloth up: it needs at least one pin, or an enabled collider under its placement",
     ),
     (
         "pin_outside_grid.ron",
@@ -572,6 +577,7 @@ fn key() -> impl Strategy<Value = Key> {
         (any::<u32>(), finite()),
         ease(),
         (any::<u32>(), finite(), finite()),
+        proptest::option::of((vec3(), vec3())),
     )
         .prop_map(
             |(
@@ -582,6 +588,7 @@ fn key() -> impl Strategy<Value = Key> {
                 (iterations, tolerance),
                 ease,
                 (inbetween_relax, thickness, friction),
+                placement,
             )| Key {
                 frame,
                 pins,
@@ -592,6 +599,7 @@ fn key() -> impl Strategy<Value = Key> {
                 inbetween_relax,
                 thickness,
                 friction,
+                placement: placement.map(|(center, rotation_deg)| Placement { center, rotation_deg }),
             },
         )
 }

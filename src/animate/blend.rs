@@ -153,6 +153,7 @@ mod tests {
             inbetween_relax: 0,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
             friction: crate::scene::DEFAULT_FRICTION,
+            placement: None,
         }
     }
 

@@ -80,6 +80,8 @@ struct ShapeInputs {
     /// The obstacles' numbers, bit for bit, and the friction on them.
     obstacles: Vec<u64>,
     friction_bits: u64,
+    /// Where a key without pins starts (centre, rotation), bit for bit; None with pins.
+    placement_bits: Option<[u64; 6]>,
 }
 
 /// The colliders a key's rest shape lies among: the scene's at the key's frame.
@@ -136,6 +138,10 @@ impl ShapeInputs {
             obstacles: obstacle_bits(obstacles),
             // Friction only matters among obstacles: without any, a change keeps the shape.
             friction_bits: if obstacles.is_empty() { 0 } else { key.friction.to_bits() },
+            placement_bits: key.pins.is_empty().then(|| {
+                let crate::scene::Placement { center: c, rotation_deg: r } = key.placement_or_default();
+                [c.0, c.1, c.2, r.0, r.1, r.2].map(f64::to_bits)
+            }),
         }
     }
 }
@@ -249,6 +255,7 @@ mod tests {
             inbetween_relax: 0,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
             friction: crate::scene::DEFAULT_FRICTION,
+            placement: None,
         }
     }
 

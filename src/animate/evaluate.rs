@@ -329,14 +329,14 @@ mod tests {
             let mut evaluator = Evaluator::new();
             for scene in &scenes {
                 let (mut portable, mut vectorised) = (evaluator.evaluate(scene, 0.0), evaluator.evaluate(scene, 0.0));
-                for t_secs in [0.0, 0.3, 1.25, 2.0, 4.9, 10_000.0, 0.61] {
+                for t_secs in [0.0, 0.3, 0.61, 2.0, 4.9, 10_000.0, 1.25] {
                     evaluator.evaluate_portable(scene, t_secs, EvaluateOptions::default(), &mut portable);
                     // SAFETY: the CPU supports AVX2, checked above.
                     unsafe { evaluator.evaluate_avx2(scene, t_secs, EvaluateOptions::default(), &mut vectorised) };
                     assert_eq!(bits(&portable.positions), bits(&vectorised.positions), "{} at {t_secs} s", scene.name);
                     assert_eq!(bits(&portable.normals), bits(&vectorised.normals), "{} at {t_secs} s", scene.name);
                 }
-                let plain = evaluator.evaluate_with(scene, 0.61, EvaluateOptions { layers: false });
+                let plain = evaluator.evaluate_with(scene, 1.25, EvaluateOptions { layers: false });
                 assert_ne!(plain.positions, portable.positions, "{}: the layers move the cloth", scene.name);
             }
         }

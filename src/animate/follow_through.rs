@@ -137,6 +137,7 @@ mod tests {
                 inbetween_relax: 0,
                 thickness: crate::scene::DEFAULT_THICKNESS_M,
                 friction: crate::scene::DEFAULT_FRICTION,
+                placement: None,
             }
         };
         (cloth, vec![key(0, 0.0), key(12, travel_m)])

@@ -208,6 +208,8 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
                 ui.add(number_slider(&mut friction, 0.0..=MAX_FRICTION.min(2.0)).max_decimals(2)).labelled_by(label);
             key_field(w, &r, "Friction", |k| k.friction = friction);
             ui.end_row();
+
+            placement_rows_ui(ui, w, &key);
         }
     });
     // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
@@ -219,6 +221,48 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         None => ("Relaxing…".to_owned(), ui.visuals().weak_text_color(), "The rest shape is being relaxed.".to_owned()),
     };
     ui.add(egui::Label::new(egui::RichText::new(text).color(color)).truncate()).on_hover_text(full);
+}
+
+/// Where a key without pins drops from and how it is turned; shown (greyed)
+/// for keys with pins too, so the panel holds still while scrubbing.
+fn placement_rows_ui(ui: &mut egui::Ui, w: &mut Workspace, key: &Key) {
+    let placement = key.placement_or_default();
+    let unpinned = key.pins.is_empty();
+    let hint = if unpinned {
+        "The key has no pins: the cloth starts flat here (u along X, v along Z) and drops onto the colliders."
+    } else {
+        "For keys without pins: unpin every pin and the cloth drops from here onto the colliders."
+    };
+    let rows = [
+        ("Drop from", "Placement centre", placement.center, " m", 0.005),
+        ("Turn", "Placement rotation", placement.rotation_deg, "°", 0.5),
+    ];
+    for (row, (name, undo_label, values, suffix, speed)) in rows.into_iter().enumerate() {
+        let label = ui.label(name).on_hover_text(hint).id;
+        ui.add_enabled_ui(unpinned, |ui| {
+            ui.horizontal(|ui| {
+                let mut edited = values;
+                for (axis, value) in [("X", &mut edited.0), ("Y", &mut edited.1), ("Z", &mut edited.2)] {
+                    let field = number_field(value).speed(speed).max_decimals(4).suffix(suffix);
+                    let r = ui.add_sized(FIELD, field).labelled_by(label).on_hover_text(hint);
+                    r.widget_info(|| {
+                        egui::WidgetInfo::labeled(egui::Role::SpinButton, unpinned, format!("{name} {axis}"))
+                    });
+                    let value = *value;
+                    key_field(w, &r, undo_label, |k| {
+                        let mut now = k.placement_or_default();
+                        if row == 0 {
+                            now.center = pos_after(now.center, axis, value);
+                        } else {
+                            now.rotation_deg = pos_after(now.rotation_deg, axis, value);
+                        }
+                        k.placement = Some(now);
+                    });
+                }
+            });
+        });
+        ui.end_row();
+    }
 }
 
 /// Exact values for the selected pins: one pin's position, or several pins' shared offset.

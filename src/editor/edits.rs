@@ -3,7 +3,7 @@
 //! validates the result; these only keep the scene's own invariants (no grid
 //! point pinned twice, pins following the cloth when its grid changes).
 
-use crate::scene::{Key, Pin, Scene};
+use crate::scene::{Key, Pin, Placement, Scene};
 
 /// Pins grid point `grid` of `key` at `pos` (metres); an existing pin there moves instead.
 pub fn pin_point(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
@@ -14,9 +14,25 @@ pub fn pin_point(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
 }
 
 /// Removes the pins at these grid points (others stay in order).
+///
+/// Unpinning the last pin leaves a key that colliders hold up (validation
+/// refuses it without any): without a placement of its own, the cloth then
+/// drops, level, from a little above where its pins were.
 pub fn unpin(key: &mut Key, grids: &[(u32, u32)]) {
+    let before = key.pins.clone();
     key.pins.retain(|p| !grids.contains(&p.grid));
+    if key.pins.is_empty() && key.placement.is_none() && !before.is_empty() {
+        let count = before.len() as f64;
+        let centre = before
+            .iter()
+            .fold((0.0, 0.0, 0.0), |c, p| (c.0 + p.pos.0 / count, c.1 + p.pos.1 / count, c.2 + p.pos.2 / count));
+        let center = (centre.0, centre.1 + DROP_ABOVE_PINS_M, centre.2);
+        key.placement = Some(Placement { center, rotation_deg: (0.0, 0.0, 0.0) });
+    }
 }
+
+/// How far above its last pins an unpinned cloth starts its drop (m).
+pub const DROP_ABOVE_PINS_M: f64 = 0.05;
 
 /// Whether `key` pins grid point `grid`.
 pub fn is_pinned(key: &Key, grid: (u32, u32)) -> bool {
@@ -78,6 +94,23 @@ mod tests {
 
     fn scene() -> Scene {
         crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap()
+    }
+
+    #[test]
+    fn unpinning_the_last_pins_drops_the_cloth_from_above_where_they_were() {
+        let pin = |grid, pos| Pin { grid, pos };
+        let mut key = scene().keys[0].clone();
+        key.pins = vec![pin((0, 0), (-0.4, 1.0, 0.2)), pin((4, 0), (0.6, 1.2, 0.0))];
+        unpin(&mut key, &[(0, 0)]);
+        assert_eq!(key.placement, None, "a pin is left");
+        unpin(&mut key, &[(4, 0)]);
+        assert_eq!(key.placement.map(|p| p.center), Some((0.6, 1.25, 0.0)));
+        // A placement of its own is kept.
+        let own = Placement { center: (1.0, 2.0, 3.0), rotation_deg: (0.0, 45.0, 0.0) };
+        key.pins = vec![pin((0, 0), (0.0, 0.0, 0.0))];
+        key.placement = Some(own);
+        unpin(&mut key, &[(0, 0)]);
+        assert_eq!(key.placement, Some(own));
     }
 
     #[test]

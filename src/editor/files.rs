@@ -94,6 +94,7 @@ pub fn new_scene() -> Scene {
             inbetween_relax: 0,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
             friction: crate::scene::DEFAULT_FRICTION,
+            placement: None,
         }],
         layers: Vec::new(),
         view: None,

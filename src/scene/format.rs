@@ -136,6 +136,7 @@ mod tests {
             inbetween_relax: 3,
             thickness: crate::scene::DEFAULT_THICKNESS_M,
             friction: crate::scene::DEFAULT_FRICTION,
+            placement: None,
         };
         let animated = Param::Keys(
             Ease::ALL

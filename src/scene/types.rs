@@ -169,8 +169,13 @@ impl Default for Timeline {
 #[serde(deny_unknown_fields)]
 pub struct Key {
     pub frame: i32,
-    /// Where the cloth hangs from; at least one, no grid point twice.
+    /// Where the cloth hangs from; no grid point twice. Empty only when
+    /// colliders hold the cloth up: it then falls from its `placement`.
     pub pins: Vec<Pin>,
+    /// Where a key without pins starts, flat; keys with pins ignore it.
+    /// None: [`Placement::default`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement: Option<Placement>,
     /// ≥ 1: scales the fabric's length (catenary arc length and relaxation rest length).
     #[serde(default = "default_elasticity")]
     pub elasticity: f64,
@@ -196,6 +201,32 @@ pub struct Key {
     /// 1 and more hold (Coulomb's coefficient). At least 0.
     #[serde(default = "default_friction")]
     pub friction: f64,
+}
+
+/// Where a key without pins starts: the flat cloth with u along +X and v
+/// along +Z, centred at `center`, then turned by `rotation_deg` (about X,
+/// then Y, then Z, degrees, about the centre).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// World position of the cloth's middle (m).
+    pub center: (f64, f64, f64),
+    #[serde(default)]
+    pub rotation_deg: (f64, f64, f64),
+}
+
+impl Default for Placement {
+    /// Level, its middle 1 m above the origin.
+    fn default() -> Self {
+        Placement { center: (0.0, 1.0, 0.0), rotation_deg: (0.0, 0.0, 0.0) }
+    }
+}
+
+impl Key {
+    /// Where the cloth starts when the key has no pins.
+    pub fn placement_or_default(&self) -> Placement {
+        self.placement.unwrap_or_default()
+    }
 }
 
 /// The friction a key gets when its file names none.

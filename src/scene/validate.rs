@@ -388,11 +388,17 @@ impl Checker {
 
     fn key(&mut self, path: &str, key: &Key, scene: &Scene) {
         let at = format!("the key at frame {}", key.frame);
-        if key.pins.is_empty() {
+        if key.pins.is_empty() && !scene.colliders.iter().any(|c| c.enabled()) {
             self.push(
                 format!("{path}.pins"),
-                format!("key at frame {} has no pins: the cloth needs at least one pin to hang from", key.frame),
+                format!(
+                    "key at frame {} has no pins and no collider holds the cloth up: it needs at least one pin, or an enabled collider under its placement",
+                    key.frame
+                ),
             );
+        }
+        if let Some(placement) = &key.placement {
+            self.placement(&format!("{path}.placement"), placement, &at);
         }
         if key.pins.len() > MAX_PINS_PER_KEY {
             self.push(
@@ -521,6 +527,31 @@ impl Checker {
                     group_thousands(MAX_PIN_COORD_M as u64)
                 ),
             );
+        }
+    }
+
+    /// A pinless key's start: finite, its centre within the world's bounds.
+    fn placement(&mut self, path: &str, placement: &super::Placement, at: &str) {
+        for (field, v, limit, unit) in [
+            ("center", placement.center, MAX_PIN_COORD_M, " m"),
+            ("rotation_deg", placement.rotation_deg, super::MAX_LAYER_VALUE, "°"),
+        ] {
+            let field_path = format!("{path}.{field}");
+            if let Some((axis, bad)) = [("x", v.0), ("y", v.1), ("z", v.2)].into_iter().find(|(_, c)| !c.is_finite()) {
+                self.push(
+                    field_path,
+                    format!("placement {field} in {at} has {axis} = {bad}: it must be a finite number"),
+                );
+            } else if [v.0, v.1, v.2].iter().any(|c| c.abs() > limit) {
+                self.push(
+                    field_path,
+                    format!(
+                        "placement {field} in {at} is {}, too far out: each component must be within ±{}{unit}",
+                        readable_vec3(v),
+                        group_thousands(limit as u64)
+                    ),
+                );
+            }
         }
     }
 
@@ -682,6 +713,7 @@ mod tests {
                 inbetween_relax: 0,
                 thickness: crate::scene::DEFAULT_THICKNESS_M,
                 friction: crate::scene::DEFAULT_FRICTION,
+                placement: None,
             }],
             layers: vec![],
             view: None,

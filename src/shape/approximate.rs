@@ -110,6 +110,8 @@ pub struct ConflictPoint {
 /// How the pins are laid out in grid space.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PinLayout {
+    /// No pins: colliders hold the cloth up (see [`CatenaryNetwork::unpinned`]).
+    Unpinned,
     /// One pin: the cloth hangs from a point.
     Single,
     /// All pins on one line; pin indices sorted along it.
@@ -132,6 +134,19 @@ pub struct CatenaryNetwork {
     pub conflicting: Vec<CatenaryEdge>,
     pub conflict_points: Vec<ConflictPoint>,
     pub layout: PinLayout,
+}
+
+impl CatenaryNetwork {
+    /// The network of a key without pins: nothing to hang from, no catenaries.
+    pub fn unpinned() -> Self {
+        CatenaryNetwork {
+            pins: Vec::new(),
+            kept: Vec::new(),
+            conflicting: Vec::new(),
+            conflict_points: Vec::new(),
+            layout: PinLayout::Unpinned,
+        }
+    }
 }
 
 /// How a grid point got its approximated position.
@@ -338,6 +353,8 @@ impl<'a> DrapeFrame<'a> {
         let material: Vec<DVec2> = pins.iter().map(|p| grid.material(p.grid.0, p.grid.1)).collect();
         let pin_centroid = material.iter().copied().sum::<DVec2>() / pins.len() as f64;
         let (boundary, world_per_u, world_per_v, edge_tilt_rad) = match &network.layout {
+            // `approximate` never builds a frame without pins; a level sheet if it did.
+            PinLayout::Unpinned => (Vec::new(), DVec3::X, DVec3::Z, 0.0),
             PinLayout::Single => (vec![0], DVec3::X, DVec3::NEG_Y, 0.0),
             PinLayout::Collinear(order) => {
                 let (first, last) = (order[0], order[order.len() - 1]);
@@ -394,6 +411,9 @@ impl<'a> DrapeFrame<'a> {
     /// from the point it hangs from.
     fn position(&self, m: DVec2, elasticity: f64) -> (DVec3, f64) {
         match self.network.layout {
+            PinLayout::Unpinned => {
+                return ((self.world_per_u * m.x + self.world_per_v * m.y) * elasticity, 0.0);
+            }
             PinLayout::Single => return self.single_pin_position(m, elasticity),
             PinLayout::Collinear(_) => return self.collinear_position(m, elasticity),
             PinLayout::Hull { .. } => {}

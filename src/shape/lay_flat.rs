@@ -13,9 +13,29 @@
 //! drapes it: a cloth pinned on a table top starts flat on the top and out
 //! past its edges, and its overhang falls.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::world::{Obstacle, push_out};
+
+/// A key without pins starts here: the `cols × rows` grid flat, `spacing`
+/// (u, v) metres apart in material space and `elasticity` times as long in
+/// the fabric, u along +X and v along +Z, its middle at `center`, turned by
+/// `rotation` about the middle (vertex order `j·cols + i`).
+pub fn flat_at(
+    (cols, rows): (usize, usize),
+    spacing: (f64, f64),
+    elasticity: f64,
+    center: DVec3,
+    rotation: DMat3,
+) -> Vec<DVec3> {
+    let middle = (cols.saturating_sub(1) as f64 * spacing.0 / 2.0, rows.saturating_sub(1) as f64 * spacing.1 / 2.0);
+    (0..cols * rows)
+        .map(|k| {
+            let (u, v) = ((k % cols) as f64 * spacing.0, (k / cols) as f64 * spacing.1);
+            center + rotation * DVec3::new(u - middle.0, 0.0, v - middle.1) * elasticity
+        })
+        .collect()
+}
 
 /// Lays `positions` (a `cols × rows` grid, `spacing` (u, v) metres apart in
 /// material space, `elasticity` times as long in the fabric) out flat as

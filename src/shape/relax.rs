@@ -116,6 +116,8 @@ pub struct RelaxReport {
     /// from a shape the cap chose (the relaxation then has not converged,
     /// whatever the finest level did).
     pub coarse_capped: bool,
+    /// A cloth without pins fell past every collider: nothing holds it up.
+    pub fell_off: bool,
 }
 
 impl RelaxReport {
@@ -124,6 +126,8 @@ impl RelaxReport {
     pub fn summary(&self) -> String {
         if self.converged {
             format!("Settled: last sweep moved {}", format_small_mm(self.last_move_m * 1e3))
+        } else if self.fell_off {
+            "NOT settled: fell past every collider".to_owned()
         } else {
             "NOT settled: raise Iterations".to_owned()
         }
@@ -136,6 +140,11 @@ impl RelaxReport {
         let moved = format_small_mm(self.last_move_m * 1e3);
         if self.converged {
             format!("settled in {sweeps} (last sweep moved points at most {moved})")
+        } else if self.fell_off {
+            format!(
+                "NOT settled: with no pins the cloth fell past every collider in {sweeps}; move its placement over a \
+                 collider, or add a pin"
+            )
         } else if self.coarse_capped {
             format!(
                 "NOT settled: a coarser level of the grid stopped at the sweep cap, so the shape depends on the cap \
@@ -409,10 +418,11 @@ mod tests {
             last_move_m: 1.2e-7,
             converged: true,
             coarse_capped: false,
+            fell_off: false,
         };
         assert_eq!(settled.verdict(), "settled in 135 sweeps (last sweep moved points at most 0.00012 mm)");
         let capped =
-            RelaxReport { iterations: 1, last_move: 0.1, last_move_m: 3.71e-5, converged: false, coarse_capped: false };
+            RelaxReport { iterations: 1, last_move: 0.1, last_move_m: 3.71e-5, converged: false, ..Default::default() };
         assert_eq!(
             capped.verdict(),
             "NOT settled: stopped by the cap of 1 sweep with points still moving 0.037 mm a sweep; raise Iterations"

@@ -5,10 +5,10 @@ use std::ops::ControlFlow;
 use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
-use super::lay_flat::lay_flat;
+use super::lay_flat::{flat_at, lay_flat};
 use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_with};
 use crate::scene::{Cloth, Key};
-use crate::world::Obstacle;
+use crate::world::{ColliderShape, Obstacle, push_out};
 
 /// The modelling result of one key: catenary network (with conflicts), the
 /// approximated surface and the relaxed surface, in vertex order `j·cols + i`.
@@ -55,10 +55,6 @@ impl RestShape {
         control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     ) -> Result<RestShape, Cancelled> {
         let grid = grid_spec(cloth);
-        let pins = pin_points(key);
-        let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
-        let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
-        let mut relaxed = positions.clone();
         let params = RelaxParams {
             rest_u_m: grid.spacing_u_m * key.elasticity,
             rest_v_m: grid.spacing_v_m * key.elasticity,
@@ -66,6 +62,13 @@ impl RestShape {
             max_iterations: key.relax.iterations,
             tolerance: key.relax.tolerance,
         };
+        if key.pins.is_empty() {
+            return RestShape::fall_unpinned(grid, key, &params, obstacles, control);
+        }
+        let pins = pin_points(key);
+        let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
+        let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
+        let mut relaxed = positions.clone();
         let mut relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
         // Colliders the hanging cloth does not reach change nothing: a ground
         // far below a curtain leaves its shape bit for bit as without.
@@ -81,6 +84,7 @@ impl RestShape {
                 last_move_m: fall.last_move_m,
                 converged: fall.settled,
                 coarse_capped: false,
+                fell_off: fall.fell_off,
             };
         }
         Ok(RestShape {
@@ -89,6 +93,50 @@ impl RestShape {
             network,
             approximated: positions,
             placement,
+            relaxed,
+            relax_report,
+        })
+    }
+
+    /// A key without pins: the cloth starts flat at the key's placement (its
+    /// approximation), leaves the colliders it starts in the nearest way and
+    /// falls onto them. With nothing to fall on it stays flat (validation
+    /// keeps such keys out of scenes).
+    fn fall_unpinned(
+        grid: GridSpec,
+        key: &Key,
+        params: &RelaxParams,
+        obstacles: &[Obstacle],
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RestShape, Cancelled> {
+        let start = key.placement_or_default();
+        let center = DVec3::from(start.center);
+        let (x, y, z) = start.rotation_deg;
+        let rotation = ColliderShape::rotation_from_deg(x, y, z);
+        let spacing = (grid.spacing_u_m, grid.spacing_v_m);
+        let flat = flat_at((grid.cols, grid.rows), spacing, key.elasticity, center, rotation);
+        let pinned = vec![false; flat.len()];
+        let mut relaxed: Vec<DVec3> = flat.iter().map(|&p| push_out(obstacles, p)).collect();
+        let relax_report = if obstacles.is_empty() {
+            RelaxReport { converged: true, ..RelaxReport::default() }
+        } else {
+            let fall =
+                drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, params, obstacles, key.friction, control)?;
+            RelaxReport {
+                iterations: fall.steps,
+                last_move: fall.last_move_m / params.rest_u_m.min(params.rest_v_m),
+                last_move_m: fall.last_move_m,
+                converged: fall.settled,
+                coarse_capped: false,
+                fell_off: fall.fell_off,
+            }
+        };
+        Ok(RestShape {
+            grid,
+            elasticity: key.elasticity,
+            network: CatenaryNetwork::unpinned(),
+            approximated: flat,
+            placement: vec![Placement::Draped; grid.point_count()],
             relaxed,
             relax_report,
         })
