@@ -19,7 +19,7 @@ use drape::scene::{self, Scene};
 use eframe::App as _;
 use eframe::egui::accesskit::Role;
 use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT as _, Queryable};
 use egui_kittest::{Harness, SnapshotOptions};
 
 const SIZE: egui::Vec2 = egui::vec2(1100.0, 720.0);
@@ -1184,6 +1184,77 @@ fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
     click_at(&mut harness, on_arrow, Modifiers::NONE);
     assert_eq!(harness.state().scene().keys[0].pins.len(), pins);
     assert_eq!(harness.state().selection(), [(0, 0)]);
+}
+
+/// The Colliders panel: add a box, name it, key its height at two frames,
+/// switch it off, remove it; each is one undo step, and the cloth is
+/// shaped among what the panel made.
+#[test]
+fn the_colliders_panel_adds_keys_and_removes_a_table() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    assert!(harness.state().scene().colliders.is_empty());
+    harness.get_by_label("Add collider").click();
+    harness.run_ok();
+    harness.get_by_label("Box").click();
+    harness.run_ok();
+    assert_eq!(harness.state().scene().colliders.len(), 1);
+    assert_eq!(harness.state().document().undo_label(), Some("Add collider"));
+    let name = harness.get_by_role_and_label(Role::TextInput, "Name");
+    name.focus();
+    name.type_text("table");
+    harness.run_ok();
+    assert_eq!(harness.state().scene().colliders[0].name(), "table");
+    // Key the top's height at frame 0, then move it at frame 24: keyed there.
+    harness.get_by_label("Key center y").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(24.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "center y").set_value_accesskit(0.5);
+    harness.run_ok();
+    let collider = &harness.state().scene().colliders[0];
+    let number = collider.numbers().into_iter().find(|n| n.label() == "center y").unwrap();
+    let frames: Vec<(i32, f64)> = match collider.param(number) {
+        Some(scene::Param::Keys(keys)) => keys.iter().map(|k| (k.frame, k.value)).collect(),
+        other => panic!("not keyed: {other:?}"),
+    };
+    assert_eq!(frames, [(0, 0.72), (24, 0.5)]);
+    assert_eq!(harness.state().document().undo_label(), Some("Collider center y"));
+    settle(&mut harness);
+    assert_eq!(harness.state().shown_scene(), harness.state().scene(), "the cloth was shaped among it");
+    harness.get_by_label("Enable Box collider \"table\"").click();
+    harness.run_ok();
+    assert!(!harness.state().scene().colliders[0].enabled());
+    harness.get_by_label("Remove Box collider \"table\"").click();
+    harness.run_ok();
+    assert!(harness.state().scene().colliders.is_empty());
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().colliders.len(), 1, "removing is undone");
+}
+
+/// A key without pins drops from its placement: the Drop from and Turn
+/// rows set it (one undo step each), and are greyed on keys with pins.
+#[test]
+fn a_key_without_pins_is_placed_from_the_fabric_rows() {
+    let workspace = Workspace::new();
+    let table = scene::load(std::path::Path::new("scenes/round_table.ron")).unwrap();
+    let mut harness = open_editor(&workspace, table, None);
+    let drop_y = harness.get_by_role_and_label(Role::SpinButton, "Drop from Y");
+    assert!(!drop_y.accesskit_node().is_disabled(), "the key at frame 0 has no pins");
+    drop_y.set_value_accesskit(0.9);
+    harness.run_ok();
+    let placement = harness.state().scene().keys[0].placement.expect("placed");
+    assert_eq!(placement.center, (0.0, 0.9, 0.0));
+    assert_eq!(harness.state().document().undo_label(), Some("Placement centre"));
+    harness.get_by_role_and_label(Role::SpinButton, "Turn Y").set_value_accesskit(45.0);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[0].placement.map(|p| p.rotation_deg), Some((0.0, 45.0, 0.0)));
+    settle(&mut harness);
+    assert_eq!(harness.state().shown_scene(), harness.state().scene(), "the key was dropped again");
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().keys[0].placement.map(|p| p.rotation_deg), Some((0.0, 0.0, 0.0)), "undone");
 }
 
 /// Among colliders the fabric shows the key's thickness and friction; a

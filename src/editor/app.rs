@@ -15,6 +15,7 @@ use eframe::egui::{self, Key as KeyCode, KeyboardShortcut};
 use eframe::egui_wgpu;
 
 use super::cloth_panel::ClothPanel;
+use super::colliders_panel::CollidersPanel;
 use super::document::Document;
 use super::export_window::ExportWindow;
 use super::files::{FileEvent, Files};
@@ -42,6 +43,7 @@ pub struct DrapeApp {
     viewport: ViewportPanel,
     timeline: TimelinePanel,
     layers: LayersPanel,
+    colliders: CollidersPanel,
     cloth: ClothPanel,
     files: Files,
     export: ExportWindow,
@@ -76,6 +78,7 @@ impl DrapeApp {
             viewport,
             timeline: TimelinePanel::default(),
             layers: LayersPanel::default(),
+            colliders: CollidersPanel::default(),
             cloth: ClothPanel::default(),
             files: Files::new(default_config_dir(), default_state_dir()),
             export: ExportWindow::default(),
@@ -271,6 +274,7 @@ impl DrapeApp {
                     self.viewport.pin_drag = None;
                     self.timeline = self.timeline.for_new_document();
                     self.layers = LayersPanel::default();
+                    self.colliders = CollidersPanel::default();
                 }
                 FileEvent::OpenExport => self.export.open_for(&self.work.doc),
             }
@@ -528,7 +532,11 @@ impl eframe::App for DrapeApp {
             self.cloth.ui(ui, &mut self.work);
         });
         egui::Panel::right("layers").default_size(270.0).min_size(220.0).show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| self.layers.ui(ui, &mut self.work));
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                self.layers.ui(ui, &mut self.work);
+                ui.separator();
+                self.colliders.ui(ui, &mut self.work);
+            });
         });
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));
         self.shortcuts_window(&ctx);

@@ -8,6 +8,7 @@ use eframe::egui;
 use super::number_field::number_field;
 
 use super::curve_view::CurveView;
+use super::icons::{Icon, icon_button};
 use super::param_edit::{key_at, param_mut, param_names, set_at_keying, toggle_key};
 use super::workspace::Workspace;
 use crate::animate::track::sample;
@@ -17,56 +18,6 @@ use crate::scene::{FollowThrough, Layer, Param, WaveAxis};
 /// (the schema's start values); an unknown kind gives a follow-through.
 pub(super) fn new_layer(kind: &str) -> Layer {
     Layer::with_start_values(kind).unwrap_or_else(|| Layer::FollowThrough(FollowThrough::with_start_values()))
-}
-
-/// The small drawn icons of the layer panel (the default fonts have no such glyphs).
-#[derive(Clone, Copy)]
-enum Icon {
-    /// A key: filled when the parameter is keyed at this frame.
-    Diamond {
-        filled: bool,
-    },
-    Up,
-    Down,
-    /// Three bars: drag the row by it.
-    Grip,
-}
-
-/// A 16-point icon button with an accessible `label`.
-fn icon_button(ui: &mut egui::Ui, icon: Icon, enabled: bool, label: &str) -> egui::Response {
-    let sense = match icon {
-        _ if !enabled => egui::Sense::hover(),
-        Icon::Grip => egui::Sense::drag(),
-        _ => egui::Sense::click(),
-    };
-    let (rect, response) = ui.allocate_exact_size(egui::vec2(16.0, 16.0), sense);
-    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, enabled, label));
-    let visuals = ui.style().interact(&response);
-    let color = if enabled { visuals.fg_stroke.color } else { ui.visuals().weak_text_color().gamma_multiply(0.5) };
-    let c = rect.center();
-    let r = 5.0;
-    let points = match icon {
-        Icon::Diamond { .. } => {
-            vec![c + egui::vec2(0.0, -r), c + egui::vec2(r, 0.0), c + egui::vec2(0.0, r), c + egui::vec2(-r, 0.0)]
-        }
-        Icon::Up => vec![c + egui::vec2(0.0, -r), c + egui::vec2(r, r * 0.7), c + egui::vec2(-r, r * 0.7)],
-        Icon::Down => vec![c + egui::vec2(0.0, r), c + egui::vec2(-r, -r * 0.7), c + egui::vec2(r, -r * 0.7)],
-        Icon::Grip => {
-            for dy in [-3.5, 0.0, 3.5] {
-                let y = c.y + dy;
-                ui.painter()
-                    .line_segment([egui::pos2(c.x - r, y), egui::pos2(c.x + r, y)], egui::Stroke::new(1.2, color));
-            }
-            return response;
-        }
-    };
-    let fill = match icon {
-        Icon::Diamond { filled: true } => egui::Color32::from_rgb(255, 200, 20),
-        Icon::Diamond { filled: false } => egui::Color32::TRANSPARENT,
-        _ => color,
-    };
-    ui.painter().add(egui::Shape::convex_polygon(points, fill, egui::Stroke::new(1.2, color)));
-    response
 }
 
 /// The Layers panel's own state: a row dragged by its grip, and the curve view.

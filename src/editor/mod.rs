@@ -19,6 +19,7 @@
 pub mod app;
 pub mod bezier_handles;
 mod cloth_panel;
+mod colliders_panel;
 pub mod curve_view;
 pub mod document;
 pub mod edits;
@@ -27,6 +28,7 @@ pub mod file_dialog;
 pub mod files;
 pub mod gizmo;
 pub mod grid_editor;
+mod icons;
 mod layers_panel;
 mod number_field;
 pub mod param_edit;

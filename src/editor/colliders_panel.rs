@@ -1,0 +1,201 @@
+//! The Colliders panel: add, remove, rename and enable what the cloth rests
+//! on, and every number of the selected collider with a key toggle beside
+//! it, as the Layers panel does for parameters: values show what the number
+//! is at the playhead, editing a keyed number keys it there, and the diamond
+//! adds or removes the key at the playhead. Every change is one undo step.
+
+use eframe::egui;
+
+use super::icons::{Icon, icon_button};
+use super::number_field::number_field;
+use super::param_edit::{key_at, set_at_keying, toggle_key};
+use super::workspace::Workspace;
+use crate::animate::track::sample;
+use crate::scene::{Collider, ColliderNumber, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, Param};
+
+/// The Colliders panel's own state: which collider's numbers it shows.
+#[derive(Default)]
+pub struct CollidersPanel {
+    selected: Option<usize>,
+}
+
+impl CollidersPanel {
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+        ui.heading("Colliders");
+        ui.menu_button("Add collider", |ui| {
+            for &kind in Collider::KINDS {
+                let Some(collider) = Collider::with_start_values(kind) else { continue };
+                if ui.button(kind).on_hover_text(kind_hint(kind)).clicked() {
+                    let at = w.doc.scene().colliders.len();
+                    w.apply("Add collider", |s| s.colliders.push(collider));
+                    // Refused (the scene's limit): nothing new to select.
+                    if w.doc.scene().colliders.len() > at {
+                        self.selected = Some(at);
+                    }
+                    ui.close();
+                }
+            }
+        });
+        let colliders = w.doc.scene().colliders.clone();
+        if colliders.is_empty() {
+            ui.weak("None: the cloth hangs in empty space. A collider is something it rests on and never enters.");
+            return;
+        }
+        for (index, collider) in colliders.iter().enumerate() {
+            ui.horizontal(|ui| self.row_ui(ui, w, index, collider));
+        }
+        let Some(index) = self.selected.filter(|i| *i < colliders.len()) else { return };
+        ui.separator();
+        details_ui(ui, w, index, &colliders[index]);
+    }
+
+    /// One collider in the list: its switch, its title (click to select) and ×.
+    fn row_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, collider: &Collider) {
+        let label = collider.label(index);
+        let mut enabled = collider.enabled();
+        let checkbox = ui.checkbox(&mut enabled, "").on_hover_text("Enabled: the cloth keeps out of it");
+        checkbox
+            .widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, true, enabled, format!("Enable {label}")));
+        if checkbox.changed() {
+            w.apply("Enable collider", |s| *s.colliders[index].enabled_mut() = enabled);
+        }
+        let remove = ui.small_button("×").on_hover_text("Remove the collider");
+        remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
+        if remove.clicked() {
+            w.apply("Remove collider", |s| {
+                s.colliders.remove(index);
+            });
+            self.selected = match self.selected {
+                Some(s) if s == index => None,
+                Some(s) if s > index => Some(s - 1),
+                other => other,
+            };
+        }
+        let selected = self.selected == Some(index);
+        if ui.selectable_label(selected, title(collider, index)).on_hover_text(label).clicked() {
+            self.selected = if selected { None } else { Some(index) };
+        }
+    }
+}
+
+/// The selected collider's name, thickness and numbers.
+fn details_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, collider: &Collider) {
+    let frame = w.frame().round() as i32;
+    let mut name = collider.name().to_owned();
+    ui.horizontal(|ui| {
+        let label = ui.label("Name").id;
+        let field = egui::TextEdit::singleline(&mut name).desired_width(140.0).hint_text(title(collider, index));
+        if ui.add(field).labelled_by(label).changed() {
+            w.apply("Rename collider", |s| *s.colliders[index].name_mut() = name.clone());
+        }
+    });
+    thickness_ui(ui, w, index, collider, frame);
+    ui.weak(format!("Values at frame {frame}. The diamond keys a number here (filled: keyed at this frame)."));
+    egui::Grid::new("collider numbers").num_columns(3).show(ui, |ui| {
+        for number in collider.numbers() {
+            let Some(param) = collider.param(number) else { continue };
+            number_row_ui(ui, w, frame, &number.label(), param, number_range(number), |s| {
+                s.colliders.get_mut(index).and_then(|c| c.param_mut(number))
+            });
+            ui.end_row();
+        }
+    });
+}
+
+/// The collider's own thickness, or the key's: a switch and, when its own, its value.
+fn thickness_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, collider: &Collider, frame: i32) {
+    let hint = "How far the cloth keeps from this collider; off: the key's thickness.";
+    let mut own = collider.thickness().is_some();
+    let switch = ui.checkbox(&mut own, "Own thickness").on_hover_text(hint);
+    if switch.changed() {
+        // Starts at the thickness the key in effect keeps, so the cloth does not move.
+        let start = w.doc.scene().keys[w.edit_key_index()].thickness;
+        w.apply("Collider thickness", |s| {
+            *s.colliders[index].thickness_mut() = own.then_some(Param::Constant(start));
+        });
+    }
+    let Some(param) = collider.thickness() else { return };
+    egui::Grid::new("collider thickness").num_columns(3).show(ui, |ui| {
+        let range = NumberRange { min: 0.0, max: MAX_THICKNESS_M, speed: 0.0005, unit: " m" };
+        number_row_ui(ui, w, frame, "thickness", param, range, |s| {
+            s.colliders.get_mut(index).and_then(|c| c.thickness_mut().as_mut())
+        });
+        ui.end_row();
+    });
+}
+
+/// What a number field allows and how fast it drags.
+#[derive(Clone, Copy)]
+struct NumberRange {
+    min: f64,
+    max: f64,
+    speed: f64,
+    unit: &'static str,
+}
+
+/// The range of a collider's number by what it measures (validation's bounds).
+fn number_range(number: ColliderNumber) -> NumberRange {
+    match number.field.measure {
+        Measure::Position => NumberRange { min: -MAX_PIN_COORD_M, max: MAX_PIN_COORD_M, speed: 0.005, unit: " m" },
+        Measure::Length => NumberRange { min: 0.001, max: MAX_PIN_COORD_M, speed: 0.005, unit: " m" },
+        Measure::Angle => NumberRange { min: -36_000.0, max: 36_000.0, speed: 0.5, unit: "°" },
+    }
+}
+
+/// One animatable number: its label, its value at `frame` and its key
+/// toggle. `param_of` finds the number in the scene being edited.
+fn number_row_ui(
+    ui: &mut egui::Ui,
+    w: &mut Workspace,
+    frame: i32,
+    label_text: &str,
+    param: &Param,
+    range: NumberRange,
+    param_of: impl Fn(&mut crate::scene::Scene) -> Option<&mut Param>,
+) {
+    let keyed_here = key_at(param, frame).is_some();
+    let keyed = matches!(param, Param::Keys(_));
+    let mut value = sample(param, f64::from(frame));
+    let label = ui.label(label_text).id;
+    let field =
+        number_field(&mut value).range(range.min..=range.max).speed(range.speed).max_decimals(4).suffix(range.unit);
+    let response = ui.add(field).labelled_by(label);
+    let hint = if keyed { "Keyed: click to add or remove the key at this frame" } else { "Key this number here" };
+    let toggle =
+        icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key {label_text}")).on_hover_text(hint);
+    let what = format!("Collider {label_text}");
+    if response.drag_started() {
+        w.doc.begin_gesture(&what);
+    }
+    if response.changed() {
+        let auto_key = w.session.auto_key;
+        w.apply(&what, |s| {
+            if let Some(p) = param_of(s) {
+                set_at_keying(p, frame, value, auto_key);
+            }
+        });
+    }
+    if toggle.clicked() {
+        w.apply("Key collider number", |s| {
+            if let Some(p) = param_of(s) {
+                toggle_key(p, frame);
+            }
+        });
+    }
+}
+
+/// What each kind is, for the Add menu.
+fn kind_hint(kind: &str) -> &'static str {
+    match kind {
+        "Ground" => "A level floor at a height: nothing goes below it",
+        "Box" => "A box, turned any way: a table top, a step, a chest",
+        "Cylinder" => "A round table top, a pole or a drum (axis up before turning)",
+        "Sphere" => "A ball, a head",
+        _ => "A segment swollen by a radius: an arm, a rail, a shoulder",
+    }
+}
+
+/// The collider's name in the list, or for an unnamed one its kind and place ("Box 2").
+fn title(collider: &Collider, index: usize) -> String {
+    if collider.name().is_empty() { format!("{} {}", collider.kind(), index + 1) } else { collider.name().to_owned() }
+}
