@@ -370,6 +370,7 @@ fn collider_parameters(collider: &Collider) -> String {
         let unit = match field.measure {
             Measure::Position | Measure::Length => "m",
             Measure::Angle => "°",
+            Measure::Scale => "",
         };
         let number = |component| ColliderNumber { field: *field, component };
         if field.vector {
@@ -387,6 +388,11 @@ fn collider_parameters(collider: &Collider) -> String {
         } else if let Some(param) = collider.param(number(None)) {
             parts.push(format!("{} {}", field.name, describe_param(param, unit)));
         }
+    }
+    if let Collider::Mesh(mesh) = collider {
+        let triangles =
+            mesh.solid.0.as_ref().map_or_else(String::new, |s| format!(", {} triangles", s.triangle_count()));
+        parts.insert(0, format!("file {:?}{triangles}", mesh.file));
     }
     match collider.thickness() {
         Some(thickness) => parts.push(format!("thickness {}", describe_param(thickness, "m"))),

@@ -682,3 +682,30 @@ fn a_killed_exports_leftovers_go_with_the_next_write() {
     assert!(output.status.success(), "{}", stderr(&output));
     assert_eq!(names_in(dir.path()), [live, "y.obj".to_string()], "the dead processes' leftovers are gone");
 }
+
+/// A mesh collider whose file is missing or broken stops every command with
+/// the scene's line and column and the reason, exit 1, and nothing written.
+#[test]
+fn a_missing_or_broken_mesh_file_stops_every_command_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    for (fixture, why) in [
+        ("collider_mesh_missing.ron", "there is no such file"),
+        ("collider_mesh_broken.ron", "not a readable OBJ file"),
+    ] {
+        let scene = format!("tests/data/malformed/{fixture}");
+        let out = dir.path().join("out.pc2");
+        let picture = dir.path().join("out.png");
+        for args in [
+            vec!["check", scene.as_str()],
+            vec!["export", scene.as_str(), "-o", out.to_str().unwrap()],
+            vec!["render", scene.as_str(), "-o", picture.to_str().unwrap()],
+        ] {
+            let output = run(&args);
+            assert_eq!(output.status.code(), Some(1), "{args:?}: {}", stderr(&output));
+            let message = stderr(&output);
+            assert!(message.contains(&format!("{scene}:9:36: Mesh collider \"chair\"")), "{args:?}: {message}");
+            assert!(message.contains(why), "{args:?}: {message}");
+        }
+        assert!(names_in(dir.path()).is_empty(), "nothing written: {:?}", names_in(dir.path()));
+    }
+}

@@ -29,7 +29,7 @@ const MALFORMED: &[(&str, &str)] = &[
     (
         "collider_kind.ron",
         "tests/data/malformed/collider_kind.ron:12:9: unknown collider `Torus` \
-         (expected one of: Ground, Box, Cylinder, Sphere, Capsule)",
+         (expected one of: Ground, Box, Cylinder, Sphere, Capsule, Mesh)",
     ),
     (
         "collider_size.ron",
@@ -40,6 +40,16 @@ const MALFORMED: &[(&str, &str)] = &[
         "placement_far.ron",
         "tests/data/malformed/placement_far.ron:9:33: placement center in the key at frame 0 is (0, 20000, 0), \
          too far out: each component must be within ±10 000 m",
+    ),
+    (
+        "collider_mesh_missing.ron",
+        "tests/data/malformed/collider_mesh_missing.ron:9:36: Mesh collider \"chair\": cannot use \"../meshes/chair.obj\": \
+         there is no such file (tests/data/malformed/../meshes/chair.obj)",
+    ),
+    (
+        "collider_mesh_broken.ron",
+        "tests/data/malformed/collider_mesh_broken.ron:9:36: Mesh collider \"chair\": cannot use \"../meshes/broken.obj\": \
+         not a readable OBJ file (face vertex index out of bounds)",
     ),
     ("syntax_error.ron", "tests/data/malformed/syntax_error.ron:2:15: expected a comma before `cloth`"),
     (
@@ -294,8 +304,17 @@ fn every_scene_in_the_scenes_directory_loads() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The reference scene, its mesh files named by absolute paths so that a
+/// copy saved anywhere still finds them.
 fn reference() -> Scene {
-    scene::load(Path::new(VALID_FULL)).unwrap_or_else(|e| panic!("{e}"))
+    let mut scene = scene::load(Path::new(VALID_FULL)).unwrap_or_else(|e| panic!("{e}"));
+    for collider in &mut scene.colliders {
+        if let Collider::Mesh(mesh) = collider {
+            let folder = Path::new(VALID_FULL).parent().unwrap_or(Path::new(""));
+            mesh.file = fs::canonicalize(folder.join(&mesh.file)).unwrap().display().to_string();
+        }
+    }
+    scene
 }
 
 fn eases(scene: &Scene) -> Vec<Ease> {

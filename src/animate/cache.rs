@@ -94,6 +94,10 @@ fn obstacle_bits(obstacles: &[Obstacle]) -> Vec<u64> {
     let mut bits = Vec::new();
     for obstacle in obstacles {
         let (tag, numbers): (u64, Vec<f64>) = match obstacle.shape {
+            ColliderShape::Mesh { ref solid, center, world_from_local, scale } => {
+                bits.extend([5, solid.fingerprint(), solid.triangle_count() as u64]);
+                (6, center.to_array().into_iter().chain([scale]).chain(world_from_local.to_cols_array()).collect())
+            }
             ColliderShape::Ground { height } => (0, vec![height]),
             ColliderShape::Sphere { center, radius } => (1, vec![center.x, center.y, center.z, radius]),
             ColliderShape::Capsule { a, b, radius } => (2, vec![a.x, a.y, a.z, b.x, b.y, b.z, radius]),

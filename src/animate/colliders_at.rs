@@ -9,7 +9,9 @@ use crate::world::{ColliderShape, Obstacle};
 
 /// The enabled colliders of `scene` at `frame`, each with the thickness the
 /// cloth keeps from it: its own, else that of the key in effect. Sizes
-/// that an overshooting easing takes below 0 read as 0; thicknesses too.
+/// that an overshooting easing takes below 0 read as 0; thicknesses too. A
+/// mesh collider whose file has not been read (a scene parsed from text,
+/// without its folder) is left out.
 pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
     if scene.colliders.is_empty() || scene.keys.is_empty() {
         return Vec::new();
@@ -19,20 +21,27 @@ pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
         .colliders
         .iter()
         .filter(|collider| collider.enabled())
-        .map(|collider| {
+        .filter_map(|collider| {
             let thickness = collider.thickness().map_or(key_thickness, |t| sample(t, frame));
-            Obstacle { shape: shape_at(collider, frame), thickness: thickness.max(0.0) }
+            Some(Obstacle { shape: shape_at(collider, frame)?, thickness: thickness.max(0.0) })
         })
         .collect()
 }
 
-/// One collider's solid at `frame`.
-pub fn shape_at(collider: &Collider, frame: f64) -> ColliderShape {
+/// One collider's solid at `frame`; `None` for a mesh not read yet. A mesh's
+/// scale that easing takes to 0 or below reads as a micrometre.
+pub fn shape_at(collider: &Collider, frame: f64) -> Option<ColliderShape> {
     let at = |param: &Param| sample(param, frame);
     let length = |param: &Param| sample(param, frame).max(0.0);
     let vector = |v: &ParamVec3| DVec3::new(at(&v.0), at(&v.1), at(&v.2));
     let rotation = |v: &ParamVec3| ColliderShape::rotation_from_deg(at(&v.0), at(&v.1), at(&v.2));
-    match collider {
+    Some(match collider {
+        Collider::Mesh(m) => ColliderShape::Mesh {
+            solid: m.solid.0.clone()?,
+            center: vector(&m.center),
+            world_from_local: rotation(&m.rotation_deg),
+            scale: at(&m.scale).max(1e-6),
+        },
         Collider::Ground(g) => ColliderShape::Ground { height: at(&g.height) },
         Collider::Box(b) => ColliderShape::Box {
             center: vector(&b.center),
@@ -47,7 +56,7 @@ pub fn shape_at(collider: &Collider, frame: f64) -> ColliderShape {
         },
         Collider::Sphere(s) => ColliderShape::Sphere { center: vector(&s.center), radius: length(&s.radius) },
         Collider::Capsule(c) => ColliderShape::Capsule { a: vector(&c.a), b: vector(&c.b), radius: length(&c.radius) },
-    }
+    })
 }
 
 #[cfg(test)]

@@ -28,7 +28,7 @@ pub fn keep_out(obstacles: &[Obstacle], held: &[bool], before: &PointArrays, poi
     }
     let Some((min, max)) = bounds(points) else { return false };
     // Only the obstacles the cloth can touch this frame.
-    let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).copied().collect();
+    let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).cloned().collect();
     if near.is_empty() {
         return false;
     }

@@ -6,9 +6,13 @@
 //! ball can roll. The math (distance to the surface at a frame) is in
 //! `world::collider_shape`; this module is only the document.
 
+use std::fmt;
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use super::param::Param;
+use crate::world::MeshSolid;
 
 /// A vector whose three components are each animatable: `(0.0, 0.72, 0.0)`,
 /// or with keys in place of any number.
@@ -26,6 +30,55 @@ pub enum Collider {
     Sphere(Sphere),
     /// The segment a–b swollen by `radius` (an arm, a pole).
     Capsule(Capsule),
+    /// A closed triangle mesh read from an OBJ or glTF file (a chair, a body).
+    Mesh(MeshCollider),
+}
+
+/// A triangle mesh from a file, placed: a mesh point m is at
+/// `center + rotation · (scale · m)`. (`Mesh` in files and messages.)
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Mesh")]
+pub struct MeshCollider {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub enabled: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness: Option<Param>,
+    /// An OBJ (`.obj`) or glTF (`.glb`, `.gltf`) file, relative to the scene file.
+    pub file: String,
+    #[serde(default = "zeros")]
+    pub center: ParamVec3,
+    /// X, then Y, then Z, degrees, about the centre.
+    #[serde(default = "zeros")]
+    pub rotation_deg: ParamVec3,
+    /// Greater than 0.
+    #[serde(default = "one")]
+    pub scale: Param,
+    /// The solid `file` holds, once read ([`crate::scene::load`] and the
+    /// editor read it); not written to the file.
+    #[serde(skip)]
+    pub solid: LoadedMesh,
+}
+
+/// A mesh file's solid once read; empty until then. Two are equal whatever
+/// they hold: what a scene means is its `file`, and this is a cache of it.
+#[derive(Clone, Default)]
+pub struct LoadedMesh(pub Option<Arc<MeshSolid>>);
+
+impl PartialEq for LoadedMesh {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl fmt::Debug for LoadedMesh {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.0 {
+            Some(solid) => write!(f, "{solid:?}"),
+            None => f.write_str("not read"),
+        }
+    }
 }
 
 /// A ground plane.
@@ -120,6 +173,10 @@ fn zero() -> Param {
     Param::Constant(0.0)
 }
 
+fn one() -> Param {
+    Param::Constant(1.0)
+}
+
 fn zeros() -> ParamVec3 {
     (zero(), zero(), zero())
 }
@@ -133,6 +190,8 @@ pub enum Measure {
     Length,
     /// An angle (degrees).
     Angle,
+    /// A factor without a unit: greater than 0.
+    Scale,
 }
 
 /// One field of a collider kind: a plain number or a vector of three.
@@ -161,6 +220,11 @@ const CYLINDER_FIELDS: &[ColliderField] = &[
 ];
 const SPHERE_FIELDS: &[ColliderField] =
     &[field("center", true, Measure::Position), field("radius", false, Measure::Length)];
+const MESH_FIELDS: &[ColliderField] = &[
+    field("center", true, Measure::Position),
+    field("rotation_deg", true, Measure::Angle),
+    field("scale", false, Measure::Scale),
+];
 const CAPSULE_FIELDS: &[ColliderField] = &[
     field("a", true, Measure::Position),
     field("b", true, Measure::Position),
@@ -195,7 +259,7 @@ impl ColliderNumber {
 
 impl Collider {
     /// Every kind as the scene file writes it, in the editor's order.
-    pub const KINDS: &'static [&'static str] = &["Ground", "Box", "Cylinder", "Sphere", "Capsule"];
+    pub const KINDS: &'static [&'static str] = &["Ground", "Box", "Cylinder", "Sphere", "Capsule", "Mesh"];
 
     /// The kind as the scene file writes it.
     pub fn kind(&self) -> &'static str {
@@ -205,6 +269,7 @@ impl Collider {
             Collider::Cylinder(_) => "Cylinder",
             Collider::Sphere(_) => "Sphere",
             Collider::Capsule(_) => "Capsule",
+            Collider::Mesh(_) => "Mesh",
         }
     }
 
@@ -216,6 +281,7 @@ impl Collider {
             Collider::Cylinder(_) => CYLINDER_FIELDS,
             Collider::Sphere(_) => SPHERE_FIELDS,
             Collider::Capsule(_) => CAPSULE_FIELDS,
+            Collider::Mesh(_) => MESH_FIELDS,
         }
     }
 
@@ -245,6 +311,9 @@ impl Collider {
             ),
             Collider::Sphere(c) => (vec![("radius", &c.radius)], vec![("center", &c.center)]),
             Collider::Capsule(c) => (vec![("radius", &c.radius)], vec![("a", &c.a), ("b", &c.b)]),
+            Collider::Mesh(c) => {
+                (vec![("scale", &c.scale)], vec![("center", &c.center), ("rotation_deg", &c.rotation_deg)])
+            }
         };
         let name = number.field.name;
         match number.component {
@@ -266,6 +335,9 @@ impl Collider {
             ),
             Collider::Sphere(c) => (vec![("radius", &mut c.radius)], vec![("center", &mut c.center)]),
             Collider::Capsule(c) => (vec![("radius", &mut c.radius)], vec![("a", &mut c.a), ("b", &mut c.b)]),
+            Collider::Mesh(c) => {
+                (vec![("scale", &mut c.scale)], vec![("center", &mut c.center), ("rotation_deg", &mut c.rotation_deg)])
+            }
         };
         let name = number.field.name;
         match number.component {
@@ -282,6 +354,7 @@ impl Collider {
             Collider::Cylinder(c) => (&c.name, &c.enabled, &c.thickness),
             Collider::Sphere(c) => (&c.name, &c.enabled, &c.thickness),
             Collider::Capsule(c) => (&c.name, &c.enabled, &c.thickness),
+            Collider::Mesh(c) => (&c.name, &c.enabled, &c.thickness),
         }
     }
 
@@ -293,6 +366,7 @@ impl Collider {
             Collider::Cylinder(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
             Collider::Sphere(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
             Collider::Capsule(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
+            Collider::Mesh(c) => (&mut c.name, &mut c.enabled, &mut c.thickness),
         }
     }
 
@@ -370,6 +444,17 @@ impl Collider {
                 a: v(-0.3, 1.4, 0.0),
                 b: v(0.3, 1.4, 0.0),
                 radius: Param::Constant(0.08),
+            }),
+            // No file yet: the editor asks for one.
+            "Mesh" => Collider::Mesh(MeshCollider {
+                name,
+                enabled,
+                thickness,
+                file: String::new(),
+                center: zeros(),
+                rotation_deg: zeros(),
+                scale: one(),
+                solid: LoadedMesh::default(),
             }),
             _ => return None,
         })

@@ -204,7 +204,9 @@ fn struct_from_fields(fields: &[&str]) -> Option<String> {
         return Some(format!("{kind} layer"));
     }
     let has = |f: &str| fields.contains(&f);
-    let collider = if has("center") && has("size") {
+    let collider = if has("file") && has("scale") {
+        Some("Mesh")
+    } else if has("center") && has("size") {
         Some("Box")
     } else if has("center") && has("height") {
         Some("Cylinder")

@@ -1,12 +1,12 @@
 //! Reading and writing scene files: parse + validate, load, atomic save.
 
-use std::fs;
-use std::io::Read as _;
 use std::path::Path;
 
 use super::error::SceneError;
 use super::format::to_ron_string;
 use super::locate::{locate, tokenize};
+use super::mesh_files::read_meshes;
+use super::read_capped::read_capped;
 use super::types::Scene;
 use crate::atomic_file::write_atomically;
 
@@ -46,32 +46,18 @@ pub fn parse_bytes(bytes: &[u8], file_label: &str) -> Result<Scene, SceneError> 
 /// scene is a few kilobytes).
 pub const MAX_SCENE_FILE_BYTES: u64 = 64 * 1024 * 1024;
 
-/// Reads, parses and validates the scene file at `path`. Messages name the
+/// Reads, parses and validates the scene file at `path`, and reads the mesh
+/// files its colliders name (relative to it). Messages name the
 /// file as `path` displays (`scenes/tent.ron:14:17: …`). A file larger than
 /// [`MAX_SCENE_FILE_BYTES`] is refused without reading it whole, whatever it
 /// is (`/dev/zero` included).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let bytes = read_capped(path, MAX_SCENE_FILE_BYTES)?;
-    parse_bytes(&bytes, &path.display().to_string())
-}
-
-/// The bytes of the file at `path`, or [`SceneError::TooLarge`] as soon as it
-/// holds more than `limit_bytes`.
-pub fn read_capped(path: &Path, limit_bytes: u64) -> Result<Vec<u8>, SceneError> {
-    let read_error = |source| SceneError::Read { path: path.to_owned(), source };
-    let too_large = || SceneError::TooLarge { path: path.to_owned(), limit_bytes };
-    let file = fs::File::open(path).map_err(read_error)?;
-    // The size a regular file declares; devices and pipes declare none and are counted as read.
-    let declared = file.metadata().map(|m| if m.is_file() { m.len() } else { 0 }).unwrap_or(0);
-    if declared > limit_bytes {
-        return Err(too_large());
-    }
-    let mut bytes = Vec::with_capacity(declared as usize);
-    file.take(limit_bytes + 1).read_to_end(&mut bytes).map_err(read_error)?;
-    if bytes.len() as u64 > limit_bytes {
-        return Err(too_large());
-    }
-    Ok(bytes)
+    let mut scene = parse_bytes(&bytes, &path.display().to_string())?;
+    // The bytes are UTF-8: `parse_bytes` checked.
+    let text = std::str::from_utf8(&bytes).unwrap_or_default();
+    read_meshes(&mut scene, path, text)?;
+    Ok(scene)
 }
 
 /// Writes the scene to `path` atomically: the text goes to a new temporary file

@@ -21,21 +21,26 @@ mod format;
 mod io;
 mod layers;
 mod locate;
+mod mesh_files;
 mod param;
+mod read_capped;
 mod schema;
 mod types;
 mod validate;
 
 pub use colliders::{
-    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, Measure, ParamVec3, Sphere,
+    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, LoadedMesh, Measure, MeshCollider,
+    ParamVec3, Sphere,
 };
 pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
-pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, read_capped, save};
+pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, save};
 pub use layers::*;
 pub use locate::{TextPosition, locate};
+pub use mesh_files::{MAX_MESH_FILE_BYTES, move_mesh_files, read_mesh, read_meshes, relative_path};
 pub use param::{Ease, Param, ParamKey};
+pub use read_capped::read_capped;
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use types::*;
 pub use validate::*;

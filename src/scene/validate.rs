@@ -201,12 +201,27 @@ impl Checker {
             let Some(param) = collider.param(number) else { continue };
             let range = match number.field.measure {
                 Measure::Position => ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m"),
-                Measure::Length => ParamRange::Positive(MAX_PIN_COORD_M),
+                Measure::Length | Measure::Scale => ParamRange::Positive(MAX_PIN_COORD_M),
                 Measure::Angle => ParamRange::Any,
             };
             let (path, what) =
                 (format!("colliders[{index}].{}", number.path()), format!("{label}: {}", number.label()));
             self.layer_param(&path, &what, param, range);
+        }
+        if let Collider::Mesh(mesh) = collider {
+            let extension = std::path::Path::new(&mesh.file).extension().and_then(|e| e.to_str());
+            let known = extension.is_some_and(|e| ["obj", "glb", "gltf"].contains(&e.to_ascii_lowercase().as_str()));
+            if mesh.file.trim().is_empty() {
+                self.push(
+                    format!("colliders[{index}].file"),
+                    format!("{label}: file is empty: name an .obj, .glb or .gltf file (relative to the scene file)"),
+                );
+            } else if !known {
+                self.push(
+                    format!("colliders[{index}].file"),
+                    format!("{label}: {:?} is not a mesh file Drape reads: .obj, .glb or .gltf", mesh.file),
+                );
+            }
         }
         if let Some(thickness) = collider.thickness() {
             let range = ParamRange::Within(0.0, MAX_THICKNESS_M, " m");

@@ -1,10 +1,15 @@
 //! One collider's solid at one moment: exact signed distances and outward
-//! directions for the primitive kinds.
+//! directions for the primitive kinds, and a placed triangle mesh's.
+
+use std::sync::Arc;
 
 use glam::{DMat3, DVec2, DVec3};
 
+use super::mesh_solid::MeshSolid;
+use super::surface_point::SurfacePoint;
+
 /// A collider's solid in world space (metres). Rotations are world_from_local.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum ColliderShape {
     /// Everything below y = `height`.
     Ground {
@@ -33,17 +38,19 @@ pub enum ColliderShape {
         half_height: f64,
         world_from_local: DMat3,
     },
+    /// A triangle mesh, placed: a mesh point m is at
+    /// `center + world_from_local · (scale · m)` (`scale` > 0).
+    Mesh {
+        solid: Arc<MeshSolid>,
+        center: DVec3,
+        world_from_local: DMat3,
+        scale: f64,
+    },
 }
 
-/// Where a point stands against a solid.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SurfacePoint {
-    /// Signed distance to the surface: negative inside (m).
-    pub distance: f64,
-    /// Unit direction in which the distance grows fastest (outwards); a
-    /// fixed choice (+Y, or the nearest face) where it is not unique.
-    pub outward: DVec3,
-}
+/// How near the box around a mesh collider a point must be for its
+/// distance to be measured to the triangles (m): more than any thickness.
+pub const MESH_EXACT_WITHIN_M: f64 = 0.25;
 
 impl ColliderShape {
     /// The rotation X, then Y, then Z (degrees) about the centre, as DESIGN.md states.
@@ -54,12 +61,28 @@ impl ColliderShape {
     }
 
     /// Signed distance from `p` and the outward direction there. A non-finite
-    /// `p` reads as far outside (nothing to push).
+    /// `p` reads as far outside (nothing to push). For a mesh, exact within
+    /// [`MESH_EXACT_WITHIN_M`] of the box around it; farther, the distance
+    /// to that box (never more than the true distance).
     pub fn surface_point(&self, p: DVec3) -> SurfacePoint {
         if !p.is_finite() {
             return SurfacePoint { distance: f64::INFINITY, outward: DVec3::Y };
         }
         match *self {
+            ColliderShape::Mesh { ref solid, center, world_from_local, scale } => {
+                let local = world_from_local.transpose() * (p - center) / scale;
+                // Far from the mesh's box, the distance to the box: a lower bound,
+                // which is all a contact test or a sphere trace needs, without
+                // searching the triangles.
+                let (lo, hi) = solid.bounds();
+                let outside = (lo - local).max(local - hi).max(DVec3::ZERO);
+                let gap = outside.length();
+                if gap * scale > MESH_EXACT_WITHIN_M {
+                    return SurfacePoint { distance: gap * scale, outward: world_from_local * (outside / gap) };
+                }
+                let s = solid.surface_point(local);
+                SurfacePoint { distance: s.distance * scale, outward: world_from_local * s.outward }
+            }
             ColliderShape::Ground { height } => SurfacePoint { distance: p.y - height, outward: DVec3::Y },
             ColliderShape::Sphere { center, radius } => round(p - center, radius),
             ColliderShape::Capsule { a, b, radius } => {
@@ -97,6 +120,12 @@ impl ColliderShape {
     /// An axis-aligned box around the solid (the ground reaches down forever).
     pub fn bounds(&self) -> (DVec3, DVec3) {
         match *self {
+            ColliderShape::Mesh { ref solid, center, world_from_local, scale } => {
+                let (lo, hi) = solid.bounds();
+                let middle = center + world_from_local * ((lo + hi) * 0.5 * scale);
+                let extent = world_from_local.abs() * ((hi - lo) * 0.5 * scale);
+                (middle - extent, middle + extent)
+            }
             ColliderShape::Ground { height } => (
                 DVec3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY),
                 DVec3::new(f64::INFINITY, height, f64::INFINITY),

@@ -5,7 +5,7 @@ use glam::DVec3;
 use super::ColliderShape;
 
 /// A collider at one moment and the distance the cloth keeps from its surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Obstacle {
     pub shape: ColliderShape,
     /// Metres; at least 0.
@@ -201,7 +201,7 @@ mod tests {
         };
         let floor = Obstacle { shape: ColliderShape::Ground { height: 0.0 }, thickness: 0.002 };
         for p in [DVec3::new(0.05, 0.9, 0.1), DVec3::new(0.0, -0.5, 3.0), DVec3::new(0.0, 1.0, 0.0)] {
-            let q = push_out(&[ball, floor], p);
+            let q = push_out(&[ball.clone(), floor.clone()], p);
             assert!(ball.shape.distance(q) >= 0.01 - 1e-12, "{p} → {q}");
             assert!(floor.shape.distance(q) >= 0.002 - 1e-12, "{p} → {q}");
         }

@@ -48,6 +48,17 @@ impl ColliderShape {
         let mut mesh = TriangleMesh::default();
         match *self {
             ColliderShape::Ground { .. } => {}
+            ColliderShape::Mesh { ref solid, center, world_from_local, scale } => {
+                // Flat: a mesh's hard edges stay hard (a table's, a step's).
+                let (vertices, triangles) = solid.triangles();
+                let place = |m: DVec3| center + world_from_local * (m * scale);
+                for t in triangles {
+                    let [a, b, c] = t.map(|i| place(vertices[i as usize]));
+                    let normal = (b - a).cross(c - a).try_normalize().unwrap_or(DVec3::Y);
+                    let ids = [a, b, c].map(|p| mesh.vertex(p, normal));
+                    mesh.indices.extend_from_slice(&ids);
+                }
+            }
             ColliderShape::Sphere { center, radius } => {
                 capsule(&mut mesh, center, center, radius, DMat3::IDENTITY);
             }
