@@ -1231,6 +1231,22 @@ fn the_colliders_panel_adds_keys_and_removes_a_table() {
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_ok();
     assert_eq!(harness.state().scene().colliders.len(), 1, "removing is undone");
+    // A mesh from a file: picked in the file dialog, read at once, named after the file.
+    harness.get_by_label("Add collider").click();
+    harness.run_ok();
+    harness.get_by_label("Mesh…").click();
+    harness.run_ok();
+    let table = std::fs::canonicalize("tests/data/meshes/table.obj").unwrap();
+    pick_in_file_dialog(&mut harness, &table);
+    let Some(scene::Collider::Mesh(mesh)) = harness.state().scene().colliders.get(1) else {
+        panic!("no mesh collider: {:?}", harness.state().scene().colliders)
+    };
+    assert_eq!(mesh.name, "table");
+    let folder = harness.state().document().path().and_then(Path::parent).unwrap().to_path_buf();
+    assert!(Path::new(&mesh.file).is_relative(), "named relative to the scene: {}", mesh.file);
+    assert_eq!(std::fs::canonicalize(folder.join(&mesh.file)).unwrap(), table);
+    assert!(mesh.solid.0.is_some(), "the file was read");
+    settle(&mut harness);
 }
 
 /// A key without pins drops from its placement: the Drop from and Turn

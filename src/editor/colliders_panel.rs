@@ -4,27 +4,44 @@
 //! is at the playhead, editing a keyed number keys it there, and the diamond
 //! adds or removes the key at the playhead. Every change is one undo step.
 
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
 use eframe::egui;
 
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use super::icons::{Icon, icon_button};
 use super::number_field::number_field;
 use super::param_edit::{key_at, set_at_keying, toggle_key};
 use super::workspace::Workspace;
 use crate::animate::track::sample;
-use crate::scene::{Collider, ColliderNumber, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, Param};
+use crate::scene::{
+    Collider, ColliderNumber, LoadedMesh, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
+    relative_path,
+};
 
-/// The Colliders panel's own state: which collider's numbers it shows.
+/// The Colliders panel's own state: which collider's numbers it shows, and
+/// the file dialog picking a mesh (for a new collider, or the one at an index).
 #[derive(Default)]
 pub struct CollidersPanel {
     selected: Option<usize>,
+    mesh_dialog: Option<(FileDialog, Option<usize>)>,
 }
 
 impl CollidersPanel {
     pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Colliders");
+        self.mesh_dialog_ui(ui.ctx(), w);
         ui.menu_button("Add collider", |ui| {
             for &kind in Collider::KINDS {
                 let Some(collider) = Collider::with_start_values(kind) else { continue };
+                if kind == "Mesh" {
+                    if ui.button("Mesh…").on_hover_text(kind_hint(kind)).clicked() {
+                        self.mesh_dialog = Some((mesh_dialog(w), None));
+                        ui.close();
+                    }
+                    continue;
+                }
                 if ui.button(kind).on_hover_text(kind_hint(kind)).clicked() {
                     let at = w.doc.scene().colliders.len();
                     w.apply("Add collider", |s| s.colliders.push(collider));
@@ -46,7 +63,53 @@ impl CollidersPanel {
         }
         let Some(index) = self.selected.filter(|i| *i < colliders.len()) else { return };
         ui.separator();
+        if let Collider::Mesh(mesh) = &colliders[index] {
+            ui.horizontal(|ui| {
+                ui.label("File");
+                let shown = if mesh.file.is_empty() { "none".to_owned() } else { mesh.file.clone() };
+                ui.add(egui::Label::new(egui::RichText::new(shown).monospace()).truncate());
+                if ui.button("Choose…").on_hover_text("Read the mesh from another OBJ or glTF file").clicked() {
+                    self.mesh_dialog = Some((mesh_dialog(w), Some(index)));
+                }
+            });
+        }
         details_ui(ui, w, index, &colliders[index]);
+    }
+
+    /// The open mesh dialog; a picked file is read at once and becomes a new
+    /// Mesh collider or the chosen one's file (one undo step), or its problem is shown.
+    fn mesh_dialog_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
+        let Some((dialog, target)) = &mut self.mesh_dialog else { return };
+        let Some(outcome) = dialog.show(ctx) else { return };
+        let target = *target;
+        self.mesh_dialog = None;
+        let FileDialogOutcome::Picked(path) = outcome else { return };
+        let solid = match read_mesh(&path) {
+            Ok(solid) => LoadedMesh(Some(Arc::new(solid))),
+            Err(why) => {
+                w.report(format!("Cannot use {} as a collider: {why}", path.display()), true);
+                return;
+            }
+        };
+        let file = scene_name_of(w.doc.path(), &path);
+        match target {
+            None => {
+                let at = w.doc.scene().colliders.len();
+                let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let Some(Collider::Mesh(start)) = Collider::with_start_values("Mesh") else { return };
+                let mesh = MeshCollider { name, file, solid, ..start };
+                w.apply("Add collider", |s| s.colliders.push(Collider::Mesh(mesh)));
+                if w.doc.scene().colliders.len() > at {
+                    self.selected = Some(at);
+                }
+            }
+            Some(index) => w.apply("Collider file", |s| {
+                if let Some(Collider::Mesh(mesh)) = s.colliders.get_mut(index) {
+                    mesh.file = file;
+                    mesh.solid = solid;
+                }
+            }),
+        }
     }
 
     /// One collider in the list: its switch, its title (click to select) and ×.
@@ -138,6 +201,7 @@ fn number_range(number: ColliderNumber) -> NumberRange {
     match number.field.measure {
         Measure::Position => NumberRange { min: -MAX_PIN_COORD_M, max: MAX_PIN_COORD_M, speed: 0.005, unit: " m" },
         Measure::Length => NumberRange { min: 0.001, max: MAX_PIN_COORD_M, speed: 0.005, unit: " m" },
+        Measure::Scale => NumberRange { min: 1e-4, max: MAX_PIN_COORD_M, speed: 0.005, unit: "" },
         Measure::Angle => NumberRange { min: -36_000.0, max: 36_000.0, speed: 0.5, unit: "°" },
     }
 }
@@ -184,6 +248,22 @@ fn number_row_ui(
     }
 }
 
+/// A dialog for a mesh file, starting in the scene's folder.
+fn mesh_dialog(w: &Workspace) -> FileDialog {
+    let folder = w.doc.path().and_then(Path::parent).filter(|d| d.is_dir()).map(Path::to_path_buf);
+    let start = folder.or_else(|| std::env::current_dir().ok()).unwrap_or_else(|| PathBuf::from("."));
+    FileDialog::new(FileDialogMode::Open, "Mesh collider (.obj, .glb, .gltf)", &start, "", "obj")
+}
+
+/// How the scene names the mesh file at `path`: relative to the scene's
+/// folder once it has been saved, else absolute (a Save As makes it relative).
+fn scene_name_of(scene_file: Option<&Path>, path: &Path) -> String {
+    match scene_file.and_then(Path::parent).and_then(|folder| std::path::absolute(folder).ok()) {
+        Some(folder) => relative_path(&folder, path).display().to_string(),
+        None => path.display().to_string(),
+    }
+}
+
 /// What each kind is, for the Add menu.
 fn kind_hint(kind: &str) -> &'static str {
     match kind {
@@ -191,6 +271,7 @@ fn kind_hint(kind: &str) -> &'static str {
         "Box" => "A box, turned any way: a table top, a step, a chest",
         "Cylinder" => "A round table top, a pole or a drum (axis up before turning)",
         "Sphere" => "A ball, a head",
+        "Mesh" => "A closed triangle mesh from an OBJ or glTF file: a chair, a body, a prop",
         _ => "A segment swollen by a radius: an arm, a rail, a shoulder",
     }
 }

@@ -159,6 +159,13 @@ impl Document {
             saved.view = view;
         }
     }
+
+    /// Renames the mesh files for a scene file moving from the folder `from`
+    /// to `to` (a Save As elsewhere), so they name the same files; no undo
+    /// step (an undo after it brings back names relative to the old folder).
+    pub fn move_mesh_files_quietly(&mut self, from: &Path, to: &Path) {
+        crate::scene::move_mesh_files(&mut self.scene, from, to);
+    }
 }
 
 #[cfg(test)]

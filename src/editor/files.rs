@@ -255,6 +255,15 @@ impl Files {
     pub fn save_to(&mut self, w: &mut Workspace, camera: &OrbitCamera, path: &Path) -> bool {
         let view = View { frame: Some(w.frame().round() as i32), follow: w.session.follow, ..camera.to_view() };
         w.doc.set_view_quietly(Some(view));
+        // Mesh files are named relative to the scene file: saved elsewhere, they are renamed to match.
+        let folder_of = |file: Option<&Path>| {
+            let folder = file.and_then(Path::parent).unwrap_or(Path::new(""));
+            std::path::absolute(folder).unwrap_or_else(|_| folder.to_path_buf())
+        };
+        let (from, to) = (folder_of(w.doc.path()), folder_of(Some(path)));
+        if from != to {
+            w.doc.move_mesh_files_quietly(&from, &to);
+        }
         match scene::save(w.doc.scene(), path) {
             Ok(()) => {
                 w.doc.mark_saved(path.to_path_buf());

@@ -127,7 +127,7 @@ impl Recovery {
     }
 
     fn parse_recovered(&self, path: &Path, bytes: &[u8]) -> Result<RecoveredScene, SceneError> {
-        let scene = parse_bytes(bytes, &path.display().to_string())?;
+        let mut scene = parse_bytes(bytes, &path.display().to_string())?;
         // The bytes are UTF-8: `parse_bytes` checked.
         let text = String::from_utf8_lossy(bytes);
         let header = text.lines().take_while(|line| line.starts_with("//"));
@@ -146,6 +146,9 @@ impl Recovery {
         }
         let saved_at =
             saved_at.or_else(|| fs::metadata(path).and_then(|m| m.modified()).ok()).unwrap_or(SystemTime::UNIX_EPOCH);
+        // Mesh files are named relative to the original scene file (absolute in an unsaved one).
+        let scene_file = original.clone().unwrap_or_else(|| PathBuf::from("untitled.ron"));
+        crate::scene::read_meshes(&mut scene, &scene_file, &text)?;
         Ok(RecoveredScene { scene, original, saved_at })
     }
 
