@@ -178,5 +178,97 @@ fn with_colliders(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, evaluate, late_frame_ratio, with_colliders);
+/// The mesh case: the same 128² cloth over a 20 480-triangle ball
+/// (a subdivided icosahedron, built here) where the primitive ball was.
+fn with_a_mesh_collider(c: &mut Criterion) {
+    let mut group = c.benchmark_group("evaluate");
+    group.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(4));
+    let mut scene = scene(128);
+    let ball = "[Mesh((name: \"ball\", file: \"ball.obj\", center: (0.0, 0.55, 0.0), scale: 0.35))]";
+    scene.colliders = ron::from_str(ball).expect("a mesh collider");
+    let (vertices, triangles) = icosphere(5);
+    let solid = drape::world::MeshSolid::new(&vertices, &triangles).expect("a solid ball");
+    assert_eq!(solid.triangle_count(), 20_480);
+    if let Some(drape::scene::Collider::Mesh(mesh)) = scene.colliders.first_mut() {
+        mesh.solid = drape::scene::LoadedMesh(Some(std::sync::Arc::new(solid)));
+    }
+    let mut evaluator = Evaluator::new();
+    let mut mesh = evaluator.evaluate(&scene, 0.0);
+    for frame in [1i32, 100_000] {
+        let t_secs = f64::from(frame) / scene.timeline.fps;
+        let id = BenchmarkId::new("128x128 20k-triangle mesh", format!("frame {frame}"));
+        group.bench_with_input(id, &t_secs, |b, &t_secs| {
+            b.iter(|| {
+                evaluator.evaluate_into(&scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
+                black_box(&mesh);
+            })
+        });
+    }
+    group.finish();
+}
+
+/// A unit sphere: an icosahedron split `levels` times (20 · 4^levels triangles), wound outwards.
+fn icosphere(levels: u32) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
+    use glam::DVec3;
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut vertices: Vec<DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut faces: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut middles = std::collections::HashMap::new();
+        let mut middle = |a: u32, b: u32, vertices: &mut Vec<DVec3>| {
+            *middles.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                vertices.push(((vertices[a as usize] + vertices[b as usize]) / 2.0).normalize());
+                vertices.len() as u32 - 1
+            })
+        };
+        faces = faces
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) =
+                    (middle(a, b, &mut vertices), middle(b, c, &mut vertices), middle(c, a, &mut vertices));
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    (vertices, faces)
+}
+
+criterion_group!(benches, evaluate, late_frame_ratio, with_colliders, with_a_mesh_collider);
 criterion_main!(benches);
