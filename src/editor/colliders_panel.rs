@@ -20,6 +20,9 @@ use crate::scene::{
     relative_path,
 };
 
+/// Room kept beside a mesh's file name for its Choose… button, points.
+const CHOOSE_WIDTH: f32 = 100.0;
+
 /// The Colliders panel's own state: which collider's numbers it shows, and
 /// the file dialog picking a mesh (for a new collider, or the one at an index).
 #[derive(Default)]
@@ -67,7 +70,10 @@ impl CollidersPanel {
             ui.horizontal(|ui| {
                 ui.label("File");
                 let shown = if mesh.file.is_empty() { "none".to_owned() } else { mesh.file.clone() };
-                ui.add(egui::Label::new(egui::RichText::new(shown).monospace()).truncate());
+                // A fixed share of the panel, so a long path is cut (whole on hover) instead of widening it.
+                let width = (ui.available_width() - CHOOSE_WIDTH).max(40.0);
+                let label = egui::Label::new(egui::RichText::new(shown).monospace()).truncate();
+                ui.add_sized([width, 18.0], label).on_hover_text(&mesh.file);
                 if ui.button("Choose…").on_hover_text("Read the mesh from another OBJ or glTF file").clicked() {
                     self.mesh_dialog = Some((mesh_dialog(w), Some(index)));
                 }
