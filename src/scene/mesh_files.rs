@@ -171,6 +171,30 @@ fn gltf_triangles(bytes: &[u8], folder: &Path) -> Result<(Vec<DVec3>, Vec<[u32; 
 mod tests {
     use super::*;
 
+    /// `bytes` written to a file named `name` in a fresh folder, read back as a mesh.
+    fn read_written(name: &str, bytes: &[u8]) -> Result<MeshSolid, String> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        read_mesh(&path)
+    }
+
+    #[test]
+    fn files_that_hold_no_solid_say_why() {
+        let error = |name: &str, bytes: &[u8]| read_written(name, bytes).unwrap_err();
+        assert!(error("empty.obj", b"").contains("no triangles"), "{}", error("empty.obj", b""));
+        assert!(error("points.obj", b"v 0 0 0\nv 1 0 0\n").contains("no triangles"));
+        assert!(error("flat.obj", b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").contains("no area"));
+        assert!(error("chair.fbx", b"binary").contains(".obj, .glb and .gltf"));
+        assert!(error("chair.glb", b"not a gltf").contains("not a readable glTF file"));
+        let data_uri = br#"{"asset": {"version": "2.0"}, "buffers": [{"byteLength": 4, "uri": "data:application/octet-stream;base64,AAAAAA=="}]}"#;
+        assert!(error("inline.gltf", data_uri).contains("data URIs"), "{}", error("inline.gltf", data_uri));
+        let no_bin = br#"{"asset": {"version": "2.0"}, "buffers": [{"byteLength": 4, "uri": "missing.bin"}]}"#;
+        assert!(error("outside.gltf", no_bin).contains("cannot read its buffer \"missing.bin\""));
+        let no_scene = br#"{"asset": {"version": "2.0"}}"#;
+        assert!(error("empty.gltf", no_scene).contains("no scene"), "{}", error("empty.gltf", no_scene));
+    }
+
     #[test]
     fn mesh_files_are_named_relative_to_the_scene() {
         let p = |s: &str| PathBuf::from(s);

@@ -63,10 +63,25 @@ impl MeshSolid {
                 return Err(MeshSolidError::BadIndex { triangle, vertex, vertices: vertices.len() });
             }
         }
+        // Triangles without area (corners in a line) have no normal to tell inside by: dropped.
+        let (lo, hi) =
+            vertices.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        let tiny_area = (hi - lo).length_squared() * 1e-14;
+        let kept: Vec<[u32; 3]> = triangles
+            .iter()
+            .filter(|t| {
+                let [a, b, c] = t.map(|i| vertices[i as usize]);
+                (b - a).cross(c - a).length() > tiny_area
+            })
+            .copied()
+            .collect();
+        if kept.is_empty() {
+            return Err(MeshSolidError::Degenerate);
+        }
         let points: Vec<ParryVector> = vertices.iter().map(|v| ParryVector::new(v.x, v.y, v.z)).collect();
         let flags =
             TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES;
-        let trimesh = TriMesh::with_flags(points, triangles.to_vec(), flags).map_err(|_| MeshSolidError::Degenerate)?;
+        let trimesh = TriMesh::with_flags(points, kept, flags).map_err(|_| MeshSolidError::Degenerate)?;
         if trimesh.indices().is_empty() {
             return Err(MeshSolidError::Degenerate);
         }
