@@ -5,6 +5,7 @@
 //! On a CPU with AVX2 this times evaluate's AVX2 build of its per-vertex
 //! passes (bit-identical to the portable one, see `animate::evaluate`).
 
+use criterion::measurement::WallTime;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::animate::{EvaluateOptions, Evaluator};
 use drape::mesh::Mesh;
@@ -163,19 +164,23 @@ fn with_colliders(c: &mut Criterion) {
     let colliders = "[Sphere((center: (0.0, 0.55, 0.0), radius: 0.35)), \
                      Capsule((a: (-1.0, 0.75, 0.5), b: (1.0, 0.75, 0.5), radius: 0.05)), Ground((height: 0.0))]";
     scene.colliders = ron::from_str(colliders).expect("three colliders");
+    bench_frames_1_and_100000(&mut group, "128x128 three colliders", &scene);
+    group.finish();
+}
+
+/// Frames 1 and 100 000 of `scene` under `name`, its rest shapes built first.
+fn bench_frames_1_and_100000(group: &mut criterion::BenchmarkGroup<'_, WallTime>, name: &str, scene: &Scene) {
     let mut evaluator = Evaluator::new();
-    let mut mesh = evaluator.evaluate(&scene, 0.0);
+    let mut mesh = evaluator.evaluate(scene, 0.0);
     for frame in [1i32, 100_000] {
         let t_secs = f64::from(frame) / scene.timeline.fps;
-        let id = BenchmarkId::new("128x128 three colliders", format!("frame {frame}"));
-        group.bench_with_input(id, &t_secs, |b, &t_secs| {
+        group.bench_with_input(BenchmarkId::new(name, format!("frame {frame}")), &t_secs, |b, &t_secs| {
             b.iter(|| {
-                evaluator.evaluate_into(&scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
+                evaluator.evaluate_into(scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
                 black_box(&mesh);
             })
         });
     }
-    group.finish();
 }
 
 /// The issue's mesh case: the same 128² cloth over a 20 480-triangle ball
@@ -192,18 +197,7 @@ fn with_a_mesh_collider(c: &mut Criterion) {
     if let Some(drape::scene::Collider::Mesh(mesh)) = scene.colliders.first_mut() {
         mesh.solid = drape::scene::LoadedMesh(Some(std::sync::Arc::new(solid)));
     }
-    let mut evaluator = Evaluator::new();
-    let mut mesh = evaluator.evaluate(&scene, 0.0);
-    for frame in [1i32, 100_000] {
-        let t_secs = f64::from(frame) / scene.timeline.fps;
-        let id = BenchmarkId::new("128x128 20k-triangle mesh", format!("frame {frame}"));
-        group.bench_with_input(id, &t_secs, |b, &t_secs| {
-            b.iter(|| {
-                evaluator.evaluate_into(&scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
-                black_box(&mesh);
-            })
-        });
-    }
+    bench_frames_1_and_100000(&mut group, "128x128 20k-triangle mesh", &scene);
     group.finish();
 }
 

@@ -89,14 +89,14 @@ pub fn key_obstacles(scene: &Scene, key: &Key) -> Vec<Obstacle> {
     obstacles_at(scene, f64::from(key.frame))
 }
 
-/// Every number of `obstacles` as bits, with each kind's tag: equal lists, equal shapes.
+/// Every number of `obstacles` as bits, with each kind's tag (a mesh's tag
+/// followed by its triangles' fingerprint and count): equal lists, equal shapes.
 fn obstacle_bits(obstacles: &[Obstacle]) -> Vec<u64> {
     let mut bits = Vec::new();
     for obstacle in obstacles {
         let (tag, numbers): (u64, Vec<f64>) = match obstacle.shape {
-            ColliderShape::Mesh { ref solid, center, world_from_local, scale } => {
-                bits.extend([5, solid.fingerprint(), solid.triangle_count() as u64]);
-                (6, center.to_array().into_iter().chain([scale]).chain(world_from_local.to_cols_array()).collect())
+            ColliderShape::Mesh { center, world_from_local, scale, .. } => {
+                (5, center.to_array().into_iter().chain([scale]).chain(world_from_local.to_cols_array()).collect())
             }
             ColliderShape::Ground { height } => (0, vec![height]),
             ColliderShape::Sphere { center, radius } => (1, vec![center.x, center.y, center.z, radius]),
@@ -120,6 +120,9 @@ fn obstacle_bits(obstacles: &[Obstacle]) -> Vec<u64> {
             ),
         };
         bits.push(tag);
+        if let ColliderShape::Mesh { solid, .. } = &obstacle.shape {
+            bits.extend([solid.fingerprint(), solid.triangle_count() as u64]);
+        }
         bits.extend(numbers.iter().chain([&obstacle.thickness]).map(|v| v.to_bits()));
     }
     bits

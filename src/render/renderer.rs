@@ -386,12 +386,7 @@ impl Renderer {
             }
             let slot = &mut ghosts[index];
             self.update_slot(device, queue, slot, ghost.mesh, ClothTexture::Plain);
-            let [r, g, b] = ghost.tint;
-            let material = MaterialUniform {
-                front_tint: [r, g, b, 1.0],
-                back_tint: [r, g, b, 1.0],
-                params: [0.0, ghost.opacity.clamp(0.0, 1.0), 1.0, 0.0],
-            };
+            let material = MaterialUniform::flat(ghost.tint, ghost.opacity);
             queue.write_buffer(&slot.material, 0, bytemuck::bytes_of(&material));
         }
         self.ghosts = ghosts;
@@ -430,12 +425,7 @@ impl Renderer {
         buffers.indices.write(device, queue, bytemuck::cast_slice(&solids.indices));
         buffers.index_count = solids.indices.len() as u32;
         buffers.opaque = solids.opacity >= 1.0;
-        let [r, g, b] = solids.color;
-        let material = MaterialUniform {
-            front_tint: [r, g, b, 1.0],
-            back_tint: [r, g, b, 1.0],
-            params: [0.0, solids.opacity.clamp(0.0, 1.0), 1.0, 0.0],
-        };
+        let material = MaterialUniform::flat(solids.color, solids.opacity);
         queue.write_buffer(&buffers.material, 0, bytemuck::bytes_of(&material));
     }
 

@@ -26,6 +26,18 @@ pub struct MaterialUniform {
     pub params: [f32; 4],
 }
 
+impl MaterialUniform {
+    /// One colour on both sides, untextured, at `opacity` (clamped to 0..1):
+    /// how ghosts and colliders are drawn.
+    pub fn flat([r, g, b]: [f32; 3], opacity: f32) -> MaterialUniform {
+        MaterialUniform {
+            front_tint: [r, g, b, 1.0],
+            back_tint: [r, g, b, 1.0],
+            params: [0.0, opacity.clamp(0.0, 1.0), 1.0, 0.0],
+        }
+    }
+}
+
 /// Size of the shadow map's square side, in texels: the shadow is blurred, so a small map is enough.
 pub const SHADOW_MAP_PX: u32 = 256;
 

@@ -6,6 +6,7 @@
 //! one a scene names and gives the first problem its line and column in the
 //! scene file, like any other mistake.
 
+use std::collections::HashMap;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -29,15 +30,24 @@ pub const MAX_MESH_FILE_BYTES: u64 = 512 * 1024 * 1024;
 pub fn read_meshes(scene: &mut Scene, scene_file: &Path, text: &str) -> Result<(), SceneError> {
     let folder = scene_file.parent().unwrap_or(Path::new(""));
     let label = scene_file.display().to_string();
+    // A file several colliders name (four chairs) is read once.
+    let mut read: HashMap<PathBuf, Arc<MeshSolid>> = HashMap::new();
     for (index, collider) in scene.colliders.iter_mut().enumerate() {
         let what = collider.label(index);
         let Collider::Mesh(mesh) = collider else { continue };
         let path = folder.join(&mesh.file);
-        let solid = read_mesh(&path).map_err(|why| {
-            let at = locate(text, &format!("colliders[{index}].file"));
-            SceneError::invalid(&label, at, format!("{what}: cannot use {:?}: {why}", mesh.file))
-        })?;
-        mesh.solid = LoadedMesh(Some(Arc::new(solid)));
+        let solid = match read.get(&path) {
+            Some(solid) => Arc::clone(solid),
+            None => {
+                let solid = Arc::new(read_mesh(&path).map_err(|why| {
+                    let at = locate(text, &format!("colliders[{index}].file"));
+                    SceneError::invalid(&label, at, format!("{what}: cannot use {:?}: {why}", mesh.file))
+                })?);
+                read.insert(path, Arc::clone(&solid));
+                solid
+            }
+        };
+        mesh.solid = LoadedMesh(Some(solid));
     }
     Ok(())
 }

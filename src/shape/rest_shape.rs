@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
 use super::lay_flat::{flat_at, lay_flat};
-use super::relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_with};
+use super::relax::{Cancelled, DrapeReport, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_with};
 use crate::scene::{Cloth, Key};
 use crate::world::{ColliderShape, Obstacle, push_out};
 
@@ -78,14 +78,7 @@ impl RestShape {
             lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
             let fall =
                 drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
-            relax_report = RelaxReport {
-                iterations: fall.steps,
-                last_move: fall.last_move_m / params.rest_u_m.min(params.rest_v_m),
-                last_move_m: fall.last_move_m,
-                converged: fall.settled,
-                coarse_capped: false,
-                fell_off: fall.fell_off,
-            };
+            relax_report = fall_report(fall, &params);
         }
         Ok(RestShape {
             grid,
@@ -122,14 +115,7 @@ impl RestShape {
         } else {
             let fall =
                 drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, params, obstacles, key.friction, control)?;
-            RelaxReport {
-                iterations: fall.steps,
-                last_move: fall.last_move_m / params.rest_u_m.min(params.rest_v_m),
-                last_move_m: fall.last_move_m,
-                converged: fall.settled,
-                coarse_capped: false,
-                fell_off: fall.fell_off,
-            }
+            fall_report(fall, params)
         };
         Ok(RestShape {
             grid,
@@ -148,6 +134,18 @@ impl RestShape {
 
     pub fn rest_v_m(&self) -> f64 {
         self.grid.spacing_v_m * self.elasticity
+    }
+}
+
+/// A fall's outcome as a relaxation's, its last move also relative to the smaller rest spacing.
+fn fall_report(fall: DrapeReport, params: &RelaxParams) -> RelaxReport {
+    RelaxReport {
+        iterations: fall.steps,
+        last_move: fall.last_move_m / params.rest_u_m.min(params.rest_v_m),
+        last_move_m: fall.last_move_m,
+        converged: fall.settled,
+        coarse_capped: false,
+        fell_off: fall.fell_off,
     }
 }
 

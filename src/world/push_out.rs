@@ -152,6 +152,7 @@ fn first_contact(obstacles: &[Obstacle], from: DVec3, to: DVec3) -> Option<(DVec
     }
     best.map(|(_, at, outward)| (at, outward))
 }
+
 #[cfg(test)]
 mod tests {
     use glam::DMat3;
