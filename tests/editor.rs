@@ -1220,6 +1220,11 @@ fn the_colliders_panel_adds_keys_and_removes_a_table() {
     };
     assert_eq!(frames, [(0, 0.72), (24, 0.5)]);
     assert_eq!(harness.state().document().undo_label(), Some("Collider center y"));
+    // The keyed number's curve shows under the numbers; another's by its curve button.
+    assert!(harness.query_by_label("Curve of center y").is_some(), "the keyed number's curve");
+    harness.get_by_label("Show the size x curve").click();
+    harness.run_ok();
+    assert!(harness.query_by_label("Curve of size x").is_some());
     settle(&mut harness);
     assert_eq!(harness.state().shown_scene(), harness.state().scene(), "the cloth was shaped among it");
     harness.get_by_label("Enable Box collider \"table\"").click();
@@ -1294,4 +1299,80 @@ fn the_fabric_of_a_scene_with_colliders_sets_friction_and_thickness() {
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_ok();
     assert_eq!(harness.state().scene().keys[0].friction, 0.5, "undone");
+}
+
+/// The sphere's centre in `scene` at frame 0.
+fn sphere_center(scene: &Scene) -> glam::Vec3 {
+    let Some(scene::Collider::Sphere(ball)) = scene.colliders.first() else { panic!("no sphere") };
+    let at = |p: &scene::Param| drape::animate::track::sample(p, 0.0) as f32;
+    glam::Vec3::new(at(&ball.center.0), at(&ball.center.1), at(&ball.center.2))
+}
+
+/// A collider is picked, dragged and moved along a gizmo arrow in the
+/// viewport: a click selects it (the panel shows it, the pins let go), a
+/// drag on it moves it under the mouse in one undo step, the gizmo's Y
+/// arrow moves it up only, and a click on nothing clears it.
+#[test]
+fn a_collider_is_picked_dragged_and_moved_along_an_axis_in_the_viewport() {
+    let workspace = Workspace::new();
+    let mut scene = new_scene();
+    // A ball between the camera and the cloth's middle: it hides the cloth behind it.
+    let probe = open_editor(&workspace, scene.clone(), None);
+    let (min, max) = drape::render::camera::bounds(&probe.state().mesh().positions).unwrap();
+    let middle = (min + max) * 0.5;
+    let c = middle + (probe.state().camera().eye() - middle).normalize() * 0.6;
+    drop(probe);
+    let ball = format!("[Sphere((name: \"ball\", center: ({}, {}, {}), radius: 0.15))]", c.x, c.y, c.z);
+    scene.colliders = ron::from_str(&ball).unwrap();
+    let mut harness = open_editor(&workspace, scene, None);
+    let ball = harness.state().screen_pos(sphere_center(harness.state().scene())).expect("the ball is in front");
+    assert!(harness.state().viewport_rect().contains(ball), "the ball is in view at {ball:?}");
+    assert_eq!(harness.state().selected_collider(), None);
+
+    click_at(&mut harness, ball, Modifiers::NONE);
+    assert_eq!(harness.state().selected_collider(), Some(0), "a click on the ball selects it");
+    assert!(harness.query_by_label("Key center x").is_some(), "the panel shows its numbers");
+    assert!(harness.state().gizmo().is_some(), "a gizmo on the selected collider");
+
+    // Dragged 60 points to the right: it follows the mouse at its depth.
+    let before = sphere_center(harness.state().scene());
+    let to = ball + egui::vec2(60.0, 0.0);
+    drag(&mut harness, ball, to);
+    let after = sphere_center(harness.state().scene());
+    assert!(after.distance(before) > 0.05, "moved: {before} → {after}");
+    // The grabbed point of its surface followed the mouse; the centre, farther
+    // away, moved less on screen (perspective), and straight along.
+    let shift = harness.state().screen_pos(after).unwrap() - ball;
+    assert!(shift.x > 45.0 && shift.x < 60.0 && shift.y.abs() < 1.0, "followed the mouse: {shift:?}");
+    assert_eq!(harness.state().document().undo_label(), Some("Move collider"));
+    assert_eq!(harness.state().selected_collider(), Some(0));
+
+    // The gizmo's Y arrow: up only.
+    settle(&mut harness);
+    use drape::editor::pin_drag::AxisLock;
+    let gizmo = harness.state().gizmo().expect("the collider's gizmo");
+    let origin = harness.state().screen_pos(gizmo.origin).unwrap();
+    let along = gizmo.tip(AxisLock::Y).unwrap() - origin;
+    let grab = origin + along * 0.7;
+    drag(&mut harness, grab, grab + along * 0.8 + egui::vec2(30.0, 0.0));
+    let lifted = sphere_center(harness.state().scene());
+    assert!(lifted.y > after.y + 0.02, "up: {after} → {lifted}");
+    assert_eq!((lifted.x, lifted.z), (after.x, after.z), "locked to Y");
+
+    // Undo puts it back where the first drag left it; Delete removes it (undone too);
+    // a click on nothing clears the selection.
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(sphere_center(harness.state().scene()), after);
+    harness.key_press(Key::Delete);
+    harness.run_ok();
+    assert!(harness.state().scene().colliders.is_empty(), "Delete removes the selected collider");
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    click_at(&mut harness, ball, Modifiers::NONE);
+    assert_eq!(harness.state().selected_collider(), Some(0));
+    let corner = harness.state().viewport_rect().left_top() + egui::vec2(8.0, 8.0);
+    click_at(&mut harness, corner, Modifiers::NONE);
+    assert_eq!(harness.state().selected_collider(), None);
+    settle(&mut harness);
 }

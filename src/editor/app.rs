@@ -178,6 +178,11 @@ impl DrapeApp {
         &self.work.session.selection
     }
 
+    /// The collider the Colliders panel shows and the viewport outlines.
+    pub fn selected_collider(&self) -> Option<usize> {
+        self.work.session.selected_collider
+    }
+
     /// Whether a relaxation is pending or running.
     pub fn is_relaxing(&self) -> bool {
         self.work.shown.is_relaxing(&self.work.doc)
@@ -407,7 +412,9 @@ impl DrapeApp {
             self.viewport.frame_all(w, aspect);
         }
         if pressed(KeyCode::Delete) || pressed(KeyCode::Backspace) {
-            if w.session.selection.is_empty() && w.session.selected_key.is_some() {
+            if w.session.selection.is_empty() && w.session.selected_collider.is_some() {
+                w.delete_selected_collider();
+            } else if w.session.selection.is_empty() && w.session.selected_key.is_some() {
                 w.delete_selected_key();
             } else {
                 w.delete_selected_pins();

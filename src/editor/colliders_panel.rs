@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use eframe::egui;
 
+use super::curve_view::{Curve, CurveView};
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use super::icons::{Icon, icon_button};
 use super::number_field::number_field;
@@ -23,12 +24,14 @@ use crate::scene::{
 /// Room kept beside a mesh's file name for its Choose… button, points.
 const CHOOSE_WIDTH: f32 = 100.0;
 
-/// The Colliders panel's own state: which collider's numbers it shows, and
-/// the file dialog picking a mesh (for a new collider, or the one at an index).
+/// The Colliders panel's own state: the file dialog picking a mesh (for a
+/// new collider, or the one at an index). Which collider's numbers it shows
+/// is the session's, since the viewport picks colliders too.
 #[derive(Default)]
 pub struct CollidersPanel {
-    selected: Option<usize>,
     mesh_dialog: Option<(FileDialog, Option<usize>)>,
+    /// The curve of one of the selected collider's numbers, under them.
+    curve: CurveView,
 }
 
 impl CollidersPanel {
@@ -50,7 +53,7 @@ impl CollidersPanel {
                     w.apply("Add collider", |s| s.colliders.push(collider));
                     // Refused (the scene's limit): nothing new to select.
                     if w.doc.scene().colliders.len() > at {
-                        self.selected = Some(at);
+                        w.session.selected_collider = Some(at);
                     }
                     ui.close();
                 }
@@ -64,7 +67,7 @@ impl CollidersPanel {
         for (index, collider) in colliders.iter().enumerate() {
             ui.horizontal(|ui| self.row_ui(ui, w, index, collider));
         }
-        let Some(index) = self.selected.filter(|i| *i < colliders.len()) else { return };
+        let Some(index) = w.session.selected_collider.filter(|i| *i < colliders.len()) else { return };
         ui.separator();
         if let Collider::Mesh(mesh) = &colliders[index] {
             ui.horizontal(|ui| {
@@ -79,7 +82,37 @@ impl CollidersPanel {
                 }
             });
         }
-        details_ui(ui, w, index, &colliders[index]);
+        self.details_ui(ui, w, index, &colliders[index]);
+    }
+
+    /// The selected collider's name, thickness and numbers, and the curve of one of them.
+    fn details_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, collider: &Collider) {
+        let frame = w.frame().round() as i32;
+        let mut name = collider.name().to_owned();
+        ui.horizontal(|ui| {
+            let label = ui.label("Name").id;
+            let field = egui::TextEdit::singleline(&mut name).desired_width(140.0).hint_text(title(collider, index));
+            if ui.add(field).labelled_by(label).changed() {
+                w.apply("Rename collider", |s| *s.colliders[index].name_mut() = name.clone());
+            }
+        });
+        thickness_ui(ui, w, index, collider, frame);
+        ui.weak(format!("Values at frame {frame}. The diamond keys a number here (filled: keyed at this frame)."));
+        let shown = self.curve.shown_for_collider(index, collider);
+        egui::Grid::new("collider numbers").num_columns(4).show(ui, |ui| {
+            for number in collider.numbers() {
+                let Some(param) = collider.param(number) else { continue };
+                number_row_ui(ui, w, frame, &number.label(), param, number_range(number), |s| {
+                    s.colliders.get_mut(index).and_then(|c| c.param_mut(number))
+                });
+                let curve = Curve::Collider(index, number);
+                self.curve.button_ui(ui, curve, shown == Some(curve));
+                ui.end_row();
+            }
+        });
+        if let Some(curve) = shown {
+            self.curve.plot_ui(ui, w, curve);
+        }
     }
 
     /// The open mesh dialog; a picked file is read at once and becomes a new
@@ -106,7 +139,7 @@ impl CollidersPanel {
                 let mesh = MeshCollider { name, file, solid, ..start };
                 w.apply("Add collider", |s| s.colliders.push(Collider::Mesh(mesh)));
                 if w.doc.scene().colliders.len() > at {
-                    self.selected = Some(at);
+                    w.session.selected_collider = Some(at);
                 }
             }
             Some(index) => w.apply("Collider file", |s| {
@@ -134,41 +167,17 @@ impl CollidersPanel {
             w.apply("Remove collider", |s| {
                 s.colliders.remove(index);
             });
-            self.selected = match self.selected {
+            w.session.selected_collider = match w.session.selected_collider {
                 Some(s) if s == index => None,
                 Some(s) if s > index => Some(s - 1),
                 other => other,
             };
         }
-        let selected = self.selected == Some(index);
+        let selected = w.session.selected_collider == Some(index);
         if ui.selectable_label(selected, title(collider, index)).on_hover_text(label).clicked() {
-            self.selected = if selected { None } else { Some(index) };
+            w.session.selected_collider = if selected { None } else { Some(index) };
         }
     }
-}
-
-/// The selected collider's name, thickness and numbers.
-fn details_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, collider: &Collider) {
-    let frame = w.frame().round() as i32;
-    let mut name = collider.name().to_owned();
-    ui.horizontal(|ui| {
-        let label = ui.label("Name").id;
-        let field = egui::TextEdit::singleline(&mut name).desired_width(140.0).hint_text(title(collider, index));
-        if ui.add(field).labelled_by(label).changed() {
-            w.apply("Rename collider", |s| *s.colliders[index].name_mut() = name.clone());
-        }
-    });
-    thickness_ui(ui, w, index, collider, frame);
-    ui.weak(format!("Values at frame {frame}. The diamond keys a number here (filled: keyed at this frame)."));
-    egui::Grid::new("collider numbers").num_columns(3).show(ui, |ui| {
-        for number in collider.numbers() {
-            let Some(param) = collider.param(number) else { continue };
-            number_row_ui(ui, w, frame, &number.label(), param, number_range(number), |s| {
-                s.colliders.get_mut(index).and_then(|c| c.param_mut(number))
-            });
-            ui.end_row();
-        }
-    });
 }
 
 /// The collider's own thickness, or the key's: a switch and, when its own, its value.

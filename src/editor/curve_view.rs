@@ -1,6 +1,7 @@
-//! The curve view under the Layers panel's parameters: one parameter of the
-//! selected layer over the timeline's range, drawn with the evaluator's own
-//! [`sample`] (eases included), with the playhead and the keys as handles.
+//! The curve view under the Layers and Colliders panels' numbers: one
+//! parameter of the selected layer (or number of the selected collider) over
+//! the timeline's range, drawn with the evaluator's own [`sample`] (eases
+//! included), with the playhead and the keys as handles.
 //! Drag a key to change its value and frame, double-click to add a key on the
 //! curve, right-click a key for the easing that arrives at it or to delete it.
 
@@ -11,7 +12,7 @@ use super::document::Document;
 use super::param_edit::{key_at, param_mut, param_names, toggle_key};
 use super::workspace::Workspace;
 use crate::animate::track::sample;
-use crate::scene::{Ease, Layer, Param, ParamKey, Timeline};
+use crate::scene::{Collider, ColliderNumber, Ease, Layer, Param, ParamKey, Scene, Timeline};
 
 /// Height of the plot, points.
 const HEIGHT: f32 = 120.0;
@@ -22,22 +23,54 @@ const GRAB: f32 = 8.0;
 const MARGIN: f64 = 0.2;
 const CURVE_COLOR: Color32 = Color32::from_rgb(90, 200, 255);
 
+/// An animatable number of the scene the view can show: a layer's
+/// parameter by name, or a collider's number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Curve {
+    Layer(usize, &'static str),
+    Collider(usize, ColliderNumber),
+}
+
+impl Curve {
+    /// The number as `scene` holds it, if it has it.
+    pub fn param(self, scene: &Scene) -> Option<Param> {
+        match self {
+            Curve::Layer(index, name) => param_mut(&mut scene.layers.get(index)?.clone(), name).cloned(),
+            Curve::Collider(index, number) => scene.colliders.get(index)?.param(number).cloned(),
+        }
+    }
+
+    pub fn param_mut(self, scene: &mut Scene) -> Option<&mut Param> {
+        match self {
+            Curve::Layer(index, name) => param_mut(scene.layers.get_mut(index)?, name),
+            Curve::Collider(index, number) => scene.colliders.get_mut(index)?.param_mut(number),
+        }
+    }
+
+    /// The number's name as its row shows it ("magnitude", "center y").
+    pub fn name(self) -> String {
+        match self {
+            Curve::Layer(_, name) => name.replace('_', " "),
+            Curve::Collider(_, number) => number.label(),
+        }
+    }
+}
+
 /// What the curve view remembers between frames.
 #[derive(Default)]
 pub struct CurveView {
-    /// The parameter chosen with its curve button: (layer index, parameter name).
-    chosen: Option<(usize, &'static str)>,
+    /// The number chosen with its curve button.
+    chosen: Option<Curve>,
     drag: Option<KeyDrag>,
-    /// The key last grabbed, added or right-clicked (its menu's key): (layer, parameter, key).
-    selected: Option<(usize, &'static str, usize)>,
+    /// The key last grabbed, added or right-clicked (its menu's key).
+    selected: Option<(Curve, usize)>,
 }
 
 /// A key being dragged, and the value range frozen when the drag began (so the
 /// plot does not rescale under the pointer).
 #[derive(Clone, Copy)]
 struct KeyDrag {
-    layer: usize,
-    param: &'static str,
+    curve: Curve,
     key: usize,
     values: (f64, f64),
     /// From the pointer to the key's centre when it was grabbed.
@@ -192,21 +225,42 @@ fn label(value: f64) -> String {
 
 impl CurveView {
     /// The parameter shown for layer `index`: the chosen one, else [`default_param`].
-    fn shown(&self, index: usize, layer: &Layer) -> Option<&'static str> {
+    pub(super) fn shown_for_layer(&self, index: usize, layer: &Layer) -> Option<Curve> {
         match self.chosen {
-            Some((i, name)) if i == index && param_names(layer).iter().any(|(n, _)| *n == name) => Some(name),
-            _ => default_param(layer),
+            Some(Curve::Layer(i, name)) if i == index && param_names(layer).iter().any(|(n, _)| *n == name) => {
+                Some(Curve::Layer(index, name))
+            }
+            _ => default_param(layer).map(|name| Curve::Layer(index, name)),
+        }
+    }
+
+    /// The number shown for collider `index`: the chosen one, else its first
+    /// keyed number, else its first.
+    pub(super) fn shown_for_collider(&self, index: usize, collider: &Collider) -> Option<Curve> {
+        let numbers = collider.numbers();
+        match self.chosen {
+            Some(Curve::Collider(i, number)) if i == index && numbers.contains(&number) => {
+                Some(Curve::Collider(i, number))
+            }
+            _ => {
+                let keyed = numbers.iter().find(|n| matches!(collider.param(**n), Some(Param::Keys(_))));
+                keyed.or(numbers.first()).map(|n| Curve::Collider(index, *n))
+            }
         }
     }
 }
 
 impl CurveView {
-    /// The small curve button beside parameter `param` of layer `index`: shows its curve below.
-    pub(super) fn button_ui(&mut self, ui: &mut egui::Ui, index: usize, layer: &Layer, param: &'static str) {
-        let shown = self.shown(index, layer) == Some(param);
+    /// The small curve button beside `curve`'s row (`shown`: its curve is
+    /// the one below): shows its curve below.
+    pub(super) fn button_ui(&mut self, ui: &mut egui::Ui, curve: Curve, shown: bool) {
+        let name = match curve {
+            Curve::Layer(_, name) => name.to_owned(),
+            Curve::Collider(..) => curve.name(),
+        };
         let (rect, response) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::click());
         response.widget_info(|| {
-            egui::WidgetInfo::selected(egui::Role::Button, true, shown, format!("Show the {param} curve"))
+            egui::WidgetInfo::selected(egui::Role::Button, true, shown, format!("Show the {name} curve"))
         });
         let visuals = ui.style().interact(&response);
         if shown {
@@ -223,25 +277,27 @@ impl CurveView {
             .collect();
         ui.painter().add(egui::Shape::line(points, Stroke::new(1.4, visuals.fg_stroke.color)));
         if response.on_hover_text("Show this parameter's curve below").clicked() {
-            self.chosen = Some((index, param));
+            self.chosen = Some(curve);
         }
     }
 
-    /// The plot of the shown parameter of layer `index`, with its keys to edit.
-    pub(super) fn plot_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Layer) {
-        let Some(name) = self.shown(index, layer) else { return };
-        let mut copy = layer.clone();
-        let Some(param) = param_mut(&mut copy, name).cloned() else { return };
+    /// The plot of `curve`, with its keys to edit.
+    pub(super) fn plot_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, curve: Curve) {
+        let Some(param) = curve.param(w.doc.scene()) else { return };
+        let name = match curve {
+            Curve::Layer(_, name) => name.to_owned(),
+            Curve::Collider(..) => curve.name(),
+        };
         let keys = keys_of(&param).to_vec();
         let timeline = w.doc.scene().timeline.clone();
         ui.add_space(4.0);
-        ui.label(format!("{} over time", name.replace('_', " ")));
+        ui.label(format!("{} over time", curve.name()));
         let size = Vec2::new(ui.available_width().max(60.0), HEIGHT);
         let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
         let what = format!("Curve of {name}");
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, &what));
 
-        let drag = self.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
+        let drag = self.drag.filter(|d| d.curve == curve && d.key < keys.len());
         let plot = match drag {
             Some(d) => Plot::new(rect, (f64::from(timeline.start), f64::from(timeline.end)), d.values),
             None => Plot::of(rect, &timeline, &param),
@@ -252,10 +308,10 @@ impl CurveView {
             self.drag = origin.and_then(|pos| {
                 let key = nearest_key(&plot, &keys, pos, GRAB)?;
                 let at = plot.pos(f64::from(keys[key].frame), keys[key].value);
-                Some(KeyDrag { layer: index, param: name, key, values: plot.values, grab: at - pos })
+                Some(KeyDrag { curve, key, values: plot.values, grab: at - pos })
             });
             if let Some(d) = self.drag {
-                self.selected = Some((index, name, d.key));
+                self.selected = Some((curve, d.key));
                 w.doc.begin_gesture("Move parameter key");
             }
         }
@@ -269,7 +325,7 @@ impl CurveView {
             let value = round_to_resolution(plot.value(at.y), plot.value_per_point());
             if (frame, value) != (keys[d.key].frame, keys[d.key].value) {
                 w.apply("Move parameter key", |s| {
-                    if let Some(Param::Keys(keys)) = param_mut(&mut s.layers[index], name) {
+                    if let Some(Param::Keys(keys)) = curve.param_mut(s) {
                         keys[d.key].frame = frame;
                         keys[d.key].value = value;
                     }
@@ -289,29 +345,29 @@ impl CurveView {
             let frame = plot.frame(pos.x).round().clamp(f64::from(timeline.start), f64::from(timeline.end)) as i32;
             if key_at(&param, frame).is_none() {
                 w.apply("Add parameter key", |s| {
-                    if let Some(p) = param_mut(&mut s.layers[index], name) {
+                    if let Some(p) = curve.param_mut(s) {
                         toggle_key(p, frame);
                     }
                 });
-                self.selected = key_at(&param_now(&w.doc, index, name), frame).map(|k| (index, name, k));
+                self.selected = key_at(&param_now(&w.doc, curve), frame).map(|k| (curve, k));
             }
         }
 
         if response.secondary_clicked() {
             let key = response.interact_pointer_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
-            self.selected = key.map(|k| (index, name, k));
+            self.selected = key.map(|k| (curve, k));
         }
         // Drawn after this frame's edits, so a drag shows where the key is now.
-        let param = param_now(&w.doc, index, name);
+        let param = param_now(&w.doc, curve);
         let keys = keys_of(&param).to_vec();
-        let drag = self.drag.filter(|d| d.layer == index && d.param == name && d.key < keys.len());
+        let drag = self.drag.filter(|d| d.curve == curve && d.key < keys.len());
         let plot = match drag {
             Some(d) => Plot::new(rect, plot.frames, d.values),
             None => Plot::of(rect, &timeline, &param),
         };
         let hovered = response.hover_pos().and_then(|p| nearest_key(&plot, &keys, p, GRAB));
         let hovered = drag.map(|d| d.key).or(hovered);
-        let selected = self.selected.filter(|s| (s.0, s.1) == (index, name)).map(|s| s.2);
+        let selected = self.selected.filter(|s| s.0 == curve).map(|s| s.1);
         paint_curve(ui, w.frame(), rect, &plot, &param, [hovered, selected]);
         if let Some(pos) = response.hover_pos() {
             let text = match hovered {
@@ -323,11 +379,11 @@ impl CurveView {
             };
             response.clone().on_hover_text_at_pointer(text);
         }
-        let selected = self.selected.filter(|s| (s.0, s.1) == (index, name) && s.2 < keys.len());
-        if let Some((_, _, key)) = selected {
+        let selected = self.selected.filter(|s| s.0 == curve && s.1 < keys.len());
+        if let Some((_, key)) = selected {
             egui::Popup::context_menu(&response)
                 .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
-                .show(|ui| self.param_key_menu(ui, w, index, name, key));
+                .show(|ui| self.param_key_menu(ui, w, curve, key));
         }
         if keys.is_empty() {
             ui.weak("A constant: key it with its diamond (or double-click the line) to shape it over time here.");
@@ -336,16 +392,16 @@ impl CurveView {
         }
     }
 
-    /// The right-click menu of key `key` of parameter `name`: the easing that arrives at it, delete.
-    fn param_key_menu(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, name: &'static str, key: usize) {
-        let param = param_now(&w.doc, index, name);
+    /// The right-click menu of key `key` of `curve`: the easing that arrives at it, delete.
+    fn param_key_menu(&mut self, ui: &mut egui::Ui, w: &mut Workspace, curve: Curve, key: usize) {
+        let param = param_now(&w.doc, curve);
         let Some(current) = keys_of(&param).get(key).cloned() else {
             ui.close();
             return;
         };
         let set_ease = |w: &mut Workspace, label: &str, ease: Ease| {
             w.apply(label, |s| {
-                if let Some(Param::Keys(keys)) = param_mut(&mut s.layers[index], name) {
+                if let Some(Param::Keys(keys)) = curve.param_mut(s) {
                     keys[key].ease = ease;
                 }
             });
@@ -384,7 +440,7 @@ impl CurveView {
         let delete = if hint.is_empty() { delete } else { delete.on_hover_text(hint) };
         if delete.clicked() {
             w.apply("Delete parameter key", |s| {
-                if let Some(p) = param_mut(&mut s.layers[index], name) {
+                if let Some(p) = curve.param_mut(s) {
                     toggle_key(p, current.frame);
                 }
             });
@@ -442,10 +498,9 @@ fn paint_curve(ui: &egui::Ui, playhead: f64, rect: Rect, plot: &Plot, param: &Pa
     }
 }
 
-/// Parameter `name` of layer `index` as the document holds it now.
-fn param_now(doc: &Document, index: usize, name: &str) -> Param {
-    let mut layer = doc.scene().layers[index].clone();
-    param_mut(&mut layer, name).cloned().unwrap_or(Param::Constant(0.0))
+/// `curve`'s number as the document holds it now.
+fn param_now(doc: &Document, curve: Curve) -> Param {
+    curve.param(doc.scene()).unwrap_or(Param::Constant(0.0))
 }
 
 #[cfg(test)]
@@ -561,10 +616,33 @@ mod tests {
         let keyed = wave(Param::Keys(keys(&[(0, 0.0), (10, 1.0)])));
         assert_eq!(default_param(&keyed), Some("magnitude"));
         let mut view = CurveView::default();
-        assert_eq!(view.shown(0, &keyed), Some("magnitude"));
-        view.chosen = Some((0, "phase"));
-        assert_eq!(view.shown(0, &keyed), Some("phase"));
-        assert_eq!(view.shown(1, &keyed), Some("magnitude"), "a choice belongs to its layer");
+        assert_eq!(view.shown_for_layer(0, &keyed), Some(Curve::Layer(0, "magnitude")));
+        view.chosen = Some(Curve::Layer(0, "phase"));
+        assert_eq!(view.shown_for_layer(0, &keyed), Some(Curve::Layer(0, "phase")));
+        assert_eq!(
+            view.shown_for_layer(1, &keyed),
+            Some(Curve::Layer(1, "magnitude")),
+            "a choice belongs to its layer"
+        );
+    }
+
+    #[test]
+    fn a_collider_shows_its_first_keyed_number_else_its_first_or_the_chosen_one() {
+        let mut ball: Collider = ron::from_str("Sphere((center: (0.0, 1.0, 0.0), radius: 0.3))").unwrap();
+        let view = CurveView::default();
+        let first = ball.numbers()[0];
+        assert_eq!(view.shown_for_collider(2, &ball), Some(Curve::Collider(2, first)));
+        let radius = *ball.numbers().last().unwrap();
+        if let Some(p) = ball.param_mut(radius) {
+            *p = Param::Keys(keys(&[(0, 0.3), (10, 0.5)]));
+        }
+        assert_eq!(view.shown_for_collider(2, &ball), Some(Curve::Collider(2, radius)));
+        let mut scene = crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap();
+        scene.colliders = vec![ball];
+        let curve = Curve::Collider(0, radius);
+        assert_eq!(curve.name(), "radius");
+        assert_eq!(curve.param(&scene), Some(Param::Keys(keys(&[(0, 0.3), (10, 0.5)]))));
+        assert_eq!(Curve::Collider(1, radius).param(&scene), None, "no such collider");
     }
 
     #[test]

@@ -1,9 +1,12 @@
 //! Edits the editor makes to a scene, as plain functions on the document's
-//! types: pinning, unpinning, moving pins, changing the grid. The document
+//! types: pinning, unpinning, moving pins and colliders, changing the grid. The document
 //! validates the result; these only keep the scene's own invariants (no grid
 //! point pinned twice, pins following the cloth when its grid changes).
 
-use crate::scene::{Key, Pin, Placement, Scene};
+use crate::animate::track::sample;
+use crate::scene::{Collider, Key, Measure, Pin, Placement, Scene};
+
+use super::param_edit::set_at_keying;
 
 /// Pins grid point `grid` of `key` at `pos` (metres); an existing pin there moves instead.
 pub fn pin_point(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
@@ -33,6 +36,20 @@ pub fn unpin(key: &mut Key, grids: &[(u32, u32)]) {
 
 /// How far above its last pins an unpinned cloth starts its drop (m).
 pub const DROP_ABOVE_PINS_M: f64 = 0.05;
+
+/// `start` moved by `offset` (m) at `frame`: every position it has (a
+/// centre, a capsule's ends, the ground's height by `offset.y`) takes its
+/// value there plus the offset, keyed at `frame` if it is keyed (or with
+/// `auto_key`), as typing the numbers would. Sizes and turns stay.
+pub fn moved_collider(start: &Collider, offset: glam::DVec3, frame: i32, auto_key: bool) -> Collider {
+    let mut moved = start.clone();
+    for number in start.numbers().into_iter().filter(|n| n.field.measure == Measure::Position) {
+        let (Some(from), Some(to)) = (start.param(number), moved.param_mut(number)) else { continue };
+        let by = offset[number.component.unwrap_or(1)];
+        set_at_keying(to, frame, sample(from, f64::from(frame)) + by, auto_key);
+    }
+    moved
+}
 
 /// Whether `key` pins grid point `grid`.
 pub fn is_pinned(key: &Key, grid: (u32, u32)) -> bool {
@@ -94,6 +111,28 @@ mod tests {
 
     fn scene() -> Scene {
         crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap()
+    }
+
+    #[test]
+    fn a_moved_collider_keeps_its_size_and_keys_what_was_keyed() {
+        use crate::scene::{Param, ParamKey};
+        let mut capsule: Collider =
+            ron::from_str("Capsule((a: (0.0, 1.0, 0.0), b: (1.0, 1.0, 0.0), radius: 0.1))").unwrap();
+        if let Collider::Capsule(c) = &mut capsule {
+            c.a.1 = Param::Keys(vec![ParamKey { frame: 0, value: 1.0, ease: Default::default() }]);
+        }
+        let moved = moved_collider(&capsule, glam::DVec3::new(0.5, -0.25, 0.0), 10, false);
+        let Collider::Capsule(m) = &moved else { panic!("{moved:?}") };
+        assert_eq!(m.a.0, Param::Constant(0.5));
+        assert_eq!(m.b.0, Param::Constant(1.5));
+        assert_eq!(m.b.1, Param::Constant(0.75));
+        let Param::Keys(keys) = &m.a.1 else { panic!("{:?}", m.a.1) };
+        assert_eq!(keys.iter().map(|k| (k.frame, k.value)).collect::<Vec<_>>(), [(0, 1.0), (10, 0.75)]);
+        assert_eq!(m.radius, Param::Constant(0.1), "sizes stay");
+        // With auto-key a constant becomes a key at the frame; the ground moves by the height.
+        let ground: Collider = ron::from_str("Ground((height: 0.0))").unwrap();
+        let Collider::Ground(g) = moved_collider(&ground, glam::DVec3::new(3.0, 0.2, 3.0), 4, true) else { panic!() };
+        assert_eq!(g.height, Param::Keys(vec![ParamKey { frame: 4, value: 0.2, ease: Default::default() }]));
     }
 
     #[test]

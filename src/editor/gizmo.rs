@@ -64,7 +64,12 @@ impl Gizmo {
     }
 
     /// The axis whose arrow is under `pos` (points), if any; the nearest wins.
+    /// None at the gizmo's middle, where a drag grabs what the gizmo sits on
+    /// (a pin, a collider) and moves it freely.
     pub fn axis_at(&self, pos: Pos2) -> Option<AxisLock> {
+        if pos.distance(self.origin_pt) <= GRAB_RADIUS_PT {
+            return None;
+        }
         AXES.iter()
             .zip(self.tips_pt)
             .filter_map(|(axis, tip)| Some((*axis, distance_to_segment(pos, self.origin_pt, tip?))))

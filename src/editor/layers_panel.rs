@@ -7,7 +7,7 @@ use eframe::egui;
 
 use super::number_field::number_field;
 
-use super::curve_view::CurveView;
+use super::curve_view::{Curve, CurveView};
 use super::icons::{Icon, icon_button};
 use super::param_edit::{key_at, param_mut, param_names, set_at_keying, toggle_key};
 use super::workspace::Workspace;
@@ -138,6 +138,7 @@ impl LayersPanel {
             }
         });
         ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
+        let shown = self.curve.shown_for_layer(index, layer);
         egui::Grid::new("layer parameters").num_columns(4).show(ui, |ui| {
             for (param, unit) in param_names(layer) {
                 let mut copy = layer.clone();
@@ -156,7 +157,8 @@ impl LayersPanel {
                 };
                 let toggle = icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key {param}"));
                 let toggle = toggle.on_hover_text(hint);
-                self.curve.button_ui(ui, index, layer, param);
+                let curve = Curve::Layer(index, param);
+                self.curve.button_ui(ui, curve, shown == Some(curve));
                 ui.end_row();
                 let what = format!("Layer {}", param.replace('_', " "));
                 if response.drag_started() {
@@ -179,7 +181,9 @@ impl LayersPanel {
                 }
             }
         });
-        self.curve.plot_ui(ui, w, index, layer);
+        if let Some(curve) = shown {
+            self.curve.plot_ui(ui, w, curve);
+        }
         layer_vectors(ui, w, index, layer);
     }
 }

@@ -19,6 +19,7 @@
 pub mod app;
 pub mod bezier_handles;
 mod cloth_panel;
+mod collider_drag;
 mod colliders_panel;
 pub mod curve_view;
 pub mod document;

@@ -4,7 +4,7 @@
 //! playhead.
 
 use crate::animate::track::sample;
-use crate::scene::{Ease, Layer, Param, ParamKey, ParamValue};
+use crate::scene::{Collider, Ease, Layer, Param, ParamKey, ParamValue, Scene};
 
 /// The index of the key at `frame`, if the parameter is keyed there.
 pub fn key_at(param: &Param, frame: i32) -> Option<usize> {
@@ -92,7 +92,12 @@ pub fn key_frames(layer: &Layer) -> Vec<i32> {
 /// frame of the layer: strictly between its neighbours in [`key_frames`].
 /// `None` when no parameter is keyed at `from`.
 pub fn retime_range(layer: &Layer, from: i32) -> Option<(i32, i32)> {
-    let frames = key_frames(layer);
+    range_between_neighbours(&key_frames(layer), from)
+}
+
+/// Strictly between the neighbours of `from` in the sorted `frames`; `None`
+/// when `from` is not one of them.
+fn range_between_neighbours(frames: &[i32], from: i32) -> Option<(i32, i32)> {
     let at = frames.iter().position(|f| *f == from)?;
     let low = if at > 0 { frames[at - 1].saturating_add(1) } else { i32::MIN };
     let high = frames.get(at + 1).map_or(i32::MAX, |f| f - 1);
@@ -115,9 +120,97 @@ pub fn move_keys(layer: &mut Layer, from: i32, to: i32) -> i32 {
     to
 }
 
+/// Every frame at which some number of `collider` (its own thickness
+/// included) has a key, in order, once each.
+pub fn collider_key_frames(collider: &Collider) -> Vec<i32> {
+    let mut frames = Vec::new();
+    let params = collider.numbers().into_iter().filter_map(|n| collider.param(n)).chain(collider.thickness());
+    for param in params {
+        if let Param::Keys(keys) = param {
+            frames.extend(keys.iter().map(|k| k.frame));
+        }
+    }
+    frames.sort_unstable();
+    frames.dedup();
+    frames
+}
+
+/// Moves every key of `collider` at frame `from` to `to`, as [`move_keys`]
+/// does for a layer; returns the frame they ended at.
+pub fn move_collider_keys(collider: &mut Collider, from: i32, to: i32) -> i32 {
+    let Some((low, high)) = range_between_neighbours(&collider_key_frames(collider), from) else { return from };
+    let to = to.clamp(low, high);
+    let retime = |param: Option<&mut Param>| {
+        if let Some(Param::Keys(keys)) = param {
+            keys.iter_mut().filter(|k| k.frame == from).for_each(|k| k.frame = to);
+        }
+    };
+    for number in collider.numbers() {
+        retime(collider.param_mut(number));
+    }
+    retime(collider.thickness_mut().as_mut());
+    to
+}
+
+/// Whose parameter keys the timeline shows as dots (and retimes when one is
+/// dragged): the selected collider's, else the selected layer's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Keyed {
+    Layer(usize),
+    Collider(usize),
+}
+
+impl Keyed {
+    /// The selected collider, else the selected layer, if `scene` has it.
+    pub fn selected(scene: &Scene, layer: Option<usize>, collider: Option<usize>) -> Option<Keyed> {
+        match (collider, layer) {
+            (Some(c), _) if c < scene.colliders.len() => Some(Keyed::Collider(c)),
+            (_, Some(l)) if l < scene.layers.len() => Some(Keyed::Layer(l)),
+            _ => None,
+        }
+    }
+
+    /// Its key frames in `scene`, in order, once each (none if it is gone).
+    pub fn key_frames(self, scene: &Scene) -> Vec<i32> {
+        match self {
+            Keyed::Layer(i) => scene.layers.get(i).map_or_else(Vec::new, key_frames),
+            Keyed::Collider(i) => scene.colliders.get(i).map_or_else(Vec::new, collider_key_frames),
+        }
+    }
+
+    /// Moves its keys at `from` to `to` (see [`move_keys`]); returns where they landed.
+    pub fn move_keys(self, scene: &mut Scene, from: i32, to: i32) -> i32 {
+        match self {
+            Keyed::Layer(i) => scene.layers.get_mut(i).map_or(from, |l| move_keys(l, from, to)),
+            Keyed::Collider(i) => scene.colliders.get_mut(i).map_or(from, |c| move_collider_keys(c, from, to)),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_collider_s_keys_are_listed_and_retimed_together_within_their_neighbours() {
+        let mut ball: Collider = ron::from_str("Sphere((center: (0.0, 1.0, 0.0), radius: 0.3))").unwrap();
+        if let Collider::Sphere(b) = &mut ball {
+            b.center.1 = keys(&[(0, 1.0), (24, 0.5)]);
+            b.radius = keys(&[(10, 0.3), (24, 0.4)]);
+            b.thickness = Some(keys(&[(40, 0.01)]));
+        }
+        assert_eq!(collider_key_frames(&ball), [0, 10, 24, 40]);
+        // The keys at 24 move together, stopping short of the next key frame (40).
+        assert_eq!(move_collider_keys(&mut ball, 24, 60), 39);
+        assert_eq!(collider_key_frames(&ball), [0, 10, 39, 40]);
+        assert_eq!(move_collider_keys(&mut ball, 5, 7), 5, "nothing keyed at 5");
+        let mut scene = crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap();
+        scene.colliders.push(ball);
+        assert_eq!(Keyed::selected(&scene, Some(0), Some(0)), Some(Keyed::Collider(0)), "the collider first");
+        assert_eq!(Keyed::selected(&scene, Some(0), Some(7)), Some(Keyed::Layer(0)), "a collider that is gone");
+        assert_eq!(Keyed::Collider(0).move_keys(&mut scene, 39, 30), 30);
+        assert_eq!(Keyed::Collider(0).key_frames(&scene), [0, 10, 30, 40]);
+    }
 
     fn keys(pairs: &[(i32, f64)]) -> Param {
         Param::Keys(pairs.iter().map(|&(frame, value)| ParamKey { frame, value, ease: Ease::default() }).collect())

@@ -1,10 +1,16 @@
-//! Pointer to cloth and back: which grid point is under the mouse, and where
-//! a dragged pin goes. Pure math on the camera; pixels are physical pixels of
+//! Pointer to cloth and back: which grid point or collider is under the
+//! mouse, and where a dragged pin or collider goes. Pure math on the camera; pixels are physical pixels of
 //! the viewport (origin top left).
 
 use glam::{Vec2, Vec3};
 
+use crate::animate::colliders_at::shape_at;
 use crate::render::OrbitCamera;
+use crate::scene::{Collider, Scene};
+use crate::world::{ColliderShape, ray_hit};
+
+/// The farthest a collider is picked (m): beyond any sensible view.
+const MAX_PICK_DISTANCE_M: f64 = 1e4;
 
 /// The vertex drawn nearest to `pointer_px` within `radius_px`, preferring the
 /// front layer where cloth overlaps itself: among the points that close, those
@@ -41,6 +47,48 @@ pub fn pick_vertex(
     let metres_per_px = camera.metres_per_pixel(size.y) * front / camera.distance_m;
     let slack = radius_px * metres_per_px;
     candidates.into_iter().filter(|c| c.2 <= front + slack).min_by(|a, b| a.1.total_cmp(&b.1)).map(|c| c.0)
+}
+
+/// A collider's index in the scene and how far along the pointer's ray it is met (m).
+pub type ColliderHit = (usize, f64);
+
+/// The collider of `scene` drawn under `pointer_px` at `frame`, nearest
+/// first, and how far along the ray the pointer meets it (m). Only what the
+/// viewport draws is picked: enabled colliders, not the ground (it fills
+/// the view behind everything; its height is set in the Colliders panel).
+pub fn pick_collider(
+    camera: &OrbitCamera,
+    size_px: (u32, u32),
+    scene: &Scene,
+    frame: f64,
+    pointer_px: Vec2,
+) -> Option<ColliderHit> {
+    if !pointer_px.is_finite() {
+        return None;
+    }
+    let (origin, direction) = camera.ray(pointer_px, size_px);
+    scene
+        .colliders
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.enabled() && !matches!(c, Collider::Ground(_)))
+        .filter_map(|(index, c)| {
+            let shape = shape_at(c, frame)?;
+            ray_hit(&shape, origin.as_dvec3(), direction.as_dvec3(), MAX_PICK_DISTANCE_M).map(|t| (index, t))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// Where a collider is moved from and its gizmo drawn: the middle of its box.
+/// `None` for the ground (no middle) and a mesh not read.
+pub fn collider_middle(collider: &Collider, frame: f64) -> Option<Vec3> {
+    let shape = shape_at(collider, frame)?;
+    if matches!(shape, ColliderShape::Ground { .. }) {
+        return None;
+    }
+    let (lo, hi) = shape.bounds();
+    let middle = ((lo + hi) * 0.5).as_vec3();
+    middle.is_finite().then_some(middle)
 }
 
 /// Where the ray through `pixel` meets the plane through `anchor` facing the

@@ -10,7 +10,7 @@ use std::time::Instant;
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use super::number_field::number_field;
-use super::param_edit::{key_frames, move_keys};
+use super::param_edit::Keyed;
 use super::timeline_zoom::TimelineZoom;
 use super::workspace::Workspace;
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
@@ -313,19 +313,23 @@ impl TimelinePanel {
             }
         }
 
-        // The selected layer's parameter keys, as dots along the top of the keys' row.
-        let selected_layer = w.session.selected_layer.filter(|i| *i < w.doc.scene().layers.len());
-        let layer_frames = selected_layer.map_or_else(Vec::new, |i| key_frames(&w.doc.scene().layers[i]));
+        // The selected collider's (else the selected layer's) keys, as dots
+        // along the top of the keys' row: yellow as its outline, blue for a layer.
+        let keyed = Keyed::selected(w.doc.scene(), w.session.selected_layer, w.session.selected_collider);
+        let param_frames = keyed.map_or_else(Vec::new, |k| k.key_frames(w.doc.scene()));
         let dot_y = center_y - DIAMOND - 5.0;
         let dot_under = |pos: Pos2| {
             // Above the diamonds' tips the dots win; below, the rest-shape keys.
             if pos.y >= center_y - DIAMOND || (pos.y - dot_y).abs() > 6.0 {
                 return None;
             }
-            layer_frames.iter().copied().find(|f| (pos.x - track.x(f64::from(*f))).abs() <= 5.0)
+            param_frames.iter().copied().find(|f| (pos.x - track.x(f64::from(*f))).abs() <= 5.0)
         };
-        let color = Color32::from_rgb(90, 200, 255);
-        for frame in &layer_frames {
+        let color = match keyed {
+            Some(Keyed::Collider(_)) => Color32::from_rgb(255, 200, 20),
+            _ => Color32::from_rgb(90, 200, 255),
+        };
+        for frame in &param_frames {
             let dragged = self.param_key_drag == Some(*frame);
             let radius = if dragged { 4.0 } else { 3.0 };
             painter.circle_filled(Pos2::new(track.x(f64::from(*frame)), dot_y), radius, color);
@@ -353,12 +357,12 @@ impl TimelinePanel {
             && (response.dragged_by(egui::PointerButton::Primary) || response.clicked())
         {
             let frame = track.frame(pos.x).round();
-            match (self.key_drag, self.param_key_drag, selected_layer) {
+            match (self.key_drag, self.param_key_drag, keyed) {
                 (Some(index), _, _) if response.dragged() => retime_key(w, index, frame as i32),
                 (Some(_), _, _) => {}
-                (None, Some(from), Some(layer)) if response.dragged() => {
+                (None, Some(from), Some(keyed)) if response.dragged() => {
                     let to = frame.clamp(track.start, track.end) as i32;
-                    self.retime_layer_keys(w, layer, from, to);
+                    self.retime_param_keys(w, keyed, from, to);
                 }
                 (None, Some(from), _) => w.set_frame(f64::from(from)),
                 (None, None, _) => w.set_frame(frame),
@@ -411,13 +415,17 @@ impl TimelinePanel {
 
     /// Moves the parameter keys of layer `layer` at frame `from` towards `to`
     /// (one undo step per drag); the drag follows them to where they landed.
-    fn retime_layer_keys(&mut self, w: &mut Workspace, layer: usize, from: i32, to: i32) {
-        let mut moved = w.doc.scene().layers[layer].clone();
-        let landed = move_keys(&mut moved, from, to);
+    fn retime_param_keys(&mut self, w: &mut Workspace, keyed: Keyed, from: i32, to: i32) {
+        let mut moved = w.doc.scene().clone();
+        let landed = keyed.move_keys(&mut moved, from, to);
         if landed != from {
-            w.doc.begin_gesture("Move layer keys");
-            w.apply("Move layer keys", |s| s.layers[layer] = moved);
-            if key_frames(&w.doc.scene().layers[layer]).contains(&landed) {
+            let label = match keyed {
+                Keyed::Layer(_) => "Move layer keys",
+                Keyed::Collider(_) => "Move collider keys",
+            };
+            w.doc.begin_gesture(label);
+            w.apply(label, |s| *s = moved);
+            if keyed.key_frames(w.doc.scene()).contains(&landed) {
                 self.param_key_drag = Some(landed);
             }
         }

@@ -1,18 +1,22 @@
 //! The viewport's mouse and keys: camera navigation (Blender's conventions),
-//! hovering a cloth point, clicking to pin and select, dragging pins in the
-//! view plane or along a locked axis.
+//! hovering a cloth point or a collider, clicking to pin and select,
+//! dragging pins and colliders in the view plane or along a locked axis.
 
 use eframe::egui::{self, Key, PointerButton, Response};
 use glam::{Vec2, Vec3};
 
+use super::picking::ColliderHit;
 use super::pin_drag::{AxisLock, MovingPin, PinDrag};
 use super::selection::{self, Pick};
-use super::viewport_panel::ViewportPanel;
+use super::viewport_panel::{CollidersLook, ViewportPanel};
 use super::workspace::Workspace;
 use super::{edits, picking};
 
 /// Mouse-wheel points per dolly step.
 const POINTS_PER_DOLLY_STEP: f32 = 50.0;
+/// How far behind a collider's surface a cloth point must be to be hidden
+/// by it (m): cloth resting on a table, a thickness above it, stays pickable.
+const HIDDEN_BEHIND_M: f64 = 0.02;
 /// How close (in points) the pointer must be to a cloth point to hover it.
 const PICK_RADIUS_PT: f32 = 10.0;
 
@@ -29,7 +33,11 @@ impl ViewportPanel {
             } else {
                 self.camera.orbit(delta);
             }
-        } else if response.dragged_by(PointerButton::Primary) && alt && self.pin_drag.is_none() {
+        } else if response.dragged_by(PointerButton::Primary)
+            && alt
+            && self.pin_drag.is_none()
+            && self.collider_drag.is_none()
+        {
             self.camera.orbit(delta);
         }
         if response.hovered() {
@@ -43,19 +51,26 @@ impl ViewportPanel {
         let to_px = |pos: egui::Pos2| Vec2::new(pos.x - rect.left(), pos.y - rect.top()) * pixels_per_point;
         let pointer_px = response.hover_pos().or(response.interact_pointer_pos()).map(to_px);
 
-        // Hover: the cloth point under the mouse, when the grid on screen is the document's.
-        let same_grid = w.shown_grid_is_current();
+        // Hover: the cloth point under the mouse, when the grid on screen is
+        // the document's; else the collider there.
         w.session.hovered = None;
+        self.hovered_collider = None;
         if let Some(pointer) = pointer_px
             && self.pin_drag.is_none()
-            && same_grid
+            && self.collider_drag.is_none()
             && response.hovered()
         {
-            w.session.hovered = self.point_at(w, pointer, size_px, pixels_per_point);
+            let (point, collider) = self.under_pointer(w, pointer, size_px, pixels_per_point);
+            w.session.hovered = point;
+            self.hovered_collider = collider.map(|(index, _)| index);
         }
 
         if self.pin_drag.is_some() {
             self.continue_pin_drag(ui, w, response, size_px, pointer_px);
+            return;
+        }
+        if self.collider_drag.is_some() {
+            self.continue_collider_drag(ui, w, response, size_px, pointer_px);
             return;
         }
         if alt {
@@ -72,16 +87,36 @@ impl ViewportPanel {
                 && let Some(gizmo) = self.gizmo(w, size_px)
                 && let Some(axis) = gizmo.axis_at(press)
             {
+                if w.session.selection.is_empty() {
+                    // No pin selected: the gizmo is the selected collider's.
+                    let along =
+                        picking::drag_along_axis(&self.camera, size_px, gizmo.origin, axis.vector(), to_px(press));
+                    if let (Some(index), Some(anchor)) = (w.session.selected_collider, along) {
+                        self.start_collider_drag(w, index, anchor, Some(axis));
+                        self.continue_collider_drag(ui, w, response, size_px, pointer_px);
+                    }
+                    return;
+                }
                 self.start_gizmo_drag(w, gizmo.origin, axis, to_px(press), size_px);
                 self.continue_pin_drag(ui, w, response, size_px, pointer_px);
                 return;
             }
-            let grabbed =
-                origin.map(to_px).filter(|_| same_grid).and_then(|at| self.point_at(w, at, size_px, pixels_per_point));
+            let (grabbed, collider) = match origin.map(to_px) {
+                Some(at) => self.under_pointer(w, at, size_px, pixels_per_point),
+                None => (None, None),
+            };
             match grabbed {
                 Some(point) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
                     self.start_pin_drag(w, point, shift);
                     self.continue_pin_drag(ui, w, response, size_px, pointer_px);
+                }
+                // Off the cloth, on a collider: the collider follows the mouse.
+                None if let Some(press) = origin.map(to_px)
+                    && let Some((index, along_m)) = collider =>
+                {
+                    let (eye, direction) = self.camera.ray(press, size_px);
+                    self.start_collider_drag(w, index, eye + direction * along_m as f32, None);
+                    self.continue_collider_drag(ui, w, response, size_px, pointer_px);
                 }
                 // Off the pins a drag draws a box round the pins to select.
                 _ => self.box_select = origin,
@@ -95,12 +130,30 @@ impl ViewportPanel {
                 return;
             }
             let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
-            match w.session.hovered {
-                Some(point) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
+            // A plain click selects what it hits and nothing else: pins or one collider.
+            let replace = how == Pick::Replace;
+            match (w.session.hovered, self.hovered_collider) {
+                (Some(point), _) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
                     selection::pick(&mut w.session.selection, &[point], how);
+                    if replace {
+                        w.session.selected_collider = None;
+                    }
                 }
-                Some(point) => w.pin_here(point, how),
-                None => selection::click_on_nothing(&mut w.session.selection, how),
+                (Some(point), _) => w.pin_here(point, how),
+                (None, Some(index)) => {
+                    if replace {
+                        w.session.selection.clear();
+                        w.session.selected_key = None;
+                    }
+                    let again = w.session.selected_collider == Some(index) && how == Pick::Toggle;
+                    w.session.selected_collider = if again { None } else { Some(index) };
+                }
+                (None, None) => {
+                    selection::click_on_nothing(&mut w.session.selection, how);
+                    if replace {
+                        w.session.selected_collider = None;
+                    }
+                }
             }
         }
     }
@@ -144,6 +197,38 @@ impl ViewportPanel {
             })
             .collect();
         selection::pick(&mut w.session.selection, &inside, how);
+    }
+
+    /// What the pointer is over: a cloth point (see [`Self::point_at`]) or
+    /// else a collider, with how far along the ray it is met (m). A collider
+    /// in front of the cloth hides the cloth points behind it; pins, drawn
+    /// over everything, are never hidden.
+    fn under_pointer(
+        &self,
+        w: &Workspace,
+        pointer_px: Vec2,
+        size_px: (u32, u32),
+        pixels_per_point: f32,
+    ) -> (Option<(u32, u32)>, Option<ColliderHit>) {
+        let point =
+            if w.shown_grid_is_current() { self.point_at(w, pointer_px, size_px, pixels_per_point) } else { None };
+        let collider = self.collider_at(w, pointer_px, size_px);
+        let Some(grid) = point else { return (None, collider) };
+        let Some((_, along_m)) = collider else { return (point, None) };
+        let cols = w.shown.scene.cloth.cols();
+        let at = w.shown.mesh.positions.get(grid.1 as usize * cols + grid.0 as usize);
+        let depth_m = at.map_or(f32::INFINITY, |p| p.distance(self.camera.eye()));
+        let pinned = edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], grid);
+        if !pinned && along_m + HIDDEN_BEHIND_M < f64::from(depth_m) { (None, collider) } else { (point, None) }
+    }
+
+    /// The collider drawn under `pointer_px` and how far along the ray (m);
+    /// none while colliders are hidden.
+    fn collider_at(&self, w: &Workspace, pointer_px: Vec2, size_px: (u32, u32)) -> Option<ColliderHit> {
+        if self.toggles.colliders == CollidersLook::Hidden {
+            return None;
+        }
+        picking::pick_collider(&self.camera, size_px, w.doc.scene(), w.frame(), pointer_px)
     }
 
     /// The grid point under `pointer_px`: a pin of the key being edited when

@@ -8,18 +8,26 @@ use std::sync::Arc;
 use eframe::egui::{self, Sense};
 use eframe::egui_wgpu;
 
+use super::collider_drag::ColliderDrag;
 use super::gizmo::Gizmo;
 use super::number_field::number_field;
+use super::picking;
 use super::pin_drag::{AxisLock, PinDrag};
 use super::shown::OnionSkin;
 use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
+use crate::animate::colliders_at::shape_at;
 use crate::picture::{SceneOverlays, collider_solids, key_overlay};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
 use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions, Solids};
 use crate::scene::{ClothTexture, Layer};
+
+/// The selected collider's outline: the selected pins' yellow.
+const COLLIDER_SELECTED: [f32; 4] = colors::PIN_SELECTED;
+/// The outline of the collider under the mouse.
+const COLLIDER_HOVERED: [f32; 4] = [1.0, 1.0, 1.0, 0.55];
 
 /// What the viewport shows besides the cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,6 +127,9 @@ pub struct ViewportPanel {
     pub toggles: ViewToggles,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
+    pub collider_drag: Option<ColliderDrag>,
+    /// The collider under the mouse (no cloth point being nearer), outlined.
+    pub hovered_collider: Option<usize>,
     /// The shown document version the ground was last checked against.
     ground_version: u64,
     /// The viewport's size in pixels, last frame.
@@ -162,6 +173,8 @@ impl ViewportPanel {
             toggles: ViewToggles::default(),
             stage: Stage::default(),
             pin_drag: None,
+            collider_drag: None,
+            hovered_collider: None,
             box_select: None,
             size_px: (1, 1),
             ground_version: 0,
@@ -259,6 +272,7 @@ impl ViewportPanel {
                 .clone()
                 .with_layer_id(egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("viewport-gizmo")));
             let dragged = self.pin_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock);
+            let dragged = dragged.or(self.collider_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock));
             let hovered = area.response.hover_pos().and_then(|p| gizmo.axis_at(p));
             gizmo.paint(&painter, dragged.or(hovered));
         }
@@ -279,9 +293,15 @@ impl ViewportPanel {
 
     /// The translate gizmo at the selected pins' centre: where the pins are
     /// drawn (the evaluated cloth), or during a drag where the key now holds
-    /// them. `None` with nothing selected, pins hidden or another grid shown.
+    /// them. With no pin selected, at the selected collider's middle. `None`
+    /// with nothing selected, pins (or colliders) hidden or another grid shown.
     pub fn gizmo(&self, w: &Workspace, size_px: (u32, u32)) -> Option<Gizmo> {
-        if !self.toggles.pins || w.session.selection.is_empty() || !w.shown_grid_is_current() {
+        if w.session.selection.is_empty() {
+            let index = self.selected_collider_shown(w)?;
+            let middle = picking::collider_middle(&w.doc.scene().colliders[index], w.frame())?;
+            return Gizmo::at(middle, &self.camera, self.rect, size_px);
+        }
+        if !self.toggles.pins || !w.shown_grid_is_current() {
             return None;
         }
         let key = &w.doc.scene().keys[w.edit_key_index()];
@@ -298,6 +318,13 @@ impl ViewportPanel {
         }
         let centre = points.iter().copied().sum::<glam::Vec3>() / points.len() as f32;
         Gizmo::at(centre, &self.camera, self.rect, size_px)
+    }
+
+    /// The selected collider, if it is drawn (enabled, colliders not hidden).
+    pub fn selected_collider_shown(&self, w: &Workspace) -> Option<usize> {
+        let index = w.session.selected_collider?;
+        let collider = w.doc.scene().colliders.get(index)?;
+        (collider.enabled() && self.toggles.colliders != CollidersLook::Hidden).then_some(index)
     }
 
     /// Frames the cloth on screen.
@@ -379,6 +406,7 @@ impl ViewportPanel {
             }
         }
         self.add_layer_arrow(w, &mut overlay);
+        self.add_collider_outlines(w, &mut overlay);
         let highlight = session.hovered.or(session.grid_hovered);
         if let Some((i, j)) = highlight
             && !key.pins.iter().any(|p| p.grid == (i, j))
@@ -393,6 +421,22 @@ impl ViewportPanel {
             });
         }
         overlay
+    }
+
+    /// The selected collider outlined in the selection colour, the one under
+    /// the mouse in white.
+    fn add_collider_outlines(&self, w: &Workspace, overlay: &mut Overlay) {
+        let scene = w.doc.scene();
+        let hovered = self.hovered_collider.filter(|i| Some(*i) != w.session.selected_collider);
+        let outlined = [(self.selected_collider_shown(w), COLLIDER_SELECTED, 2.0), (hovered, COLLIDER_HOVERED, 1.5)];
+        for (index, color, width_px) in outlined {
+            let Some(shape) = index.and_then(|i| scene.colliders.get(i)).and_then(|c| shape_at(c, w.frame())) else {
+                continue;
+            };
+            for [a, b] in shape.outline() {
+                overlay.segments.push(Segment { a: a.as_vec3(), b: b.as_vec3(), width_px, color });
+            }
+        }
     }
 
     /// The selected layer's direction as an arrow over the cloth: a sway's or
@@ -430,14 +474,16 @@ impl ViewportPanel {
         }
     }
 
-    /// The colliders of the shown scene at the playhead, as the View asks.
+    /// The colliders at the playhead, as the View asks: the document's, so
+    /// a collider being dragged or typed is drawn where it is now, before
+    /// the cloth has been shaped round it.
     fn solids(&self, w: &Workspace) -> Solids {
         let opacity = match self.toggles.colliders {
             CollidersLook::Shaded => 1.0,
             CollidersLook::SeeThrough => 0.35,
             CollidersLook::Hidden => return Solids::NONE,
         };
-        collider_solids(&w.shown.scene, w.frame(), opacity)
+        collider_solids(w.doc.scene(), w.frame(), opacity)
     }
 
     fn render_options(&self, w: &Workspace) -> RenderOptions {

@@ -39,6 +39,9 @@ pub struct Session {
     pub selected_key: Option<usize>,
     /// The layer whose parameters the Layers panel shows (and whose keys the timeline shows).
     pub selected_layer: Option<usize>,
+    /// The collider the Colliders panel shows, drawn outlined in the viewport
+    /// (picked there or in the panel).
+    pub selected_collider: Option<usize>,
     /// A layer shown alone (the others off in the viewport only; the scene keeps them).
     pub solo_layer: Option<usize>,
     /// The cloth point under the mouse in the viewport, and in the grid editor.
@@ -117,12 +120,14 @@ impl Workspace {
     }
 
     /// Moves the playhead to the next (`later`) or previous key: a rest-shape
-    /// key, or a parameter key of the selected layer. Stays put past the last.
+    /// key, or a key of the selected collider (else the selected layer), as
+    /// the timeline's dots show them. Stays put past the last.
     pub fn jump_to_key(&mut self, later: bool) {
         let scene = self.doc.scene();
         let mut frames: Vec<i32> = scene.keys.iter().map(|k| k.frame).collect();
-        if let Some(layer) = self.session.selected_layer.and_then(|i| scene.layers.get(i)) {
-            frames.extend(super::param_edit::key_frames(layer));
+        let (layer, collider) = (self.session.selected_layer, self.session.selected_collider);
+        if let Some(keyed) = super::param_edit::Keyed::selected(scene, layer, collider) {
+            frames.extend(keyed.key_frames(scene));
         }
         let here = self.frame().round() as i32;
         let target = if later {
@@ -240,6 +245,16 @@ impl Workspace {
         let label = if selection.len() == 1 { "Unpin" } else { "Unpin pins" };
         let Some(index) = self.key_to_edit(label) else { return };
         self.apply(label, |s| edits::unpin(&mut s.keys[index], &selection));
+    }
+
+    /// Removes the selected collider (Delete with no pin selected).
+    pub fn delete_selected_collider(&mut self) {
+        let Some(index) = self.session.selected_collider.take() else { return };
+        if index < self.doc.scene().colliders.len() {
+            self.apply("Remove collider", |s| {
+                s.colliders.remove(index);
+            });
+        }
     }
 
     /// Copies the selected pins' positions in the key being edited (Ctrl+C);
