@@ -14,7 +14,7 @@
 use glam::DVec3;
 
 use crate::mesh::PointArrays;
-use crate::world::{Obstacle, push_out, push_out_along};
+use crate::world::{Obstacle, Reach, push_out, push_out_along};
 
 /// Moves every point of `points` not `held` (pinned in both keys around
 /// the frame) out of `obstacles`, the way it came from the same point of
@@ -32,10 +32,15 @@ pub fn keep_out(obstacles: &[Obstacle], held: &[bool], before: &PointArrays, poi
     if near.is_empty() {
         return false;
     }
+    let reach = Reach::of(&near);
     let mut moved = false;
     let has_before = before.len() == n;
     for (k, _) in held.iter().enumerate().filter(|(_, held)| !**held) {
         let p = DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
+        // Outside every obstacle's reach it stays, as pushing out would leave it.
+        if !(0..near.len()).any(|i| reach.near(i, p)) {
+            continue;
+        }
         // Only points that end inside move: one the layers carry clean through
         // a thin collider within a frame is not caught (stopping every path at
         // the first surface, `slide_along`, tore cloth swung past a table's edge).

@@ -15,7 +15,7 @@ mod tessellate;
 
 pub use collider_shape::{ColliderShape, MESH_EXACT_WITHIN_M};
 pub use mesh_solid::{MAX_MESH_TRIANGLES, MeshSolid, MeshSolidError};
-pub use push_out::{Obstacle, push_out, push_out_along, slide_along};
+pub use push_out::{Obstacle, Reach, push_out, push_out_along, slide_along};
 pub use ray::ray_hit;
 pub use surface_point::SurfacePoint;
 pub use tessellate::TriangleMesh;

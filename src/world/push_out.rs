@@ -12,6 +12,45 @@ pub struct Obstacle {
     pub thickness: f64,
 }
 
+/// How far beyond its thickness an obstacle's box is swollen for
+/// [`Reach`] (m): more than rounding and the trace's [`CONTACT_M`].
+const REACH_MARGIN_M: f64 = 1e-6;
+
+/// Where each obstacle can touch: its box swollen by its thickness. A point
+/// outside an obstacle's box keeps more than its thickness from it, so a
+/// contact test may pass it over without measuring, with the same answer.
+#[derive(Clone, Debug, Default)]
+pub struct Reach {
+    boxes: Vec<(DVec3, DVec3)>,
+}
+
+impl Reach {
+    pub fn of(obstacles: &[Obstacle]) -> Reach {
+        let boxes = obstacles
+            .iter()
+            .map(|o| {
+                let (lo, hi) = o.shape.bounds();
+                let margin = DVec3::splat(o.thickness + REACH_MARGIN_M);
+                (lo - margin, hi + margin)
+            })
+            .collect();
+        Reach { boxes }
+    }
+
+    /// Whether obstacle `index` may be within its thickness of `p` (false
+    /// for a non-finite `p`, which no obstacle pushes).
+    pub fn near(&self, index: usize, p: DVec3) -> bool {
+        self.boxes.get(index).is_some_and(|(lo, hi)| lo.cmple(p).all() && hi.cmpge(p).all())
+    }
+
+    /// Whether any obstacle may be within its thickness of a point of the
+    /// segment `a` → `b` (false if either end is not finite).
+    pub fn near_path(&self, a: DVec3, b: DVec3) -> bool {
+        let (lo, hi) = (a.min(b), a.max(b));
+        a.is_finite() && b.is_finite() && self.boxes.iter().any(|(l, h)| l.cmple(hi).all() && h.cmpge(lo).all())
+    }
+}
+
 /// Rounds over every obstacle: a point pushed out of one into another is
 /// pushed again; three rounds settle any two touching solids.
 const ROUNDS: usize = 3;
@@ -166,6 +205,40 @@ mod tests {
             world_from_local: DMat3::IDENTITY,
         };
         Obstacle { shape, thickness: 0.005 }
+    }
+
+    #[test]
+    fn what_reach_passes_over_is_farther_than_the_thickness() {
+        let obstacles = [
+            table(),
+            Obstacle {
+                shape: ColliderShape::Sphere { center: DVec3::new(2.0, 1.0, 0.0), radius: 0.3 },
+                thickness: 0.01,
+            },
+            Obstacle { shape: ColliderShape::Ground { height: 0.0 }, thickness: 0.002 },
+        ];
+        let reach = Reach::of(&obstacles);
+        let mut state = 12345u64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20_000 {
+            let p = DVec3::new(unit() * 4.0 - 1.0, unit() * 2.0 - 0.2, unit() * 2.0 - 1.0);
+            for (index, o) in obstacles.iter().enumerate() {
+                if !reach.near(index, p) {
+                    assert!(o.shape.distance(p) >= o.thickness, "{p} is within {index}'s thickness");
+                }
+            }
+            let q = p + DVec3::new(unit() - 0.5, unit() - 0.5, unit() - 0.5) * 0.2;
+            if !reach.near_path(p, q) {
+                assert_eq!(slide_along(&obstacles, p, q), q, "{p} → {q} touches nothing");
+            }
+        }
+        assert!(!reach.near(0, DVec3::NAN) && !reach.near_path(DVec3::ZERO, DVec3::NAN));
+        assert!(reach.near(2, DVec3::new(5.0, 0.001, 5.0)), "the ground reaches everywhere below its thickness");
     }
 
     #[test]

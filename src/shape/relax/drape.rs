@@ -22,7 +22,7 @@ use glam::DVec3;
 
 use super::sweeper::min_second_neighbour_distance;
 use super::{Cancelled, MAX_SHEAR_DEG, RelaxParams, RelaxProgress, STIFF_RADIUS_FRACTION};
-use crate::world::{Obstacle, push_out, slide_along};
+use crate::world::{Obstacle, Reach, push_out, slide_along};
 
 /// Seconds per step: a point falls 0.7 mm in its first step.
 const STEP_SECS: f64 = 1.0 / 120.0;
@@ -84,6 +84,8 @@ pub fn drape_among(
     // A cloth with no pins that has fallen below every obstacle falls for ever: stop.
     let lowest_catch = obstacles.iter().map(|o| o.shape.bounds().0.y - o.thickness).fold(f64::INFINITY, f64::min);
     let unpinned = !pinned.iter().any(|&p| p);
+    // Most points are far from every obstacle: passed over without measuring.
+    let reach = Reach::of(obstacles);
     for step in 0..max_steps {
         if unpinned && positions.iter().all(|p| p.y < lowest_catch) {
             return Ok(DrapeReport { steps: step, last_move_m, settled: false, fell_off: true });
@@ -128,7 +130,8 @@ pub fn drape_among(
             // table's corner to 1.39× their length); the step's path is
             // checked below.
             for k in (0..n).filter(|&k| !pinned[k]) {
-                if obstacles.iter().any(|o| o.shape.distance(positions[k]) < o.thickness) {
+                let p = positions[k];
+                if obstacles.iter().enumerate().any(|(i, o)| reach.near(i, p) && o.shape.distance(p) < o.thickness) {
                     let out = push_out(obstacles, positions[k]);
                     pushed[k] += out - positions[k];
                     positions[k] = out;
@@ -137,12 +140,13 @@ pub fn drape_among(
             // An edge's middle too: between points resting on either side of
             // a table's rim, the straight edge would cut the rim.
             for link in links.iter().filter(|link| link.min == link.max) {
-                keep_middle_out(link, positions, pinned, obstacles, &mut pushed);
+                keep_middle_out(link, positions, pinned, obstacles, &reach, &mut pushed);
             }
         }
         let mut largest = 0.0f64;
         for k in (0..n).filter(|&k| !pinned[k]) {
-            let mut p = slide_along(obstacles, before[k], positions[k]);
+            let near = reach.near_path(before[k], positions[k]);
+            let mut p = if near { slide_along(obstacles, before[k], positions[k]) } else { positions[k] };
             let push = pushed[k] + (p - positions[k]);
             if push != DVec3::ZERO && friction > 0.0 {
                 p = with_friction(obstacles, friction, before[k], p, push);
@@ -182,13 +186,17 @@ fn keep_middle_out(
     positions: &mut [DVec3],
     pinned: &[bool],
     obstacles: &[Obstacle],
+    reach: &Reach,
     pushed: &mut [DVec3],
 ) {
     if pinned[link.a] || pinned[link.b] {
         return;
     }
-    for obstacle in obstacles {
+    for (index, obstacle) in obstacles.iter().enumerate() {
         let middle = (positions[link.a] + positions[link.b]) * 0.5;
+        if !reach.near(index, middle) {
+            continue;
+        }
         let s = obstacle.shape.surface_point(middle);
         if s.distance < obstacle.thickness {
             let lift = s.outward * (obstacle.thickness - s.distance);
