@@ -418,3 +418,63 @@ fn a_pin_behind_the_cloth_shows_faintly() {
     assert!(with[0] as i32 - with[1] as i32 > without[0] as i32 - without[1] as i32 + 20, "{without:?} → {with:?}");
     assert!(with[1] > 100, "the hidden pin is drawn at full strength: {with:?}");
 }
+
+/// One renderer drawing frame after frame (as the viewport does) writes the
+/// colliders again only when they change: a ball moved, then hidden, draws
+/// exactly as a fresh renderer draws it.
+#[test]
+fn a_renderer_kept_between_frames_draws_changed_solids_as_a_fresh_one() {
+    use drape::render::{OffscreenTarget, Renderer, readback::read_texture};
+    let (mesh, scene) = carpet_mesh(0);
+    let (lo, hi) = drape::render::camera::bounds(&mesh.positions).unwrap();
+    let camera = OrbitCamera::framing(lo, hi - glam::Vec3::Y * 0.5, 4.0 / 3.0);
+    let options = RenderOptions::default();
+    let overlay = Overlay::default();
+    let ball = |x: f64| {
+        let mut with_ball = scene.clone();
+        with_ball.colliders = ron::from_str(&format!("[Sphere((center: ({x}, 0.6, -0.8), radius: 0.3))]")).unwrap();
+        drape::picture::collider_solids(&with_ball, 0.0, 1.0)
+    };
+    let frames = [ball(-0.3), ball(-0.3), ball(0.4), Solids::NONE, ball(0.4)];
+    let context = context();
+    let size = (320, 240);
+    let mut kept = Renderer::new(&context.device, &context.queue);
+    let target = OffscreenTarget::new(&context.device, size);
+    for (index, solids) in frames.iter().enumerate() {
+        let input =
+            FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay, solids };
+        kept.render(&context.device, &context.queue, &target, input);
+        let drawn = read_texture(&context.device, &context.queue, target.resolved()).unwrap();
+        let fresh = render_mesh(Some(&context), input, size).unwrap();
+        assert!(drawn == fresh, "frame {index}: the kept renderer drew something else");
+    }
+    assert!(
+        render_mesh(
+            Some(&context),
+            FrameInput {
+                solids: &frames[0],
+                mesh: &mesh,
+                camera: &camera,
+                options: &options,
+                ghosts: &[],
+                overlay: &overlay
+            },
+            size
+        )
+        .unwrap()
+            != render_mesh(
+                Some(&context),
+                FrameInput {
+                    solids: &frames[2],
+                    mesh: &mesh,
+                    camera: &camera,
+                    options: &options,
+                    ghosts: &[],
+                    overlay: &overlay
+                },
+                size
+            )
+            .unwrap(),
+        "the ball is in view and moved"
+    );
+}

@@ -146,6 +146,21 @@ pub struct ViewportPanel {
     pub frame_all_pending: bool,
     /// Frame the cloth once shown if the saved view does not see it at the opened frame.
     reveal_pending: bool,
+    /// The colliders last tessellated and what they were made from, so a
+    /// repaint without a change (orbiting, hovering) does not build them again.
+    solids_cache: Option<(SolidsKey, Arc<Solids>)>,
+}
+
+/// What a viewport's collider solids depend on: the colliders (meshes by
+/// their loaded data, which equality of the scene's colliders ignores), the
+/// frame and the opacity.
+#[derive(Clone, PartialEq)]
+struct SolidsKey {
+    colliders: Vec<crate::scene::Collider>,
+    /// Each mesh collider's loaded data by address.
+    meshes: Vec<Option<usize>>,
+    frame_bits: u64,
+    opacity_bits: u32,
 }
 
 /// This frame's viewport: where it is and what the pointer did there.
@@ -183,6 +198,7 @@ impl ViewportPanel {
             has_gpu,
             frame_all_pending: framed,
             reveal_pending: !framed,
+            solids_cache: None,
         }
     }
 
@@ -285,7 +301,7 @@ impl ViewportPanel {
             options: self.render_options(w),
             overlay: Arc::new(self.overlay(w)),
             ghosts: w.shown.ghosts.clone(),
-            solids: Arc::new(self.solids(w)),
+            solids: self.solids(w),
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
@@ -477,13 +493,35 @@ impl ViewportPanel {
     /// The colliders at the playhead, as the View asks: the document's, so
     /// a collider being dragged or typed is drawn where it is now, before
     /// the cloth has been shaped round it.
-    fn solids(&self, w: &Workspace) -> Solids {
+    fn solids(&mut self, w: &Workspace) -> Arc<Solids> {
         let opacity = match self.toggles.colliders {
             CollidersLook::Shaded => 1.0,
             CollidersLook::SeeThrough => 0.35,
-            CollidersLook::Hidden => return Solids::NONE,
+            CollidersLook::Hidden => 0.0,
         };
-        collider_solids(w.doc.scene(), w.frame(), opacity)
+        let colliders = &w.doc.scene().colliders;
+        let meshes = colliders
+            .iter()
+            .map(|c| match c {
+                crate::scene::Collider::Mesh(m) => m.solid.0.as_ref().map(|solid| Arc::as_ptr(solid) as usize),
+                _ => None,
+            })
+            .collect();
+        let key = SolidsKey {
+            colliders: colliders.clone(),
+            meshes,
+            frame_bits: w.frame().to_bits(),
+            opacity_bits: f32::to_bits(opacity),
+        };
+        if let Some((cached, solids)) = &self.solids_cache
+            && *cached == key
+        {
+            return solids.clone();
+        }
+        let solids =
+            Arc::new(if opacity > 0.0 { collider_solids(w.doc.scene(), w.frame(), opacity) } else { Solids::NONE });
+        self.solids_cache = Some((key, solids.clone()));
+        solids
     }
 
     fn render_options(&self, w: &Workspace) -> RenderOptions {

@@ -182,8 +182,11 @@ impl GrowingBuffer {
     }
 }
 
-/// The solids' triangles, rewritten each picture, and their material.
+/// The solids' triangles and their material, written again only when
+/// the solids differ from the last ones written.
 struct SolidBuffers {
+    /// What the buffers hold now (`None`: nothing, or not yet).
+    written: Option<Solids>,
     positions: GrowingBuffer,
     normals: GrowingBuffer,
     uvs: GrowingBuffer,
@@ -294,6 +297,7 @@ impl Renderer {
         });
         let vertex = wgpu::BufferUsages::VERTEX;
         let solids = SolidBuffers {
+            written: None,
             positions: GrowingBuffer::new(device, "solid positions", vertex, 4096),
             normals: GrowingBuffer::new(device, "solid normals", vertex, 4096),
             uvs: GrowingBuffer::new(device, "solid uvs", vertex, 4096),
@@ -416,9 +420,15 @@ impl Renderer {
             && solids.indices.iter().all(|&i| (i as usize) < solids.positions.len());
         if !valid || solids.is_empty() || !(solids.opacity > 0.0) {
             self.solids.index_count = 0;
+            self.solids.written = None;
+            return;
+        }
+        // A viewport repaints the same colliders many times (orbiting, hovering).
+        if self.solids.written.as_ref() == Some(solids) {
             return;
         }
         let buffers = &mut self.solids;
+        buffers.written = Some(solids.clone());
         buffers.positions.write(device, queue, bytemuck::cast_slice(&solids.positions));
         buffers.normals.write(device, queue, bytemuck::cast_slice(&solids.normals));
         buffers.uvs.write(device, queue, bytemuck::cast_slice(&vec![[0.0f32; 2]; solids.positions.len()]));
