@@ -191,6 +191,23 @@ fn a_tablecloth_without_pins_falls_onto_a_box_and_stays() {
     assert_kept_out_and_whole(&unpinned_scene_with("(center: (0.0, 0.9, 0.0))", 0.5, TABLE, true), 1.5);
 }
 
+/// Without pins the colliders hold the cloth as pins would: the layers move
+/// what hangs over the table's sides and leave what lies on its top.
+#[test]
+fn layers_move_the_overhang_of_a_cloth_without_pins_and_not_what_lies_on_the_table() {
+    let scene = unpinned_scene_with("(center: (0.0, 0.9, 0.0))", 0.5, TABLE, true);
+    let rest = settled_shape(&scene);
+    let mut evaluator = Evaluator::new();
+    let mut overhang_moved = 0.0f32;
+    for frame in [20.0, 40.0, 60.0] {
+        let mesh = evaluator.evaluate_frame(&scene, frame);
+        assert!(mesh.positions[MIDDLE].distance(rest[MIDDLE]) < 1e-6, "frame {frame}: the middle lies still");
+        overhang_moved = overhang_moved.max(mesh.positions[0].distance(rest[0]));
+    }
+    assert!(overhang_moved > 0.01, "the corner over the side moves with the wave and the sway: {overhang_moved} m");
+    assert_kept_out_and_whole(&scene, 1.5);
+}
+
 #[test]
 fn a_tablecloth_without_pins_rests_on_a_round_table() {
     let round_table = "Cylinder((name: \"round table\", center: (0.0, 0.72, 0.0), radius: 0.3, height: 0.04))";

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::colliders_at::obstacles_at;
-use super::falloff::pin_distance_field;
+use super::falloff::{pin_distance_field, resting_distance_field};
 use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
@@ -24,9 +24,10 @@ pub struct KeyShape {
     pub positions: Vec<Vec3>,
     /// `positions` split into x, y, z arrays, as the layers work on them.
     pub points: PointArrays,
-    /// d_cp/d_max per vertex for this key's pins (0 at the pins, 1 farthest).
+    /// d_cp/d_max per vertex for this key's pins (0 at the pins, 1 farthest);
+    /// for a key without pins, from the points resting on colliders.
     pub ratio: Vec<f32>,
-    /// d_max: the largest material distance to the closest pin (m).
+    /// d_max: the largest material distance to the closest pin (or resting point) (m).
     pub d_max_m: f32,
     /// Which vertices this key pins.
     pub pinned: Vec<bool>,
@@ -41,7 +42,7 @@ impl KeyShape {
         let never_cancelled = &mut |_| ControlFlow::Continue(());
         let rest = RestShape::build_among(cloth, key, obstacles, never_cancelled)
             .expect("a control that never breaks never cancels");
-        KeyShape::from_rest(cloth, key, rest)
+        KeyShape::from_rest(cloth, key, rest, obstacles)
     }
 
     /// [`KeyShape::build`] with relaxation progress and cancellation (see [`RestShape::build_with`]).
@@ -51,13 +52,17 @@ impl KeyShape {
         obstacles: &[Obstacle],
         control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     ) -> Result<KeyShape, Cancelled> {
-        Ok(KeyShape::from_rest(cloth, key, RestShape::build_among(cloth, key, obstacles, control)?))
+        Ok(KeyShape::from_rest(cloth, key, RestShape::build_among(cloth, key, obstacles, control)?, obstacles))
     }
 
-    fn from_rest(cloth: &Cloth, key: &Key, rest: RestShape) -> KeyShape {
+    fn from_rest(cloth: &Cloth, key: &Key, rest: RestShape, obstacles: &[Obstacle]) -> KeyShape {
         let positions: Vec<Vec3> = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
         let points = PointArrays::from_vec3s(&positions);
-        let (ratio, d_max_m) = pin_distance_field(cloth, &key.pins);
+        let (ratio, d_max_m) = if key.pins.is_empty() {
+            resting_distance_field(cloth, &rest.relaxed, obstacles)
+        } else {
+            pin_distance_field(cloth, &key.pins)
+        };
         let pinned = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
         let rest_m = (cloth.spacing_u_m() * key.elasticity, cloth.spacing_v_m() * key.elasticity);
         let reach = EdgeReach::of(&points, cloth.cols(), cloth.rows(), rest_m.0 as f32, rest_m.1 as f32);

@@ -2,6 +2,7 @@
 //! a = (d_cp / d_max)^falloff, with d_cp measured in material space (u, v).
 
 use crate::scene::{Cloth, Pin};
+use crate::world::Obstacle;
 
 /// d_cp/d_max for every grid point of `cloth` (vertex order `j·cols + i`):
 /// the material distance to the closest of `pins`, over its largest value on
@@ -30,6 +31,65 @@ pub fn pin_distance_field(cloth: &Cloth, pins: &[Pin]) -> (Vec<f32>, f64) {
     let d_max = distance.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
     if d_max <= 0.0 {
         return (vec![0.0; cols * rows], 0.0);
+    }
+    (distance.iter().map(|&d| if d.is_finite() { (d / d_max) as f32 } else { 0.0 }).collect(), d_max)
+}
+
+/// How much farther than its thickness a point may be from a collider's
+/// surface and still rest on it (m).
+const RESTING_WITHIN_M: f64 = 2e-3;
+/// How upright a surface must face to hold the cloth up (the y of its
+/// outward direction): a table top, a ball's upper half, not a table's side.
+const HOLDING_UP_Y: f64 = 0.5;
+
+/// For a key without pins, d_cp/d_max measured from the points of its rest
+/// shape `positions` that rest on the `obstacles` (within their thickness
+/// and 2 mm, on a surface facing up): the colliders hold the cloth as pins
+/// would, so the layers move what hangs free (a tablecloth's overhang) and
+/// leave what lies on the table. All zeros when nothing rests on them.
+pub fn resting_distance_field(cloth: &Cloth, positions: &[glam::DVec3], obstacles: &[Obstacle]) -> (Vec<f32>, f64) {
+    let (cols, rows) = (cloth.cols(), cloth.rows());
+    let n = cols * rows;
+    if positions.len() != n {
+        return (vec![0.0; n], 0.0);
+    }
+    let resting: Vec<bool> = positions
+        .iter()
+        .map(|&p| {
+            obstacles.iter().any(|o| {
+                let s = o.shape.surface_point(p);
+                s.distance <= o.thickness + RESTING_WITHIN_M && s.outward.y >= HOLDING_UP_Y
+            })
+        })
+        .collect();
+    // The nearest resting point of a free one is on the resting region's
+    // edge (a resting point with every neighbour resting has one nearer),
+    // so only those are measured to.
+    let (du, dv) = (cloth.spacing_u_m(), cloth.spacing_v_m());
+    let edge: Vec<(f64, f64)> = (0..n)
+        .filter(|&k| resting[k])
+        .filter(|&k| {
+            let (i, j) = (k % cols, k / cols);
+            let free = |i: usize, j: usize| !resting[j * cols + i];
+            (i > 0 && free(i - 1, j))
+                || (i + 1 < cols && free(i + 1, j))
+                || (j > 0 && free(i, j - 1))
+                || (j + 1 < rows && free(i, j + 1))
+        })
+        .map(|k| ((k % cols) as f64 * du, (k / cols) as f64 * dv))
+        .collect();
+    let distance: Vec<f64> = (0..n)
+        .map(|k| {
+            if resting[k] {
+                return 0.0;
+            }
+            let (u, v) = ((k % cols) as f64 * du, (k / cols) as f64 * dv);
+            edge.iter().map(|&(eu, ev)| (u - eu) * (u - eu) + (v - ev) * (v - ev)).fold(f64::INFINITY, f64::min).sqrt()
+        })
+        .collect();
+    let d_max = distance.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
+    if d_max <= 0.0 {
+        return (vec![0.0; n], 0.0);
     }
     (distance.iter().map(|&d| if d.is_finite() { (d / d_max) as f32 } else { 0.0 }).collect(), d_max)
 }
@@ -82,6 +142,36 @@ impl AttenuationField {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cloth_without_pins_is_held_where_it_rests_on_a_surface_facing_up() {
+        use crate::world::ColliderShape;
+        use glam::{DMat3, DVec3};
+        // A 5 × 5 cloth 1 m square, level at 1.003 m, half over a box whose top is at 1 m.
+        let cloth = Cloth::new((1.0, 1.0), (5, 5));
+        let positions: Vec<DVec3> =
+            (0..25).map(|k| DVec3::new((k % 5) as f64 * 0.25 - 0.5, 1.003, (k / 5) as f64 * 0.25 - 0.5)).collect();
+        let table = ColliderShape::Box {
+            center: DVec3::new(-0.5, 0.5, 0.0),
+            half: DVec3::new(0.5, 0.5, 1.0),
+            world_from_local: DMat3::IDENTITY,
+        };
+        let (ratio, d_max) = resting_distance_field(&cloth, &positions, &[Obstacle { shape: table, thickness: 0.003 }]);
+        // Columns 0..=2 lie on the top (x ≤ 0); columns 3 and 4 hang free, 0.25 and 0.5 m from it.
+        for j in 0..5 {
+            assert_eq!(&ratio[j * 5..j * 5 + 5], &[0.0, 0.0, 0.0, 0.5, 1.0]);
+        }
+        assert!((d_max - 0.5).abs() < 1e-12);
+        // Nothing resting (a wall beside, facing sideways; or nothing at all): all zeros.
+        let wall = ColliderShape::Box {
+            center: DVec3::new(-1.0, 1.0, 0.0),
+            half: DVec3::new(0.497, 1.0, 1.0),
+            world_from_local: DMat3::IDENTITY,
+        };
+        let beside = resting_distance_field(&cloth, &positions, &[Obstacle { shape: wall, thickness: 0.003 }]);
+        assert_eq!(beside, (vec![0.0; 25], 0.0));
+        assert_eq!(resting_distance_field(&cloth, &positions, &[]), (vec![0.0; 25], 0.0));
+    }
 
     fn pin(i: u32, j: u32) -> Pin {
         Pin { grid: (i, j), pos: (0.0, 0.0, 0.0) }
