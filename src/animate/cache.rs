@@ -55,6 +55,20 @@ impl KeyShape {
         Ok(KeyShape::from_rest(cloth, key, RestShape::build_among(cloth, key, obstacles, control)?, obstacles))
     }
 
+    /// The shape among `obstacles` of a key with pins, from `plain`, its
+    /// shape without them (see [`RestShape::among_from`]): equal to
+    /// [`KeyShape::build_with`] among them, without relaxing it again.
+    pub fn among_from(
+        plain: &KeyShape,
+        cloth: &Cloth,
+        key: &Key,
+        obstacles: &[Obstacle],
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<KeyShape, Cancelled> {
+        let rest = RestShape::among_from(plain.rest.clone(), key, obstacles, control)?;
+        Ok(KeyShape::from_rest(cloth, key, rest, obstacles))
+    }
+
     fn from_rest(cloth: &Cloth, key: &Key, rest: RestShape, obstacles: &[Obstacle]) -> KeyShape {
         let positions: Vec<Vec3> = rest.relaxed.iter().map(|p| p.as_vec3()).collect();
         let points = PointArrays::from_vec3s(&positions);
@@ -199,15 +213,33 @@ impl RestShapeCache {
             entry.last_used = generation;
             return entry.shape.clone();
         }
+        if let Some(plain) = self.plain_untouched(cloth, key, obstacles) {
+            self.entries.insert(inputs, Entry { shape: plain.clone(), last_used: generation });
+            return plain;
+        }
         let shape = Arc::new(KeyShape::build(cloth, key, obstacles));
         self.builds += 1;
         self.entries.insert(inputs, Entry { shape: shape.clone(), last_used: generation });
         shape
     }
 
-    /// The cached shape of `key`, if there is one; never builds.
+    /// The cached shape of `key`, if there is one; never builds. Among
+    /// obstacles a pinned key's cached shape without them counts when it
+    /// does not reach them (it is then the same shape, bit for bit).
     pub fn get(&self, cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> Option<Arc<KeyShape>> {
-        self.entries.get(&ShapeInputs::of(cloth, key, obstacles)).map(|entry| entry.shape.clone())
+        let exact = self.entries.get(&ShapeInputs::of(cloth, key, obstacles)).map(|entry| entry.shape.clone());
+        exact.or_else(|| self.plain_untouched(cloth, key, obstacles))
+    }
+
+    /// `key`'s cached shape without obstacles, if it has pins, `obstacles`
+    /// is not empty and that shape does not reach them. Moving a collider
+    /// then re-shapes only the keys it touches.
+    fn plain_untouched(&self, cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> Option<Arc<KeyShape>> {
+        if key.pins.is_empty() || obstacles.is_empty() {
+            return None;
+        }
+        let plain = self.entries.get(&ShapeInputs::of(cloth, key, &[]))?;
+        (!plain.shape.rest.touches_obstacles(obstacles)).then(|| plain.shape.clone())
     }
 
     /// Stores a shape built elsewhere (the editor relaxes on a worker thread).
@@ -302,6 +334,32 @@ mod tests {
         s.keys[1].ease = Ease::Bounce;
         cache.shapes(&s);
         assert_eq!(cache.builds(), 4);
+    }
+
+    #[test]
+    fn a_collider_a_key_does_not_reach_reuses_its_shape_without_colliders() {
+        let mut cache = RestShapeCache::new();
+        let s = scene(vec![key(0, 1.0)]);
+        let plain = cache.shapes(&s)[0].clone();
+        assert_eq!(cache.builds(), 1);
+        let obstacle =
+            |center: glam::DVec3| Obstacle { shape: ColliderShape::Sphere { center, radius: 0.2 }, thickness: 0.003 };
+        // A ball far from the hanging cloth: the same shape, nothing built.
+        let far = [obstacle(glam::DVec3::new(3.0, 0.0, 0.0))];
+        assert!(cache.get(&s.cloth, &s.keys[0], &far).is_some_and(|shape| Arc::ptr_eq(&shape, &plain)));
+        assert!(Arc::ptr_eq(&cache.shape(&s.cloth, &s.keys[0], &far), &plain));
+        assert_eq!(cache.builds(), 1);
+        assert_eq!(KeyShape::build(&s.cloth, &s.keys[0], &far).positions, plain.positions, "what a build gives");
+        // A ball in the cloth: built among it, and so is what the shape-from-plain path gives.
+        let inside = [obstacle(glam::DVec3::new(0.0, 0.8, 0.0))];
+        assert!(cache.get(&s.cloth, &s.keys[0], &inside).is_none());
+        let among = cache.shape(&s.cloth, &s.keys[0], &inside);
+        assert_eq!(cache.builds(), 2);
+        assert_ne!(among.positions, plain.positions);
+        let never = &mut |_| ControlFlow::Continue(());
+        let from_plain = KeyShape::among_from(&plain, &s.cloth, &s.keys[0], &inside, never).unwrap();
+        assert_eq!(from_plain.positions, among.positions);
+        assert_eq!(from_plain.ratio, among.ratio);
     }
 
     #[test]

@@ -186,10 +186,29 @@ fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
             }
             ControlFlow::Continue(())
         };
-        let Ok(shape) = KeyShape::build_with(&job.cloth, &key, &obstacles, &mut control) else {
+        // A key with pins among colliders: its shape without them first (kept,
+        // so moving a collider later re-shapes only the keys it reaches), and
+        // that shape itself where the cloth does not reach them.
+        let shape = if key.pins.is_empty() || obstacles.is_empty() {
+            KeyShape::build_with(&job.cloth, &key, &obstacles, &mut control).map(Arc::new)
+        } else {
+            KeyShape::build_with(&job.cloth, &key, &[], &mut control).map(Arc::new).and_then(|plain| {
+                let built =
+                    Built { cloth: job.cloth.clone(), key: key.clone(), obstacles: Vec::new(), shape: plain.clone() };
+                if results.send(built).is_err() {
+                    return Err(crate::shape::Cancelled);
+                }
+                if plain.rest.touches_obstacles(&obstacles) {
+                    KeyShape::among_from(&plain, &job.cloth, &key, &obstacles, &mut control).map(Arc::new)
+                } else {
+                    Ok(plain)
+                }
+            })
+        };
+        let Ok(shape) = shape else {
             return;
         };
-        let built = Built { cloth: job.cloth.clone(), key, obstacles, shape: Arc::new(shape) };
+        let built = Built { cloth: job.cloth.clone(), key, obstacles, shape };
         if results.send(built).is_err() {
             return;
         }
@@ -204,6 +223,30 @@ mod tests {
 
     fn scene() -> Scene {
         crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap()
+    }
+
+    /// Among colliders a key with pins comes back twice: its shape without
+    /// them (kept for the next collider move) and its shape among them, each
+    /// equal to a build here.
+    #[test]
+    fn a_key_among_colliders_comes_back_with_its_shape_without_them() {
+        use crate::world::{ColliderShape, Obstacle};
+        let s = scene();
+        let key = s.keys[0].clone();
+        let ball = |x: f64| Obstacle {
+            shape: ColliderShape::Sphere { center: glam::DVec3::new(x, 1.0, 0.0), radius: 0.3 },
+            thickness: 0.003,
+        };
+        let mut shaper = Shaper::new(|| {});
+        for obstacles in [vec![ball(30.0)], vec![ball(0.0)]] {
+            shaper.request(&s.cloth, vec![(key.clone(), obstacles.clone())], true);
+            assert!(shaper.wait_idle(Duration::from_secs(120)));
+            let built = shaper.take_built();
+            let among: Vec<usize> = built.iter().map(|b| b.obstacles.len()).collect();
+            assert_eq!(among, [0, 1], "without, then among");
+            assert_eq!(built[0].shape.positions, KeyShape::build(&s.cloth, &key, &[]).positions);
+            assert_eq!(built[1].shape.positions, KeyShape::build(&s.cloth, &key, &obstacles).positions);
+        }
     }
 
     #[test]

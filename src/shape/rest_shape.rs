@@ -69,18 +69,8 @@ impl RestShape {
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = positions.clone();
-        let mut relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
-        // Colliders the hanging cloth does not reach change nothing: a ground
-        // far below a curtain leaves its shape bit for bit as without.
-        if touches(&relaxed, (grid.cols, grid.rows), obstacles) {
-            relaxed.copy_from_slice(&positions);
-            let spacing = (grid.spacing_u_m, grid.spacing_v_m);
-            lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
-            let fall =
-                drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
-            relax_report = fall_report(fall, &params);
-        }
-        Ok(RestShape {
+        let relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
+        let plain = RestShape {
             grid,
             elasticity: key.elasticity,
             network,
@@ -88,7 +78,47 @@ impl RestShape {
             placement,
             relaxed,
             relax_report,
-        })
+        };
+        RestShape::among_from(plain, key, obstacles, control)
+    }
+
+    /// The shape among `obstacles` of a key with pins, from `plain`, its
+    /// shape without them ([`RestShape::build_among`] with none): `plain`
+    /// itself where the hanging cloth does not reach them (a ground far
+    /// below a curtain leaves it bit for bit as without), else the fall from
+    /// flat ([`lay_flat`], [`drape_among`]), the approximation kept.
+    pub fn among_from(
+        plain: RestShape,
+        key: &Key,
+        obstacles: &[Obstacle],
+        control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    ) -> Result<RestShape, Cancelled> {
+        if !plain.touches_obstacles(obstacles) {
+            return Ok(plain);
+        }
+        let grid = plain.grid;
+        let params = RelaxParams {
+            rest_u_m: grid.spacing_u_m * key.elasticity,
+            rest_v_m: grid.spacing_v_m * key.elasticity,
+            stiffness: key.stiffness,
+            max_iterations: key.relax.iterations,
+            tolerance: key.relax.tolerance,
+        };
+        let pinned: Vec<bool> = plain.placement.iter().map(|p| *p == Placement::Pin).collect();
+        let mut relaxed = plain.approximated.clone();
+        let spacing = (grid.spacing_u_m, grid.spacing_v_m);
+        lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
+        let fall =
+            drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
+        Ok(RestShape { relaxed, relax_report: fall_report(fall, &params), ..plain })
+    }
+
+    /// Whether this shape, built without colliders, comes within one of
+    /// `obstacles`' thickness (at a point or along an edge): if not, the
+    /// key's shape among them is this one, bit for bit
+    /// ([`RestShape::build_among`] keeps a cloth the colliders do not reach).
+    pub fn touches_obstacles(&self, obstacles: &[Obstacle]) -> bool {
+        touches(&self.relaxed, (self.grid.cols, self.grid.rows), obstacles)
     }
 
     /// A key without pins: the cloth starts flat at the key's placement (its
