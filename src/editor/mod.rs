@@ -48,6 +48,7 @@ mod typing_pace;
 #[cfg(test)]
 mod ui_driver;
 pub mod viewport;
+mod viewport_collider_input;
 mod viewport_input;
 pub mod viewport_panel;
 pub mod workspace;
