@@ -1,5 +1,6 @@
 //! A drag of pins in the viewport: which pins, from where, and an axis it may be locked to.
 
+use eframe::egui;
 use glam::Vec3;
 
 /// A world axis a dragged pin is locked to.
@@ -18,6 +19,22 @@ impl AxisLock {
             AxisLock::Z => Vec3::Z,
         }
     }
+}
+
+/// This frame's keys during a drag (of pins or a collider): X / Y / Z lock
+/// `lock` to that axis, or free it when it is locked there already. Returns
+/// whether Esc was pressed (put it back).
+pub fn drag_keys(ui: &egui::Ui, lock: &mut Option<AxisLock>) -> bool {
+    let (x, y, z, escape) = ui.input(|i| {
+        use egui::Key;
+        (i.key_pressed(Key::X), i.key_pressed(Key::Y), i.key_pressed(Key::Z), i.key_pressed(Key::Escape))
+    });
+    for (pressed, axis) in [(x, AxisLock::X), (y, AxisLock::Y), (z, AxisLock::Z)] {
+        if pressed {
+            *lock = if *lock == Some(axis) { None } else { Some(axis) };
+        }
+    }
+    escape
 }
 
 /// A pin being dragged: its grid point and its position when the drag began.

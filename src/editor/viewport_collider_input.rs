@@ -5,11 +5,11 @@
 //! keyed positions get a key there, constant ones change (or are keyed, with
 //! auto-key). The whole drag is one undo step.
 
-use eframe::egui::{self, Key, Response};
+use eframe::egui::{self, Response};
 use glam::{Vec2, Vec3};
 
 use super::collider_drag::ColliderDrag;
-use super::pin_drag::AxisLock;
+use super::pin_drag::{AxisLock, drag_keys};
 use super::viewport_panel::ViewportPanel;
 use super::workspace::Workspace;
 use super::{edits, picking};
@@ -44,14 +44,7 @@ impl ViewportPanel {
         pointer: Option<Vec2>,
     ) {
         let Some(drag) = &mut self.collider_drag else { return };
-        let (x, y, z, escape) = ui.input(|i| {
-            (i.key_pressed(Key::X), i.key_pressed(Key::Y), i.key_pressed(Key::Z), i.key_pressed(Key::Escape))
-        });
-        for (pressed, axis) in [(x, AxisLock::X), (y, AxisLock::Y), (z, AxisLock::Z)] {
-            if pressed {
-                drag.lock = if drag.lock == Some(axis) { None } else { Some(axis) };
-            }
-        }
+        let escape = drag_keys(ui, &mut drag.lock);
         let (index, start) = (drag.index, drag.start.clone());
         if escape {
             w.apply("Move collider", |s| {

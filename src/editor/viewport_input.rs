@@ -2,11 +2,11 @@
 //! hovering a cloth point or a collider, clicking to pin and select,
 //! dragging pins and colliders in the view plane or along a locked axis.
 
-use eframe::egui::{self, Key, PointerButton, Response};
+use eframe::egui::{self, PointerButton, Response};
 use glam::{Vec2, Vec3};
 
 use super::picking::ColliderHit;
-use super::pin_drag::{AxisLock, MovingPin, PinDrag};
+use super::pin_drag::{AxisLock, MovingPin, PinDrag, drag_keys};
 use super::selection::{self, Pick};
 use super::viewport_panel::{CollidersLook, ViewportPanel};
 use super::workspace::Workspace;
@@ -301,14 +301,7 @@ impl ViewportPanel {
         pointer: Option<Vec2>,
     ) {
         let Some(drag) = &mut self.pin_drag else { return };
-        let (x, y, z, escape) = ui.input(|i| {
-            (i.key_pressed(Key::X), i.key_pressed(Key::Y), i.key_pressed(Key::Z), i.key_pressed(Key::Escape))
-        });
-        for (pressed, axis) in [(x, AxisLock::X), (y, AxisLock::Y), (z, AxisLock::Z)] {
-            if pressed {
-                drag.lock = if drag.lock == Some(axis) { None } else { Some(axis) };
-            }
-        }
+        let escape = drag_keys(ui, &mut drag.lock);
         let (key, pins) = (drag.key, drag.pins.clone());
         if escape {
             // Back where they were: the gesture then changed nothing and leaves no undo step.

@@ -55,13 +55,7 @@ impl RestShape {
         control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     ) -> Result<RestShape, Cancelled> {
         let grid = grid_spec(cloth);
-        let params = RelaxParams {
-            rest_u_m: grid.spacing_u_m * key.elasticity,
-            rest_v_m: grid.spacing_v_m * key.elasticity,
-            stiffness: key.stiffness,
-            max_iterations: key.relax.iterations,
-            tolerance: key.relax.tolerance,
-        };
+        let params = key_params(grid, key);
         if key.pins.is_empty() {
             return RestShape::fall_unpinned(grid, key, &params, obstacles, control);
         }
@@ -97,13 +91,7 @@ impl RestShape {
             return Ok(plain);
         }
         let grid = plain.grid;
-        let params = RelaxParams {
-            rest_u_m: grid.spacing_u_m * key.elasticity,
-            rest_v_m: grid.spacing_v_m * key.elasticity,
-            stiffness: key.stiffness,
-            max_iterations: key.relax.iterations,
-            tolerance: key.relax.tolerance,
-        };
+        let params = key_params(grid, key);
         let pinned: Vec<bool> = plain.placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = plain.approximated.clone();
         let spacing = (grid.spacing_u_m, grid.spacing_v_m);
@@ -194,6 +182,17 @@ fn touches(positions: &[DVec3], (cols, rows): (usize, usize), obstacles: &[Obsta
                 (1..EDGE_SAMPLES).any(|t| near(positions[k].lerp(positions[q], t as f64 / EDGE_SAMPLES as f64)))
             })
     })
+}
+
+/// The relaxation's numbers for `key` on `grid`.
+fn key_params(grid: GridSpec, key: &Key) -> RelaxParams {
+    RelaxParams {
+        rest_u_m: grid.spacing_u_m * key.elasticity,
+        rest_v_m: grid.spacing_v_m * key.elasticity,
+        stiffness: key.stiffness,
+        max_iterations: key.relax.iterations,
+        tolerance: key.relax.tolerance,
+    }
 }
 
 /// A key's pins as the approximation takes them.
