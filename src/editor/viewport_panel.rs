@@ -26,6 +26,8 @@ use crate::scene::{ClothTexture, Layer};
 
 /// The selected collider's outline: the selected pins' yellow.
 const COLLIDER_SELECTED: [f32; 4] = colors::PIN_SELECTED;
+/// Colliders drawn as wire: the props' warm grey, lighter.
+const COLLIDER_WIRE: [f32; 4] = [0.78, 0.72, 0.64, 0.8];
 /// The outline of the collider under the mouse.
 const COLLIDER_HOVERED: [f32; 4] = [1.0, 1.0, 1.0, 0.55];
 
@@ -52,16 +54,20 @@ pub enum CollidersLook {
     Shaded,
     /// Half transparent, so the cloth behind and under them shows.
     SeeThrough,
+    /// Lines only: a mesh's triangles' edges, a primitive's outline.
+    Wire,
     Hidden,
 }
 
 impl CollidersLook {
-    pub const ALL: [CollidersLook; 3] = [CollidersLook::Shaded, CollidersLook::SeeThrough, CollidersLook::Hidden];
+    pub const ALL: [CollidersLook; 4] =
+        [CollidersLook::Shaded, CollidersLook::SeeThrough, CollidersLook::Wire, CollidersLook::Hidden];
 
     pub fn label(self) -> &'static str {
         match self {
             CollidersLook::Shaded => "Shaded",
             CollidersLook::SeeThrough => "See-through",
+            CollidersLook::Wire => "Wire",
             CollidersLook::Hidden => "Hidden",
         }
     }
@@ -148,19 +154,19 @@ pub struct ViewportPanel {
     reveal_pending: bool,
     /// The colliders last tessellated and what they were made from, so a
     /// repaint without a change (orbiting, hovering) does not build them again.
-    solids_cache: Option<(SolidsKey, Arc<Solids>)>,
+    solids_cache: Option<(SolidsKey, Arc<Solids>, Arc<Vec<Segment>>)>,
 }
 
-/// What a viewport's collider solids depend on: the colliders (meshes by
-/// their loaded data, which equality of the scene's colliders ignores), the
-/// frame and the opacity.
+/// What a viewport's collider solids and wire depend on: the colliders
+/// (meshes by their loaded data, which equality of the scene's colliders
+/// ignores), the frame and the look.
 #[derive(Clone, PartialEq)]
 struct SolidsKey {
     colliders: Vec<crate::scene::Collider>,
     /// Each mesh collider's loaded data by address.
     meshes: Vec<Option<usize>>,
     frame_bits: u64,
-    opacity_bits: u32,
+    look: CollidersLook,
 }
 
 /// This frame's viewport: where it is and what the pointer did there.
@@ -295,13 +301,16 @@ impl ViewportPanel {
         if !self.has_gpu {
             return;
         }
+        let (solids, wire) = self.colliders_drawn(w);
+        let mut overlay = self.overlay(w);
+        overlay.segments.extend(wire.iter().cloned());
         let frame = ViewportFrame {
             mesh: w.shown.mesh.clone(),
             camera: self.camera,
             options: self.render_options(w),
-            overlay: Arc::new(self.overlay(w)),
+            overlay: Arc::new(overlay),
             ghosts: w.shown.ghosts.clone(),
-            solids: self.solids(w),
+            solids,
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
@@ -493,11 +502,13 @@ impl ViewportPanel {
     /// The colliders at the playhead, as the View asks: the document's, so
     /// a collider being dragged or typed is drawn where it is now, before
     /// the cloth has been shaped round it.
-    fn solids(&mut self, w: &Workspace) -> Arc<Solids> {
-        let opacity = match self.toggles.colliders {
+    /// Solids for Shaded and See-through, lines for Wire.
+    fn colliders_drawn(&mut self, w: &Workspace) -> (Arc<Solids>, Arc<Vec<Segment>>) {
+        let look = self.toggles.colliders;
+        let opacity = match look {
             CollidersLook::Shaded => 1.0,
             CollidersLook::SeeThrough => 0.35,
-            CollidersLook::Hidden => 0.0,
+            CollidersLook::Wire | CollidersLook::Hidden => 0.0,
         };
         let colliders = &w.doc.scene().colliders;
         let meshes = colliders
@@ -507,21 +518,41 @@ impl ViewportPanel {
                 _ => None,
             })
             .collect();
-        let key = SolidsKey {
-            colliders: colliders.clone(),
-            meshes,
-            frame_bits: w.frame().to_bits(),
-            opacity_bits: f32::to_bits(opacity),
-        };
-        if let Some((cached, solids)) = &self.solids_cache
+        let key = SolidsKey { colliders: colliders.clone(), meshes, frame_bits: w.frame().to_bits(), look };
+        if let Some((cached, solids, wire)) = &self.solids_cache
             && *cached == key
         {
-            return solids.clone();
+            return (solids.clone(), wire.clone());
         }
         let solids =
             Arc::new(if opacity > 0.0 { collider_solids(w.doc.scene(), w.frame(), opacity) } else { Solids::NONE });
-        self.solids_cache = Some((key, solids.clone()));
-        solids
+        let mut wire = Vec::new();
+        if look == CollidersLook::Wire {
+            // A mesh by its triangles' edges; a primitive by its outline (a
+            // ball's tessellation would be a dense net).
+            let segment = |a: glam::DVec3, b: glam::DVec3| Segment {
+                a: a.as_vec3(),
+                b: b.as_vec3(),
+                width_px: 1.0,
+                color: COLLIDER_WIRE,
+            };
+            for obstacle in animate::colliders_at::obstacles_at(w.doc.scene(), w.frame()) {
+                if !matches!(obstacle.shape, crate::world::ColliderShape::Mesh { .. }) {
+                    wire.extend(obstacle.shape.outline().into_iter().map(|[a, b]| segment(a, b)));
+                    continue;
+                }
+                let mesh = obstacle.shape.triangles();
+                let at = |i: u32| mesh.positions[i as usize];
+                for t in mesh.indices.chunks_exact(3) {
+                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                        wire.push(segment(at(a), at(b)));
+                    }
+                }
+            }
+        }
+        let wire = Arc::new(wire);
+        self.solids_cache = Some((key, solids.clone(), wire.clone()));
+        (solids, wire)
     }
 
     fn render_options(&self, w: &Workspace) -> RenderOptions {
