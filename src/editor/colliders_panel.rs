@@ -53,7 +53,7 @@ impl CollidersPanel {
                     w.apply("Add collider", |s| s.colliders.push(collider));
                     // Refused (the scene's limit): nothing new to select.
                     if w.doc.scene().colliders.len() > at {
-                        w.session.selected_collider = Some(at);
+                        w.session.select_collider(Some(at));
                     }
                     ui.close();
                 }
@@ -139,7 +139,7 @@ impl CollidersPanel {
                 let mesh = MeshCollider { name, file, solid, ..start };
                 w.apply("Add collider", |s| s.colliders.push(Collider::Mesh(mesh)));
                 if w.doc.scene().colliders.len() > at {
-                    w.session.selected_collider = Some(at);
+                    w.session.select_collider(Some(at));
                 }
             }
             Some(index) => w.apply("Collider file", |s| {
@@ -175,7 +175,7 @@ impl CollidersPanel {
         }
         let selected = w.session.selected_collider == Some(index);
         if ui.selectable_label(selected, title(collider, index)).on_hover_text(label).clicked() {
-            w.session.selected_collider = if selected { None } else { Some(index) };
+            w.session.select_collider(if selected { None } else { Some(index) });
         }
     }
 }

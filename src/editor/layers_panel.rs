@@ -38,7 +38,7 @@ impl LayersPanel {
                 if ui.button(label).clicked() {
                     let at = w.doc.scene().layers.len();
                     w.apply("Add layer", |s| s.layers.push(new_layer(kind)));
-                    w.session.selected_layer = Some(at);
+                    w.session.select_layer(Some(at));
                 }
             }
         });
@@ -92,7 +92,7 @@ impl LayersPanel {
                 }
                 let selected = w.session.selected_layer == Some(index);
                 if ui.selectable_label(selected, title(layer, index)).on_hover_text(label).clicked() {
-                    w.session.selected_layer = if selected { None } else { Some(index) };
+                    w.session.select_layer(if selected { None } else { Some(index) });
                 }
             });
             rows.push(row.response.rect);

@@ -25,7 +25,7 @@ impl ViewportPanel {
         lock: Option<AxisLock>,
     ) {
         let Some(start) = w.doc.scene().colliders.get(index).cloned() else { return };
-        w.session.selected_collider = Some(index);
+        w.session.select_collider(Some(index));
         w.session.selection.clear();
         w.session.selected_key = None;
         w.doc.begin_gesture("Move collider");

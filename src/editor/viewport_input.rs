@@ -146,7 +146,7 @@ impl ViewportPanel {
                         w.session.selected_key = None;
                     }
                     let again = w.session.selected_collider == Some(index) && how == Pick::Toggle;
-                    w.session.selected_collider = if again { None } else { Some(index) };
+                    w.session.select_collider(if again { None } else { Some(index) });
                 }
                 (None, None) => {
                     selection::click_on_nothing(&mut w.session.selection, how);

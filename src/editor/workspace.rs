@@ -58,6 +58,23 @@ pub struct Session {
 }
 
 impl Session {
+    /// Selects layer `index` (or none). The timeline's dot row shows one
+    /// thing's keys, so selecting a layer lets go of the selected collider.
+    pub fn select_layer(&mut self, index: Option<usize>) {
+        self.selected_layer = index;
+        if index.is_some() {
+            self.selected_collider = None;
+        }
+    }
+
+    /// Selects collider `index` (or none), letting go of the selected layer.
+    pub fn select_collider(&mut self, index: Option<usize>) {
+        self.selected_collider = index;
+        if index.is_some() {
+            self.selected_layer = None;
+        }
+    }
+
     /// A fresh session on `scene`: the playhead and Follow where its saved
     /// view had them (the playhead kept on the timeline), else at the
     /// timeline's start with Follow off.
@@ -354,5 +371,23 @@ impl Workspace {
     /// The relaxation report of the shown key being edited.
     pub fn shown_relax_report(&self) -> Option<RelaxReport> {
         self.shown.relax_report(self.session.frame)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn selecting_a_layer_lets_go_of_the_collider_and_the_other_way_round() {
+        let mut session = Session::at(0.0);
+        session.select_layer(Some(1));
+        session.select_collider(Some(0));
+        assert_eq!((session.selected_layer, session.selected_collider), (None, Some(0)));
+        session.select_layer(Some(2));
+        assert_eq!((session.selected_layer, session.selected_collider), (Some(2), None));
+        // Letting go of one keeps the other.
+        session.select_collider(None);
+        assert_eq!(session.selected_layer, Some(2));
     }
 }
