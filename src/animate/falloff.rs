@@ -15,16 +15,28 @@ pub fn pin_distance_ratio(cloth: &Cloth, pins: &[Pin]) -> Vec<f32> {
 /// [`pin_distance_ratio`] and d_max, the largest material distance to the
 /// closest pin (m; 0 with no pins or every point pinned).
 pub fn pin_distance_field(cloth: &Cloth, pins: &[Pin]) -> (Vec<f32>, f64) {
-    let (cols, rows) = (cloth.cols(), cloth.rows());
     let (du, dv) = (cloth.spacing_u_m(), cloth.spacing_v_m());
     let pins_uv: Vec<(f64, f64)> = pins.iter().map(|p| (f64::from(p.grid.0) * du, f64::from(p.grid.1) * dv)).collect();
+    distance_ratio(cloth, &pins_uv, |_| false)
+}
+
+/// d_cp/d_max with d_cp the material distance from each grid point to the
+/// closest of `targets` (material (u, v), m), 0 where `held` says so; d_max
+/// its largest value. All zeros (and d_max 0) when nothing is farther than 0.
+fn distance_ratio(cloth: &Cloth, targets: &[(f64, f64)], held: impl Fn(usize) -> bool) -> (Vec<f32>, f64) {
+    let (cols, rows) = (cloth.cols(), cloth.rows());
+    let (du, dv) = (cloth.spacing_u_m(), cloth.spacing_v_m());
     let mut distance = Vec::with_capacity(cols * rows);
     for j in 0..rows {
         let v = j as f64 * dv;
         for i in 0..cols {
+            if held(j * cols + i) {
+                distance.push(0.0);
+                continue;
+            }
             let u = i as f64 * du;
             let closest2 =
-                pins_uv.iter().map(|&(pu, pv)| (u - pu) * (u - pu) + (v - pv) * (v - pv)).fold(f64::INFINITY, f64::min);
+                targets.iter().map(|&(pu, pv)| (u - pu) * (u - pu) + (v - pv) * (v - pv)).fold(f64::INFINITY, f64::min);
             distance.push(closest2.sqrt());
         }
     }
@@ -78,20 +90,7 @@ pub fn resting_distance_field(cloth: &Cloth, positions: &[glam::DVec3], obstacle
         })
         .map(|k| ((k % cols) as f64 * du, (k / cols) as f64 * dv))
         .collect();
-    let distance: Vec<f64> = (0..n)
-        .map(|k| {
-            if resting[k] {
-                return 0.0;
-            }
-            let (u, v) = ((k % cols) as f64 * du, (k / cols) as f64 * dv);
-            edge.iter().map(|&(eu, ev)| (u - eu) * (u - eu) + (v - ev) * (v - ev)).fold(f64::INFINITY, f64::min).sqrt()
-        })
-        .collect();
-    let d_max = distance.iter().copied().filter(|d| d.is_finite()).fold(0.0, f64::max);
-    if d_max <= 0.0 {
-        return (vec![0.0; n], 0.0);
-    }
-    (distance.iter().map(|&d| if d.is_finite() { (d / d_max) as f32 } else { 0.0 }).collect(), d_max)
+    distance_ratio(cloth, &edge, |k| resting[k])
 }
 
 /// a = ratio^falloff for a ratio in [0, 1]. A point with ratio 0 is held by

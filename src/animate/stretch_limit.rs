@@ -47,10 +47,12 @@ const MAX_EVEN_EDGE_VISITS: usize = 1 << 22;
 /// edge longer than its limit (cloth stretched over a ball by a sway): the
 /// shortening pulls a point in, keeping it out lengthens the edge again.
 /// So among colliders the passes stop once this many in a row have not
-/// lowered the edges' summed excess by a thousandth: the excess then stays
+/// lowered the edges' summed excess by [`STALL_GAIN`]: the excess then stays
 /// where the collider holds it. Passes that keep gaining go on to the cap
 /// (a tablecloth falling back onto its table under a follow-through).
 const STALLED_PASSES_AMONG_OBSTACLES: usize = 32;
+/// The share of the summed excess a pass must take off to count as progress.
+const STALL_GAIN: f32 = 1e-2;
 /// Over-relaxation of the evening passes: an edge over its limit is cut by
 /// this many times its excess. Measured on the bundled scenes: 1.0 needs up
 /// to 1579 passes, 1.5 up to 600, 1.8 about 200; the 128² benchmark does not
@@ -187,7 +189,7 @@ impl StretchLimiter {
             if self.obstacles.is_empty() {
                 continue;
             }
-            if excess < least_excess * (1.0 - 1e-2) {
+            if excess < least_excess * (1.0 - STALL_GAIN) {
                 (least_excess, since_fewer) = (excess, 0);
             } else {
                 since_fewer += 1;

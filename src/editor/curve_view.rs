@@ -35,7 +35,7 @@ impl Curve {
     /// The number as `scene` holds it, if it has it.
     pub fn param(self, scene: &Scene) -> Option<Param> {
         match self {
-            Curve::Layer(index, name) => param_mut(&mut scene.layers.get(index)?.clone(), name).cloned(),
+            Curve::Layer(index, name) => scene.layers.get(index)?.param(name).cloned(),
             Curve::Collider(index, number) => scene.colliders.get(index)?.param(number).cloned(),
         }
     }

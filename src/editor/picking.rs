@@ -4,6 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::pin_drag::AxisLock;
 use crate::animate::colliders_at::shape_at;
 use crate::render::OrbitCamera;
 use crate::scene::{Collider, Scene};
@@ -89,6 +90,22 @@ pub fn collider_middle(collider: &Collider, frame: f64) -> Option<Vec3> {
     let (lo, hi) = shape.bounds();
     let middle = ((lo + hi) * 0.5).as_vec3();
     middle.is_finite().then_some(middle)
+}
+
+/// Where a point dragged from `anchor` goes for the pointer at `pixel`:
+/// along `lock`'s axis ([`drag_along_axis`]) or in the view plane
+/// ([`drag_in_view_plane`]) when unlocked.
+pub fn drag_point(
+    camera: &OrbitCamera,
+    size_px: (u32, u32),
+    anchor: Vec3,
+    lock: Option<AxisLock>,
+    pixel: Vec2,
+) -> Option<Vec3> {
+    match lock {
+        Some(axis) => drag_along_axis(camera, size_px, anchor, axis.vector(), pixel),
+        None => drag_in_view_plane(camera, size_px, anchor, pixel),
+    }
 }
 
 /// Where the ray through `pixel` meets the plane through `anchor` facing the

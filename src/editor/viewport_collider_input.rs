@@ -55,20 +55,16 @@ impl ViewportPanel {
             self.finish_collider_drag(w);
             return;
         }
-        if let Some(pointer) = pointer {
-            let moved = match drag.lock {
-                Some(axis) => picking::drag_along_axis(&self.camera, size_px, drag.anchor, axis.vector(), pointer),
-                None => picking::drag_in_view_plane(&self.camera, size_px, drag.anchor, pointer),
-            };
-            if let Some(moved) = moved {
-                let offset = (moved - drag.anchor).as_dvec3();
-                let moved = edits::moved_collider(&start, offset, drag.frame, w.session.auto_key);
-                w.apply("Move collider", |s| {
-                    if let Some(c) = s.colliders.get_mut(index) {
-                        *c = moved;
-                    }
-                });
-            }
+        if let Some(pointer) = pointer
+            && let Some(moved) = picking::drag_point(&self.camera, size_px, drag.anchor, drag.lock, pointer)
+        {
+            let offset = (moved - drag.anchor).as_dvec3();
+            let moved = edits::moved_collider(&start, offset, drag.frame, w.session.auto_key);
+            w.apply("Move collider", |s| {
+                if let Some(c) = s.colliders.get_mut(index) {
+                    *c = moved;
+                }
+            });
         }
         if response.drag_stopped() || !ui.input(|i| i.pointer.primary_down()) {
             self.finish_collider_drag(w);

@@ -212,14 +212,17 @@ impl ViewportPanel {
     ) -> (Option<(u32, u32)>, Option<ColliderHit>) {
         let point =
             if w.shown_grid_is_current() { self.point_at(w, pointer_px, size_px, pixels_per_point) } else { None };
+        // A pin wins without tracing the colliders.
+        if point.is_some_and(|grid| edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], grid)) {
+            return (point, None);
+        }
         let collider = self.collider_at(w, pointer_px, size_px);
         let Some(grid) = point else { return (None, collider) };
         let Some((_, along_m)) = collider else { return (point, None) };
         let cols = w.shown.scene.cloth.cols();
         let at = w.shown.mesh.positions.get(grid.1 as usize * cols + grid.0 as usize);
         let depth_m = at.map_or(f32::INFINITY, |p| p.distance(self.camera.eye()));
-        let pinned = edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], grid);
-        if !pinned && along_m + HIDDEN_BEHIND_M < f64::from(depth_m) { (None, collider) } else { (point, None) }
+        if along_m + HIDDEN_BEHIND_M < f64::from(depth_m) { (None, collider) } else { (point, None) }
     }
 
     /// The collider drawn under `pointer_px` and how far along the ray (m);
@@ -315,21 +318,16 @@ impl ViewportPanel {
         }
         if let Some(pointer) = pointer
             && let Some(drag) = &self.pin_drag
+            && let Some(moved) = picking::drag_point(&self.camera, size_px, drag.anchor, drag.lock, pointer)
         {
-            let moved = match drag.lock {
-                Some(axis) => picking::drag_along_axis(&self.camera, size_px, drag.anchor, axis.vector(), pointer),
-                None => picking::drag_in_view_plane(&self.camera, size_px, drag.anchor, pointer),
-            };
-            if let Some(moved) = moved {
-                let offset = (moved - drag.anchor).as_dvec3();
-                let label = if pins.len() == 1 { "Move pin" } else { "Move pins" };
-                w.apply(label, |s| {
-                    for (grid, pos) in &pins {
-                        let to = (pos.0 + offset.x, pos.1 + offset.y, pos.2 + offset.z);
-                        edits::move_pin(&mut s.keys[key], *grid, to);
-                    }
-                });
-            }
+            let offset = (moved - drag.anchor).as_dvec3();
+            let label = if pins.len() == 1 { "Move pin" } else { "Move pins" };
+            w.apply(label, |s| {
+                for (grid, pos) in &pins {
+                    let to = (pos.0 + offset.x, pos.1 + offset.y, pos.2 + offset.z);
+                    edits::move_pin(&mut s.keys[key], *grid, to);
+                }
+            });
         }
         if response.drag_stopped() || !ui.input(|i| i.pointer.primary_down()) {
             self.finish_pin_drag(w);

@@ -499,10 +499,10 @@ impl ViewportPanel {
         }
     }
 
-    /// The colliders at the playhead, as the View asks: the document's, so
-    /// a collider being dragged or typed is drawn where it is now, before
-    /// the cloth has been shaped round it.
-    /// Solids for Shaded and See-through, lines for Wire.
+    /// The colliders at the playhead as the View asks (solids for Shaded and
+    /// See-through, lines for Wire): the document's, so a collider being
+    /// dragged or typed is drawn where it is now, before the cloth has been
+    /// shaped round it.
     fn colliders_drawn(&mut self, w: &Workspace) -> (Arc<Solids>, Arc<Vec<Segment>>) {
         let look = self.toggles.colliders;
         let opacity = match look {
