@@ -3,13 +3,15 @@
 //!
 //! Pure math on numbers already sampled at a frame (`animate::world_at`
 //! samples a scene's colliders): shape and animate use it to keep the cloth
-//! outside, render to draw it.
+//! outside, render to draw it. [`rig`] poses the nodes and skinned meshes
+//! of referenced glTF files at any time.
 
 mod collider_shape;
 mod mesh_solid;
 mod outline;
 mod push_out;
 mod ray;
+pub mod rig;
 mod surface_point;
 mod tessellate;
 
