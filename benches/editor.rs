@@ -28,10 +28,10 @@ fn tablecloth(n: u32) -> Scene {
         keys: vec![Key {
             frame: 0,
             pins: vec![
-                Pin { grid: (0, 0), pos: (-0.9, 1.0, -0.9) },
-                Pin { grid: (last, 0), pos: (0.9, 1.0, -0.9) },
-                Pin { grid: (0, last), pos: (-0.9, 1.0, 0.9) },
-                Pin { grid: (last, last), pos: (0.9, 1.0, 0.9) },
+                Pin::at((0, 0), (-0.9, 1.0, -0.9)),
+                Pin::at((last, 0), (0.9, 1.0, -0.9)),
+                Pin::at((0, last), (-0.9, 1.0, 0.9)),
+                Pin::at((last, last), (0.9, 1.0, 0.9)),
             ],
             elasticity: 1.05,
             stiffness: 0.2,
@@ -45,6 +45,7 @@ fn tablecloth(n: u32) -> Scene {
         layers: Vec::new(),
         view: None,
         colliders: Vec::new(),
+        references: Vec::new(),
     }
 }
 

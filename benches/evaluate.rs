@@ -20,10 +20,10 @@ fn key(frame: i32, n: u32, lift: f64) -> Key {
     Key {
         frame,
         pins: vec![
-            Pin { grid: (0, 0), pos: (-0.9, 1.2 + lift, -0.9) },
-            Pin { grid: (last, 0), pos: (0.9, 1.0, -0.9) },
-            Pin { grid: (0, last), pos: (-0.9, 1.0, 0.9) },
-            Pin { grid: (last, last), pos: (0.9, 1.0 + lift, 0.9) },
+            Pin::at((0, 0), (-0.9, 1.2 + lift, -0.9)),
+            Pin::at((last, 0), (0.9, 1.0, -0.9)),
+            Pin::at((0, last), (-0.9, 1.0, 0.9)),
+            Pin::at((last, last), (0.9, 1.0 + lift, 0.9)),
         ],
         elasticity: 1.05,
         stiffness: 0.2,
@@ -92,6 +92,7 @@ fn scene(n: u32) -> Scene {
         ],
         view: None,
         colliders: Vec::new(),
+        references: Vec::new(),
     }
 }
 

@@ -9,14 +9,14 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use drape::animate::evaluate;
 use drape::render::camera::bounds;
 use drape::render::readback::read_texture;
-use drape::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer, Solids};
+use drape::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
 use drape::scene::{Cloth, Key, Pin, RelaxSettings, Scene, Timeline};
 
 const SIZE_PX: (u32, u32) = (1280, 720);
 
 /// An n × n cloth held by its four corners, sagging.
 fn scene(n: u32) -> Scene {
-    let pin = |i, j, x, z| Pin { grid: (i, j), pos: (x, 1.5, z) };
+    let pin = |i, j, x, z| Pin::at((i, j), (x, 1.5, z));
     let last = n - 1;
     Scene {
         version: 1,
@@ -43,6 +43,7 @@ fn scene(n: u32) -> Scene {
         layers: vec![],
         view: None,
         colliders: Vec::new(),
+        references: Vec::new(),
     }
 }
 
@@ -58,14 +59,8 @@ fn render(c: &mut Criterion) {
         let camera = OrbitCamera::framing(lo, hi, SIZE_PX.0 as f32 / SIZE_PX.1 as f32);
         let options = RenderOptions { wireframe: false, ..RenderOptions::default() };
         let overlay = Overlay::default();
-        let input = FrameInput {
-            mesh: &mesh,
-            camera: &camera,
-            options: &options,
-            ghosts: &[],
-            overlay: &overlay,
-            solids: &Solids::NONE,
-        };
+        let input =
+            FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay, solids: &[] };
         let mut renderer = Renderer::new(device, queue);
         let target = OffscreenTarget::new(device, SIZE_PX);
         group.bench_function(format!("{n}x{n} at 1280x720 draw"), |b| {

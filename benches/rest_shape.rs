@@ -17,10 +17,10 @@ fn four_corner_key(n: u32) -> Key {
     Key {
         frame: 0,
         pins: vec![
-            Pin { grid: (0, 0), pos: (-0.9, 1.2, -0.9) },
-            Pin { grid: (last, 0), pos: (0.9, 1.0, -0.9) },
-            Pin { grid: (0, last), pos: (-0.9, 1.0, 0.9) },
-            Pin { grid: (last, last), pos: (0.9, 1.0, 0.9) },
+            Pin::at((0, 0), (-0.9, 1.2, -0.9)),
+            Pin::at((last, 0), (0.9, 1.0, -0.9)),
+            Pin::at((0, last), (-0.9, 1.0, 0.9)),
+            Pin::at((last, last), (0.9, 1.0, 0.9)),
         ],
         elasticity: 1.05,
         stiffness: 0.2,
@@ -56,7 +56,7 @@ fn table_top_key() -> Key {
     for j in (3..=60u32).step_by(3) {
         for i in (4..=60u32).step_by(4) {
             let (x, z) = (f64::from(i) * spacing_m * 0.98, f64::from(j) * spacing_m * 0.98);
-            pins.push(Pin { grid: (i, j), pos: (x, 0.75, z) });
+            pins.push(Pin::at((i, j), (x, 0.75, z)));
         }
     }
     assert_eq!(pins.len(), 300);
@@ -95,7 +95,7 @@ fn on_a_table(c: &mut Criterion) {
     group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));
     let n = 64u32;
     let cloth = Cloth::new((1.6, 1.2), (n, n));
-    let at = |i: u32, j: u32, x: f64, z: f64| Pin { grid: (i, j), pos: (x, 0.743, z) };
+    let at = |i: u32, j: u32, x: f64, z: f64| Pin::at((i, j), (x, 0.743, z));
     let (a, b) = (n * 3 / 8, n * 5 / 8);
     let key = Key {
         pins: vec![at(a, a, -0.2, -0.15), at(b, a, 0.2, -0.15), at(a, b, -0.2, 0.15), at(b, b, 0.2, 0.15)],

@@ -17,7 +17,7 @@ const COLS: u32 = 13;
 const ROWS: u32 = 9;
 
 fn pin(i: u32, j: u32, pos: (f64, f64, f64)) -> Pin {
-    Pin { grid: (i, j), pos }
+    Pin::at((i, j), pos)
 }
 
 fn key(frame: i32, pins: Vec<Pin>, elasticity: f64, ease: Ease) -> Key {
@@ -56,6 +56,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
         layers,
         view: None,
         colliders: Vec::new(),
+        references: Vec::new(),
     }
 }
 

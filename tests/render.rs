@@ -133,7 +133,7 @@ fn render_scene(name: &str, frames: &[i32], overlays: SceneOverlays) -> Vec<Rgba
 }
 
 /// (scene, frames): rest poses, and frames where in-betweens and layers show.
-const GOLDEN_FRAMES: [(&str, &[i32]); 11] = [
+const GOLDEN_FRAMES: [(&str, &[i32]); 12] = [
     ("curtain", &[0]),
     ("tablecloth", &[0]),
     ("tent", &[0]),
@@ -142,6 +142,7 @@ const GOLDEN_FRAMES: [(&str, &[i32]); 11] = [
     ("tablecloth_pull", &[0, 30]),
     ("round_table", &[0, 36]),
     ("cape_on_shoulders", &[0, 7]),
+    ("cape", &[0, 9]),
     ("swing", &[12]),
     ("magic_carpet", &[0, 36, 100]),
     ("magic_carpet_tutorial", &[24, 96]),
@@ -174,7 +175,7 @@ fn every_scene_in_the_folder_has_golden_images() {
 #[test]
 fn overlays_match_their_golden_image() {
     let overlays =
-        SceneOverlays { wireframe: true, pins: true, catenaries: true, triangulation: false, hide_colliders: false };
+        SceneOverlays { wireframe: true, pins: true, catenaries: true, triangulation: false, ..Default::default() };
     let image = render_scene("tent", &[0], overlays).remove(0);
     assert_matches_golden("tent_overlays_f0000", &image);
     // The triangulation alone, through the one-call API on a scene frame.
@@ -211,7 +212,7 @@ fn textures_and_ghosts_match_their_golden_image() {
             options: &options,
             ghosts: &ghosts,
             overlay: &overlay,
-            solids: &Solids::NONE,
+            solids: &[],
         };
         let image = render_mesh(Some(&context()), input, GOLDEN_SIZE).unwrap();
         assert_matches_golden(&format!("magic_carpet_{texture:?}_ghosts_f0040").to_lowercase(), &image);
@@ -237,14 +238,8 @@ fn assert_pins_project_onto_their_dots(name: &str) {
         let grid = (pin.grid.0 as usize, pin.grid.1 as usize);
         let mut overlay = Overlay::default();
         overlay.add_pins(&mesh, [(grid, PinState::Normal)]);
-        let input = FrameInput {
-            mesh: &mesh,
-            camera: &camera,
-            options: &options,
-            ghosts: &[],
-            overlay: &overlay,
-            solids: &Solids::NONE,
-        };
+        let input =
+            FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay, solids: &[] };
         let image = render_mesh(Some(&context()), input, size).unwrap();
         let world = mesh.positions[grid.1 * mesh.cols + grid.0];
         let pixel = camera.project(world, size).expect("the pin is in front of the camera");
@@ -409,8 +404,7 @@ fn a_pin_behind_the_cloth_shows_faintly() {
     let mut with_pin = Overlay::default();
     with_pin.add_pins(&mesh, [((0, 0), PinState::Normal)]);
     let picture = |overlay: &Overlay| {
-        let input =
-            FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay, solids: &Solids::NONE };
+        let input = FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay, solids: &[] };
         render_mesh(Some(&context()), input, size).unwrap().pixel(x, y)
     };
     let (without, with) = (picture(&Overlay::default()), picture(&with_pin));
@@ -435,7 +429,9 @@ fn a_renderer_kept_between_frames_draws_changed_solids_as_a_fresh_one() {
         with_ball.colliders = ron::from_str(&format!("[Sphere((center: ({x}, 0.6, -0.8), radius: 0.3))]")).unwrap();
         drape::picture::collider_solids(&with_ball, 0.0, 1.0)
     };
-    let frames = [ball(-0.3), ball(-0.3), ball(0.4), Solids::NONE, ball(0.4)];
+    // Sets of solids, as colliders and referenced files give them: two sets at the end.
+    let frames =
+        [vec![ball(-0.3)], vec![ball(-0.3)], vec![ball(0.4)], vec![], vec![ball(0.4)], vec![ball(-0.3), ball(0.4)]];
     let context = context();
     let size = (320, 240);
     let mut kept = Renderer::new(&context.device, &context.queue);
@@ -448,7 +444,7 @@ fn a_renderer_kept_between_frames_draws_changed_solids_as_a_fresh_one() {
         let fresh = render_mesh(Some(&context), input, size).unwrap();
         assert!(drawn == fresh, "frame {index}: the kept renderer drew something else");
     }
-    let picture = |solids: &Solids| {
+    let picture = |solids: &[Solids]| {
         let input =
             FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay, solids };
         render_mesh(Some(&context), input, size).unwrap()

@@ -31,7 +31,7 @@ impl Setup {
                     i.fract() == 0.0 && j.fract() == 0.0,
                     "pin fraction ({fu}, {fv}) is off the {cols} × {rows} grid"
                 );
-                Pin { grid: (i as u32, j as u32), pos }
+                Pin::at((i as u32, j as u32), pos)
             })
             .collect();
         Key {

@@ -14,7 +14,7 @@ type PinSpec = ((u32, u32), (f64, f64, f64));
 fn key(pins: &[PinSpec], elasticity: f64, stiffness: f64, iterations: u32) -> Key {
     Key {
         frame: 0,
-        pins: pins.iter().map(|&(grid, pos)| Pin { grid, pos }).collect(),
+        pins: pins.iter().map(|&(grid, pos)| Pin::at(grid, pos)).collect(),
         elasticity,
         stiffness,
         relax: RelaxSettings { iterations, tolerance: 1e-5 },

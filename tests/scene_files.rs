@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, ClothTexture, Collider, Ease, Key, Layer, Param, ParamKey, ParamValue, Pin, Placement, RelaxSettings,
-    Scene, SceneError, Timeline, View, WaveAxis,
+    self, Cloth, ClothTexture, Collider, Ease, Key, Layer, LoadedRig, Param, ParamKey, ParamValue, Pin, Placement,
+    Reference, RelaxSettings, Scene, SceneError, Timeline, View, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -587,7 +587,7 @@ fn layer() -> impl Strategy<Value = Layer> {
 }
 
 fn key() -> impl Strategy<Value = Key> {
-    let pin = ((any::<u32>(), any::<u32>()), vec3()).prop_map(|(grid, pos)| Pin { grid, pos });
+    let pin = ((any::<u32>(), any::<u32>()), vec3()).prop_map(|(grid, pos)| Pin::at(grid, pos));
     (
         any::<i32>(),
         proptest::collection::vec(pin, 0..4),
@@ -631,23 +631,31 @@ fn any_scene() -> impl Strategy<Value = Scene> {
         (finite(), any::<i32>(), any::<i32>()),
         proptest::collection::vec(key(), 0..3),
         proptest::collection::vec(layer(), 0..3),
-        (proptest::option::of(view()), 0..3u8, proptest::collection::vec(collider(), 0..3)),
+        (
+            proptest::option::of(view()),
+            0..3u8,
+            proptest::collection::vec(collider(), 0..3),
+            proptest::collection::vec(glb_reference(), 0..3),
+        ),
     )
-        .prop_map(|(version, name, (size, grid), (fps, start, end), keys, layers, (view, texture, colliders))| {
-            Scene {
-                version,
-                name,
-                cloth: Cloth {
-                    texture: [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker][texture as usize],
-                    ..Cloth::new(size, grid)
-                },
-                timeline: Timeline { fps, start, end },
-                keys,
-                layers,
-                colliders,
-                view,
-            }
-        })
+        .prop_map(
+            |(version, name, (size, grid), (fps, start, end), keys, layers, (view, texture, colliders, references))| {
+                Scene {
+                    version,
+                    name,
+                    cloth: Cloth {
+                        texture: [ClothTexture::Plain, ClothTexture::Carpet, ClothTexture::Checker][texture as usize],
+                        ..Cloth::new(size, grid)
+                    },
+                    timeline: Timeline { fps, start, end },
+                    keys,
+                    layers,
+                    colliders,
+                    references,
+                    view,
+                }
+            },
+        )
 }
 
 /// A collider of any kind with every number, its name, switch and thickness drawn.
@@ -669,6 +677,34 @@ fn collider() -> impl Strategy<Value = Collider> {
             }
             collider
         })
+}
+
+fn glb_reference() -> impl Strategy<Value = Reference> {
+    (
+        (any::<String>(), any::<String>(), proptest::option::of(any::<String>()), any::<i32>(), finite()),
+        (any::<bool>(), any::<bool>(), any::<bool>(), proptest::option::of(param())),
+        proptest::collection::vec(param(), 7),
+    )
+        .prop_map(
+            |((name, file, animation, start_frame, speed), (repeat, visible, collider, thickness), values)| {
+                let [cx, cy, cz, rx, ry, rz, scale] = <[Param; 7]>::try_from(values).expect("seven numbers");
+                Reference {
+                    name,
+                    file,
+                    animation,
+                    start_frame,
+                    speed,
+                    repeat,
+                    center: (cx, cy, cz),
+                    rotation_deg: (rx, ry, rz),
+                    scale,
+                    visible,
+                    collider,
+                    thickness,
+                    rig: LoadedRig::default(),
+                }
+            },
+        )
 }
 
 fn view() -> impl Strategy<Value = View> {

@@ -145,7 +145,7 @@ mod tests {
     fn key(frame: i32, ease: Ease) -> Key {
         Key {
             frame,
-            pins: vec![Pin { grid: (0, 0), pos: (0.0, 1.0, 0.0) }],
+            pins: vec![Pin::at((0, 0), (0.0, 1.0, 0.0))],
             elasticity: 1.0,
             stiffness: 0.2,
             relax: RelaxSettings::default(),

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+use super::attachments::posed_key;
 use super::colliders_at::obstacles_at;
 use super::falloff::{pin_distance_field, resting_distance_field};
 use super::stretch_limit::EdgeReach;
@@ -196,11 +197,16 @@ impl RestShapeCache {
         RestShapeCache::default()
     }
 
-    /// The shape of every key of `scene`, in key order, building the ones not
+    /// The shape of every key of `scene`, in key order (attached pins where
+    /// their attachments are at the key's frame), building the ones not
     /// cached yet. The scene must be valid.
     pub fn shapes(&mut self, scene: &Scene) -> Vec<Arc<KeyShape>> {
         self.generation += 1;
-        let shapes = scene.keys.iter().map(|key| self.shape(&scene.cloth, key, &key_obstacles(scene, key))).collect();
+        let shapes = scene
+            .keys
+            .iter()
+            .map(|key| self.shape(&scene.cloth, &posed_key(scene, key), &key_obstacles(scene, key)))
+            .collect();
         self.evict();
         shapes
     }
@@ -291,7 +297,7 @@ mod tests {
     fn key(frame: i32, height: f64) -> Key {
         Key {
             frame,
-            pins: vec![Pin { grid: (0, 0), pos: (-0.5, height, 0.0) }, Pin { grid: (8, 0), pos: (0.5, height, 0.0) }],
+            pins: vec![Pin::at((0, 0), (-0.5, height, 0.0)), Pin::at((8, 0), (0.5, height, 0.0))],
             elasticity: 1.1,
             stiffness: 0.2,
             relax: RelaxSettings { iterations: 20, tolerance: 1e-4 },
@@ -313,6 +319,7 @@ mod tests {
             layers: vec![],
             view: None,
             colliders: Vec::new(),
+            references: Vec::new(),
         }
     }
 

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use super::references_at::reference_obstacles;
 use super::track::sample;
 use crate::scene::{Collider, Param, ParamVec3, Scene};
 use crate::world::{ColliderShape, Obstacle};
@@ -11,13 +12,15 @@ use crate::world::{ColliderShape, Obstacle};
 /// cloth keeps from it: its own, else that of the key in effect. Sizes
 /// that an overshooting easing takes below 0 read as 0; thicknesses too. A
 /// mesh collider whose file has not been read (a scene parsed from text,
-/// without its folder) is left out.
+/// without its folder) is left out. References marked as colliders come
+/// last, posed at `frame` (`references_at::reference_obstacles`).
 pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
-    if scene.colliders.is_empty() || scene.keys.is_empty() {
+    let colliding_references = scene.references.iter().any(|r| r.collider);
+    if (scene.colliders.is_empty() && !colliding_references) || scene.keys.is_empty() {
         return Vec::new();
     }
     let key_thickness = scene.key_in_effect(frame).thickness;
-    scene
+    let mut obstacles: Vec<Obstacle> = scene
         .colliders
         .iter()
         .filter(|collider| collider.enabled())
@@ -25,7 +28,11 @@ pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
             let thickness = collider.thickness().map_or(key_thickness, |t| sample(t, frame));
             Some(Obstacle { shape: shape_at(collider, frame)?, thickness: thickness.max(0.0) })
         })
-        .collect()
+        .collect();
+    if colliding_references {
+        obstacles.extend(reference_obstacles(scene, frame, key_thickness));
+    }
+    obstacles
 }
 
 /// One collider's solid at `frame`; `None` for a mesh not read yet. A mesh's

@@ -15,6 +15,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+use super::attachments::{carry_to_attachments, posed_key};
 use super::blend::{Segment, blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache, key_obstacles};
 use super::colliders_at::obstacles_at;
@@ -98,7 +99,7 @@ impl Evaluator {
     /// The cached shape of one key (built if needed), for callers that show
     /// or export a single key's modelling stages.
     pub fn key_shape(&mut self, scene: &Scene, key: &Key) -> Arc<KeyShape> {
-        self.cache.shape(&scene.cloth, key, &key_obstacles(scene, key))
+        self.cache.shape(&scene.cloth, &posed_key(scene, key), &key_obstacles(scene, key))
     }
 
     /// The mesh of `scene` at `t_secs`, with every layer.
@@ -199,11 +200,12 @@ impl Evaluator {
             let shapes = self.cache.shapes(scene);
             let segment = segment_at(&scene.keys, frame);
             blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
-            let obstacles = obstacles_at(scene, frame);
-            let (a, b) = match segment {
-                Segment::Hold(index) => (index, index),
-                Segment::Between { from, .. } => (from, from + 1),
+            let (a, b, eased) = match segment {
+                Segment::Hold(index) => (index, index, 0.0),
+                Segment::Between { from, eased } => (from, from + 1, eased),
             };
+            carry_to_attachments(scene, (a, b), eased, frame, points);
+            let obstacles = obstacles_at(scene, frame);
             self.held.clear();
             if obstacles.is_empty() {
                 self.before_layers = PointArrays::default();

@@ -173,7 +173,7 @@ mod tests {
     }
 
     fn pin(i: u32, j: u32) -> Pin {
-        Pin { grid: (i, j), pos: (0.0, 0.0, 0.0) }
+        Pin::at((i, j), (0.0, 0.0, 0.0))
     }
 
     #[test]

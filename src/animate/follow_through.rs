@@ -121,7 +121,7 @@ mod tests {
     fn keys(travel_m: f64) -> (Cloth, Vec<Key>) {
         let cloth = Cloth::new((1.0, 1.0), (17, 17));
         let key = |frame, z: f64| {
-            let pin = |grid, x, zz: f64| Pin { grid, pos: (x, 1.0, zz + z) };
+            let pin = |grid, x, zz: f64| Pin::at(grid, (x, 1.0, zz + z));
             Key {
                 frame,
                 pins: vec![

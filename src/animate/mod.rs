@@ -11,9 +11,12 @@
 //!   are listed once in `scene/layers.rs`.
 //! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
 //! - [`colliders_at`], [`keep_out`]: the colliders at a frame, and every point kept outside them.
+//! - [`attachments`]: pins bound to a reference, exactly on it at every frame.
+//! - [`references_at`]: each referenced glTF file posed at a frame, placed in the scene.
 //! - [`noise`]: the seeded value noise behind the gusts.
 //! - [`evaluate`](mod@evaluate): scene + time → mesh.
 
+pub mod attachments;
 pub mod blend;
 pub mod cache;
 pub mod colliders_at;
@@ -24,6 +27,7 @@ pub mod follow_through;
 pub mod gusts;
 pub mod keep_out;
 pub mod noise;
+pub mod references_at;
 pub mod stretch_limit;
 pub mod sway;
 pub mod track;

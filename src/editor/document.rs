@@ -160,11 +160,11 @@ impl Document {
         }
     }
 
-    /// Renames the mesh files for a scene file moving from the folder `from`
+    /// Renames the mesh and reference files for a scene file moving from the folder `from`
     /// to `to` (a Save As elsewhere), so they name the same files; no undo
     /// step (an undo after it brings back names relative to the old folder).
-    pub fn move_mesh_files_quietly(&mut self, from: &Path, to: &Path) {
-        crate::scene::move_mesh_files(&mut self.scene, from, to);
+    pub fn move_files_quietly(&mut self, from: &Path, to: &Path) {
+        crate::scene::move_referenced_files(&mut self.scene, from, to);
     }
 }
 

@@ -12,7 +12,7 @@ use super::param_edit::set_at_keying;
 pub fn pin_point(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
     match key.pins.iter_mut().find(|p| p.grid == grid) {
         Some(pin) => pin.pos = pos,
-        None => key.pins.push(Pin { grid, pos }),
+        None => key.pins.push(Pin::at(grid, pos)),
     }
 }
 
@@ -97,7 +97,7 @@ pub fn set_grid(scene: &mut Scene, grid: (u32, u32)) {
         for pin in &key.pins {
             let at = (remap_index(pin.grid.0, old.0, grid.0), remap_index(pin.grid.1, old.1, grid.1));
             if !remapped.iter().any(|p| p.grid == at) {
-                remapped.push(Pin { grid: at, pos: pin.pos });
+                remapped.push(Pin { grid: at, ..pin.clone() });
             }
         }
         key.pins = remapped;
@@ -137,7 +137,7 @@ mod tests {
 
     #[test]
     fn unpinning_the_last_pins_drops_the_cloth_from_above_where_they_were() {
-        let pin = |grid, pos| Pin { grid, pos };
+        let pin = |grid, pos| Pin::at(grid, pos);
         let mut key = scene().keys[0].clone();
         key.pins = vec![pin((0, 0), (-0.4, 1.0, 0.2)), pin((4, 0), (0.6, 1.2, 0.0))];
         unpin(&mut key, &[(0, 0)]);
@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn mirroring_takes_the_partner_pins_position_reflected_in_x() {
-        let pin = |grid, pos| Pin { grid, pos };
+        let pin = |grid, pos| Pin::at(grid, pos);
         let mut key = scene().keys[0].clone();
         key.pins = vec![
             pin((0, 0), (-0.4, 1.0, 0.1)),
@@ -199,11 +199,8 @@ mod tests {
         let mut s = scene();
         s.cloth = Cloth::new((1.0, 1.0), (9, 9));
         s.keys.truncate(1);
-        s.keys[0].pins = vec![
-            Pin { grid: (0, 0), pos: (0.0, 1.0, 0.0) },
-            Pin { grid: (1, 0), pos: (0.1, 1.0, 0.0) },
-            Pin { grid: (8, 0), pos: (1.0, 1.0, 0.0) },
-        ];
+        s.keys[0].pins =
+            vec![Pin::at((0, 0), (0.0, 1.0, 0.0)), Pin::at((1, 0), (0.1, 1.0, 0.0)), Pin::at((8, 0), (1.0, 1.0, 0.0))];
         set_grid(&mut s, (2, 2));
         let grids: Vec<_> = s.keys[0].pins.iter().map(|p| p.grid).collect();
         assert_eq!(grids, [(0, 0), (1, 0)]);

@@ -78,7 +78,7 @@ impl Files {
 
 /// File ▸ New: a 1 m square cloth on a 33 × 33 grid hanging from its two top corners.
 pub fn new_scene() -> Scene {
-    let pin = |grid, x| Pin { grid, pos: (x, 1.5, 0.0) };
+    let pin = |grid, x| Pin::at(grid, (x, 1.5, 0.0));
     Scene {
         version: 1,
         name: String::new(),
@@ -99,6 +99,7 @@ pub fn new_scene() -> Scene {
         layers: Vec::new(),
         view: None,
         colliders: Vec::new(),
+        references: Vec::new(),
     }
 }
 
@@ -262,7 +263,7 @@ impl Files {
         };
         let (from, to) = (folder_of(w.doc.path()), folder_of(Some(path)));
         if from != to {
-            w.doc.move_mesh_files_quietly(&from, &to);
+            w.doc.move_files_quietly(&from, &to);
         }
         match scene::save(w.doc.scene(), path) {
             Ok(()) => {

@@ -146,9 +146,10 @@ impl Recovery {
         }
         let saved_at =
             saved_at.or_else(|| fs::metadata(path).and_then(|m| m.modified()).ok()).unwrap_or(SystemTime::UNIX_EPOCH);
-        // Mesh files are named relative to the original scene file (absolute in an unsaved one).
+        // Mesh and reference files are named relative to the original scene file (absolute in an unsaved one).
         let scene_file = original.clone().unwrap_or_else(|| PathBuf::from("untitled.ron"));
         crate::scene::read_meshes(&mut scene, &scene_file, &text)?;
+        crate::scene::read_references(&mut scene, &scene_file, &text)?;
         Ok(RecoveredScene { scene, original, saved_at })
     }
 

@@ -155,9 +155,9 @@ impl Shown {
         let missing: Vec<KeyAmong> = scene
             .keys
             .iter()
-            .map(|k| (k, key_obstacles(scene, k)))
+            .map(|k| (animate::attachments::posed_key(scene, k), key_obstacles(scene, k)))
             .filter(|(k, among)| cache.get(&scene.cloth, k, among).is_none())
-            .map(|(k, among)| (k.clone(), among))
+            .map(|(k, among)| (k.into_owned(), among))
             .collect();
         if missing.is_empty() {
             self.scene = scene.clone();
@@ -224,7 +224,8 @@ impl Shown {
     /// The relaxation report of the shown key in effect at `frame`.
     pub fn relax_report(&self, frame: f64) -> Option<RelaxReport> {
         let key = self.scene.key_in_effect(frame);
-        let shape = self.evaluator.cache().get(&self.scene.cloth, key, &key_obstacles(&self.scene, key))?;
+        let posed = animate::attachments::posed_key(&self.scene, key);
+        let shape = self.evaluator.cache().get(&self.scene.cloth, &posed, &key_obstacles(&self.scene, key))?;
         Some(shape.rest.relax_report)
     }
 

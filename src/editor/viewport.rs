@@ -37,8 +37,8 @@ pub struct ViewportFrame {
     pub overlay: Arc<Overlay>,
     /// Onion-skin ghosts.
     pub ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
-    /// The scene's colliders at the frame shown.
-    pub solids: Arc<Solids>,
+    /// The scene's colliders and references at the frame shown, a set per colour.
+    pub solids: Arc<Vec<Solids>>,
     /// The viewport's size in physical pixels.
     pub size_px: (u32, u32),
 }

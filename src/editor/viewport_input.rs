@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 use super::picking::ColliderHit;
 use super::pin_drag::{AxisLock, MovingPin, PinDrag, drag_keys};
 use super::selection::{self, Pick};
-use super::viewport_panel::{CollidersLook, ViewportPanel};
+use super::viewport_panel::{SolidLook, ViewportPanel};
 use super::workspace::Workspace;
 use super::{edits, picking};
 
@@ -228,7 +228,7 @@ impl ViewportPanel {
     /// The collider drawn under `pointer_px` and how far along the ray (m);
     /// none while colliders are hidden.
     fn collider_at(&self, w: &Workspace, pointer_px: Vec2, size_px: (u32, u32)) -> Option<ColliderHit> {
-        if self.toggles.colliders == CollidersLook::Hidden {
+        if self.toggles.colliders == SolidLook::Hidden {
             return None;
         }
         picking::pick_collider(&self.camera, size_px, w.doc.scene(), w.frame(), pointer_px)

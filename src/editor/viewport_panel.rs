@@ -18,7 +18,7 @@ use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
 use crate::animate::colliders_at::shape_at;
-use crate::picture::{SceneOverlays, collider_solids, key_overlay};
+use crate::picture::{SceneOverlays, collider_solids, key_overlay, reference_solids};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
 use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions, Solids};
@@ -28,6 +28,8 @@ use crate::scene::{ClothTexture, Layer};
 const COLLIDER_SELECTED: [f32; 4] = colors::PIN_SELECTED;
 /// Colliders drawn as wire: the props' warm grey, lighter.
 const COLLIDER_WIRE: [f32; 4] = [0.78, 0.72, 0.64, 0.8];
+/// References drawn as lines: a cool blue-grey, apart from the colliders' warm wire.
+const REFERENCE_WIRE: [f32; 4] = [0.55, 0.66, 0.82, 0.6];
 /// The outline of the collider under the mouse.
 const COLLIDER_HOVERED: [f32; 4] = [1.0, 1.0, 1.0, 0.55];
 
@@ -44,12 +46,14 @@ pub struct ViewToggles {
     pub onion: bool,
     pub onion_frames: u32,
     pub onion_spacing: u32,
-    pub colliders: CollidersLook,
+    pub colliders: SolidLook,
+    /// How referenced glTF files (characters, props) are drawn.
+    pub references: SolidLook,
 }
 
-/// How the viewport draws the scene's colliders.
+/// How the viewport draws the scene's colliders, or its references.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CollidersLook {
+pub enum SolidLook {
     #[default]
     Shaded,
     /// Half transparent, so the cloth behind and under them shows.
@@ -59,16 +63,15 @@ pub enum CollidersLook {
     Hidden,
 }
 
-impl CollidersLook {
-    pub const ALL: [CollidersLook; 4] =
-        [CollidersLook::Shaded, CollidersLook::SeeThrough, CollidersLook::Wire, CollidersLook::Hidden];
+impl SolidLook {
+    pub const ALL: [SolidLook; 4] = [SolidLook::Shaded, SolidLook::SeeThrough, SolidLook::Wire, SolidLook::Hidden];
 
     pub fn label(self) -> &'static str {
         match self {
-            CollidersLook::Shaded => "Shaded",
-            CollidersLook::SeeThrough => "See-through",
-            CollidersLook::Wire => "Wire",
-            CollidersLook::Hidden => "Hidden",
+            SolidLook::Shaded => "Shaded",
+            SolidLook::SeeThrough => "See-through",
+            SolidLook::Wire => "Wire",
+            SolidLook::Hidden => "Hidden",
         }
     }
 }
@@ -85,7 +88,8 @@ impl Default for ViewToggles {
             onion: false,
             onion_frames: 2,
             onion_spacing: 4,
-            colliders: CollidersLook::Shaded,
+            colliders: SolidLook::Shaded,
+            references: SolidLook::Shaded,
         }
     }
 }
@@ -154,19 +158,28 @@ pub struct ViewportPanel {
     reveal_pending: bool,
     /// The colliders last tessellated and what they were made from, so a
     /// repaint without a change (orbiting, hovering) does not build them again.
-    solids_cache: Option<(SolidsKey, Arc<Solids>, Arc<Vec<Segment>>)>,
+    solids_cache: Option<(SolidsKey, DrawnSolids)>,
 }
 
-/// What a viewport's collider solids and wire depend on: the colliders
-/// (meshes by their loaded data, which equality of the scene's colliders
-/// ignores), the frame and the look.
+/// The solids (a set per colour) and wire lines a viewport draws for the
+/// colliders and references.
+type DrawnSolids = (Arc<Vec<Solids>>, Arc<Vec<Segment>>);
+
+/// What a viewport's solids and wire depend on: the colliders and
+/// references (files by their loaded data, which equality of the scene's
+/// parts ignores), the frame, the clock and the looks.
 #[derive(Clone, PartialEq)]
 struct SolidsKey {
     colliders: Vec<crate::scene::Collider>,
     /// Each mesh collider's loaded data by address.
     meshes: Vec<Option<usize>>,
+    references: Vec<crate::scene::Reference>,
+    /// Each reference's rig by address.
+    rigs: Vec<Option<usize>>,
     frame_bits: u64,
-    look: CollidersLook,
+    fps_bits: u64,
+    look: SolidLook,
+    reference_look: SolidLook,
 }
 
 /// This frame's viewport: where it is and what the pointer did there.
@@ -301,7 +314,7 @@ impl ViewportPanel {
         if !self.has_gpu {
             return;
         }
-        let (solids, wire) = self.colliders_drawn(w);
+        let (solids, wire) = self.solids_drawn(w);
         let mut overlay = self.overlay(w);
         overlay.segments.extend(wire.iter().cloned());
         let frame = ViewportFrame {
@@ -349,7 +362,7 @@ impl ViewportPanel {
     pub fn selected_collider_shown(&self, w: &Workspace) -> Option<usize> {
         let index = w.session.selected_collider?;
         let collider = w.doc.scene().colliders.get(index)?;
-        (collider.enabled() && self.toggles.colliders != CollidersLook::Hidden).then_some(index)
+        (collider.enabled() && self.toggles.colliders != SolidLook::Hidden).then_some(index)
     }
 
     /// Frames the cloth on screen.
@@ -392,6 +405,7 @@ impl ViewportPanel {
             catenaries: self.toggles.catenaries || network,
             triangulation: self.toggles.triangulation || network,
             hide_colliders: true,
+            hide_references: true,
         };
         let session = &w.session;
         let state = |grid: (u32, u32)| {
@@ -499,16 +513,16 @@ impl ViewportPanel {
         }
     }
 
-    /// The colliders at the playhead as the View asks (solids for Shaded and
-    /// See-through, lines for Wire): the document's, so a collider being
-    /// dragged or typed is drawn where it is now, before the cloth has been
-    /// shaped round it.
-    fn colliders_drawn(&mut self, w: &Workspace) -> (Arc<Solids>, Arc<Vec<Segment>>) {
+    /// The colliders and references at the playhead as the View asks
+    /// (solids for Shaded and See-through, lines for Wire): the document's,
+    /// so a collider being dragged or typed is drawn where it is now, before
+    /// the cloth has been shaped round it.
+    fn solids_drawn(&mut self, w: &Workspace) -> DrawnSolids {
         let look = self.toggles.colliders;
         let opacity = match look {
-            CollidersLook::Shaded => 1.0,
-            CollidersLook::SeeThrough => 0.35,
-            CollidersLook::Wire | CollidersLook::Hidden => 0.0,
+            SolidLook::Shaded => 1.0,
+            SolidLook::SeeThrough => 0.35,
+            SolidLook::Wire | SolidLook::Hidden => 0.0,
         };
         let colliders = &w.doc.scene().colliders;
         let meshes = colliders
@@ -518,16 +532,38 @@ impl ViewportPanel {
                 _ => None,
             })
             .collect();
-        let key = SolidsKey { colliders: colliders.clone(), meshes, frame_bits: w.frame().to_bits(), look };
-        if let Some((cached, solids, wire)) = &self.solids_cache
+        let scene = w.doc.scene();
+        let rigs = scene.references.iter().map(|r| r.rig.0.as_ref().map(|rig| Arc::as_ptr(rig) as usize)).collect();
+        let key = SolidsKey {
+            colliders: colliders.clone(),
+            meshes,
+            references: scene.references.clone(),
+            rigs,
+            frame_bits: w.frame().to_bits(),
+            fps_bits: scene.timeline.fps.to_bits(),
+            look,
+            reference_look: self.toggles.references,
+        };
+        if let Some((cached, (solids, wire))) = &self.solids_cache
             && *cached == key
         {
             return (solids.clone(), wire.clone());
         }
-        let solids =
-            Arc::new(if opacity > 0.0 { collider_solids(w.doc.scene(), w.frame(), opacity) } else { Solids::NONE });
+        let mut solids = Vec::new();
+        if opacity > 0.0 {
+            solids.push(collider_solids(scene, w.frame(), opacity));
+        }
+        let references = reference_solids(scene, w.frame(), 1.0);
+        match self.toggles.references {
+            SolidLook::Shaded => solids.extend(references),
+            SolidLook::SeeThrough => {
+                solids.extend(references.into_iter().map(|s| Solids { opacity: s.opacity * 0.35, ..s }))
+            }
+            SolidLook::Wire | SolidLook::Hidden => {}
+        }
+        let solids = Arc::new(solids);
         let mut wire = Vec::new();
-        if look == CollidersLook::Wire {
+        if look == SolidLook::Wire {
             // A mesh by its triangles' edges; a primitive by its outline (a
             // ball's tessellation would be a dense net).
             let segment = |a: glam::DVec3, b: glam::DVec3| Segment {
@@ -536,12 +572,13 @@ impl ViewportPanel {
                 width_px: 1.0,
                 color: COLLIDER_WIRE,
             };
-            for obstacle in animate::colliders_at::obstacles_at(w.doc.scene(), w.frame()) {
-                if !matches!(obstacle.shape, crate::world::ColliderShape::Mesh { .. }) {
-                    wire.extend(obstacle.shape.outline().into_iter().map(|[a, b]| segment(a, b)));
+            let enabled = scene.colliders.iter().filter(|c| c.enabled());
+            for shape in enabled.filter_map(|c| animate::colliders_at::shape_at(c, w.frame())) {
+                if !matches!(shape, crate::world::ColliderShape::Mesh { .. }) {
+                    wire.extend(shape.outline().into_iter().map(|[a, b]| segment(a, b)));
                     continue;
                 }
-                let mesh = obstacle.shape.triangles();
+                let mesh = shape.triangles();
                 let at = |i: u32| mesh.positions[i as usize];
                 for t in mesh.indices.chunks_exact(3) {
                     for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
@@ -550,8 +587,18 @@ impl ViewportPanel {
                 }
             }
         }
+        if self.toggles.references == SolidLook::Wire {
+            for set in reference_solids(scene, w.frame(), 1.0) {
+                let at = |i: u32| set.positions[i as usize];
+                for t in set.indices.chunks_exact(3) {
+                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                        wire.push(Segment { a: at(a), b: at(b), width_px: 1.0, color: REFERENCE_WIRE });
+                    }
+                }
+            }
+        }
         let wire = Arc::new(wire);
-        self.solids_cache = Some((key, solids.clone(), wire.clone()));
+        self.solids_cache = Some((key, (solids.clone(), wire.clone())));
         (solids, wire)
     }
 
@@ -586,10 +633,18 @@ impl ViewportPanel {
                 .on_hover_text("The camera travels with the cloth (F frames it)");
         });
         egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
-            for look in CollidersLook::ALL {
+            for look in SolidLook::ALL {
                 ui.selectable_value(&mut self.toggles.colliders, look, look.label());
             }
         });
+        // Only with references in the scene: a row that changes with the document, not while scrubbing.
+        if !w.doc.scene().references.is_empty() {
+            egui::ComboBox::from_label("References").selected_text(self.toggles.references.label()).show_ui(ui, |ui| {
+                for look in SolidLook::ALL {
+                    ui.selectable_value(&mut self.toggles.references, look, look.label());
+                }
+            });
+        }
         // Always there (greyed out with onion skin off), so the panels below hold still.
         ui.add_enabled_ui(self.toggles.onion, |ui| {
             ui.horizontal(|ui| {

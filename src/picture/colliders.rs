@@ -1,6 +1,6 @@
 //! A scene's colliders at a frame as solids for the renderer.
 
-use crate::animate::colliders_at::obstacles_at;
+use crate::animate::colliders_at::shape_at;
 use crate::render::Solids;
 use crate::scene::Scene;
 use crate::world::TriangleMesh;
@@ -10,8 +10,9 @@ use crate::world::TriangleMesh;
 /// and is left to the renderer's ground.
 pub fn collider_solids(scene: &Scene, frame: f64, opacity: f32) -> Solids {
     let mut mesh = TriangleMesh::default();
-    for obstacle in obstacles_at(scene, frame) {
-        mesh.append(&obstacle.shape.triangles());
+    // The scene's colliders only: references that collide are drawn as themselves.
+    for shape in scene.colliders.iter().filter(|c| c.enabled()).filter_map(|c| shape_at(c, frame)) {
+        mesh.append(&shape.triangles());
     }
     Solids {
         positions: mesh.positions.iter().map(|p| p.as_vec3()).collect(),

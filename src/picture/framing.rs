@@ -4,6 +4,7 @@
 use glam::{Vec2, Vec3};
 
 use crate::animate::Evaluator;
+use crate::animate::references_at::reference_at;
 use crate::mesh::Mesh;
 use crate::render::camera::bounds;
 use crate::render::{Ground, OrbitCamera};
@@ -35,7 +36,12 @@ impl Framing {
     /// had at its saved frame (the timeline's start when it has none).
     pub fn of_scene(evaluator: &mut Evaluator, scene: &Scene, aspect: f32) -> Framing {
         let (rest_min, rest_max) = scene_bounds(evaluator, scene);
-        let (min, max) = padded((rest_min, rest_max));
+        // The characters and props in the shot are framed too (the cloth's
+        // travel and ground are its own).
+        let (min, max) = match reference_bounds(scene) {
+            Some((lo, hi)) => padded((rest_min.min(lo), rest_max.max(hi))),
+            None => padded((rest_min, rest_max)),
+        };
         let key_extent_m = largest_key_extent(evaluator, scene);
         let ground_height_m = Ground::under(rest_min, rest_max).height_m;
         let mut follow_offset = Vec3::ZERO;
@@ -101,6 +107,27 @@ pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
 }
 
 /// The largest side of any single key's rest shape box.
+/// The box round every visible reference of `scene` at its keys' frames
+/// and the timeline's ends; None without one.
+pub fn reference_bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
+    let frames = scene.keys.iter().map(|k| k.frame).chain([scene.timeline.start, scene.timeline.end]);
+    let mut found: Option<(Vec3, Vec3)> = None;
+    for frame in frames {
+        for (index, reference) in scene.references.iter().enumerate() {
+            let Some(posed) = reference_at(scene, index, f64::from(frame)).filter(|_| reference.visible) else {
+                continue;
+            };
+            for mesh in posed.meshes() {
+                let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
+                if let Some((lo, hi)) = bounds(&positions) {
+                    found = Some(found.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+                }
+            }
+        }
+    }
+    found
+}
+
 fn largest_key_extent(evaluator: &mut Evaluator, scene: &Scene) -> f32 {
     let mut extent_m: f32 = 0.0;
     for key in &scene.keys {

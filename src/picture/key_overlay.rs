@@ -32,6 +32,8 @@ pub struct SceneOverlays {
     /// Leaves the scene's colliders out of the picture (`--no-colliders`);
     /// they are drawn by default.
     pub hide_colliders: bool,
+    /// Leaves the scene's referenced glTF files out (`--no-references`).
+    pub hide_references: bool,
 }
 
 /// The overlays `show` asks for, for the key in effect at `frame`, drawn on

@@ -7,12 +7,13 @@ use crate::mesh::Mesh;
 use crate::render::headless::RenderError;
 use crate::render::overlay::PinState;
 use crate::render::readback::read_texture;
-use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer, Solids};
+use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer};
 use crate::scene::Scene;
 
 use super::colliders::collider_solids;
 use super::framing::Framing;
 use super::key_overlay::{SceneOverlays, key_overlay};
+use super::references::reference_solids;
 
 /// One picture of `scene` at `frame`, framed as [`SceneRenderer::new`] does,
 /// on `context` or on a device of its own when none is given.
@@ -83,7 +84,13 @@ impl SceneRenderer {
         self.framing.follow(&self.mesh);
         self.options.ground = Some(self.framing.ground);
         let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays, |_| PinState::Normal);
-        let solids = if self.overlays.hide_colliders { Solids::NONE } else { collider_solids(scene, frame, 1.0) };
+        let mut solids = Vec::new();
+        if !self.overlays.hide_colliders {
+            solids.push(collider_solids(scene, frame, 1.0));
+        }
+        if !self.overlays.hide_references {
+            solids.extend(reference_solids(scene, frame, 1.0));
+        }
         let input = FrameInput {
             mesh: &self.mesh,
             camera: &self.framing.camera,

@@ -130,8 +130,9 @@ pub struct FrameInput<'a> {
     pub options: &'a RenderOptions,
     pub ghosts: &'a [Ghost<&'a Mesh>],
     pub overlay: &'a Overlay,
-    /// Drawn with the cloth; [`Solids::NONE`] for none.
-    pub solids: &'a Solids,
+    /// Drawn with the cloth, each set in its own colour (colliders, each
+    /// referenced file's meshes); empty for none.
+    pub solids: &'a [Solids],
 }
 
 #[repr(C)]
@@ -197,6 +198,64 @@ struct SolidBuffers {
     bind_group: wgpu::BindGroup,
 }
 
+impl SolidBuffers {
+    fn new(device: &wgpu::Device, renderer: &Renderer) -> SolidBuffers {
+        let material = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solids material"),
+            size: std::mem::size_of::<MaterialUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = renderer.material_bind_group(device, &material, ClothTexture::Plain);
+        let vertex = wgpu::BufferUsages::VERTEX;
+        SolidBuffers {
+            written: None,
+            positions: GrowingBuffer::new(device, "solid positions", vertex, 4096),
+            normals: GrowingBuffer::new(device, "solid normals", vertex, 4096),
+            uvs: GrowingBuffer::new(device, "solid uvs", vertex, 4096),
+            indices: GrowingBuffer::new(device, "solid indices", wgpu::BufferUsages::INDEX, 4096),
+            index_count: 0,
+            opaque: true,
+            material,
+            bind_group,
+        }
+    }
+
+    /// Whether it draws anything, and opaque.
+    fn draws_opaque(&self) -> bool {
+        self.index_count > 0 && self.opaque
+    }
+
+    /// Writes `solids` unless they are what the buffers hold already.
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, solids: &Solids) {
+        let valid = solids.normals.len() == solids.positions.len()
+            && solids.indices.iter().all(|&i| (i as usize) < solids.positions.len());
+        if !valid || solids.is_empty() || !(solids.opacity > 0.0) {
+            self.index_count = 0;
+            self.written = None;
+            return;
+        }
+        // A viewport repaints the same colliders many times (orbiting, hovering).
+        if self.written.as_ref() == Some(solids) {
+            return;
+        }
+        self.written = Some(solids.clone());
+        self.positions.write(device, queue, bytemuck::cast_slice(&solids.positions));
+        self.normals.write(device, queue, bytemuck::cast_slice(&solids.normals));
+        self.uvs.write(device, queue, bytemuck::cast_slice(&vec![[0.0f32; 2]; solids.positions.len()]));
+        self.indices.write(device, queue, bytemuck::cast_slice(&solids.indices));
+        self.index_count = solids.indices.len() as u32;
+        self.opaque = solids.opacity >= 1.0;
+        let material = MaterialUniform::flat(solids.color, solids.opacity);
+        queue.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));
+    }
+
+    fn draw(&self, pass: &mut wgpu::RenderPass) {
+        let vertices = [&self.positions.buffer, &self.normals.buffer, &self.uvs.buffer];
+        draw_lit(pass, &self.bind_group, vertices, &self.indices.buffer, self.index_count);
+    }
+}
+
 /// A mesh with its own material: the cloth, or one ghost.
 struct MeshSlot {
     mesh: GpuMesh,
@@ -220,7 +279,9 @@ pub struct Renderer {
     segment_count: u32,
     markers: GrowingBuffer,
     marker_count: u32,
-    solids: SolidBuffers,
+    /// Grown to the most sets of solids asked for; the first `solid_count` drawn.
+    solids: Vec<SolidBuffers>,
+    solid_count: usize,
     wireframe: bool,
     ground: bool,
     background: wgpu::Color,
@@ -279,36 +340,9 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&clamp_sampler) },
             ],
         });
-        let solid_material = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solids material"),
-            size: std::mem::size_of::<MaterialUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let plain_view = &texture_views[0].1;
-        let solid_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solids material"),
-            layout: &pipelines.material_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: solid_material.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(plain_view) },
-                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&sampler) },
-            ],
-        });
-        let vertex = wgpu::BufferUsages::VERTEX;
-        let solids = SolidBuffers {
-            written: None,
-            positions: GrowingBuffer::new(device, "solid positions", vertex, 4096),
-            normals: GrowingBuffer::new(device, "solid normals", vertex, 4096),
-            uvs: GrowingBuffer::new(device, "solid uvs", vertex, 4096),
-            indices: GrowingBuffer::new(device, "solid indices", wgpu::BufferUsages::INDEX, 4096),
-            index_count: 0,
-            opaque: true,
-            material: solid_material,
-            bind_group: solid_bind_group,
-        };
         Renderer {
-            solids,
+            solids: Vec::new(),
+            solid_count: 0,
             frame_uniform,
             frame_bind_group,
             sampler,
@@ -415,28 +449,15 @@ impl Renderer {
         self.prepare_solids(device, queue, input.solids);
     }
 
-    fn prepare_solids(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, solids: &Solids) {
-        let valid = solids.normals.len() == solids.positions.len()
-            && solids.indices.iter().all(|&i| (i as usize) < solids.positions.len());
-        if !valid || solids.is_empty() || !(solids.opacity > 0.0) {
-            self.solids.index_count = 0;
-            self.solids.written = None;
-            return;
+    fn prepare_solids(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, sets: &[Solids]) {
+        while self.solids.len() < sets.len() {
+            let buffers = SolidBuffers::new(device, self);
+            self.solids.push(buffers);
         }
-        // A viewport repaints the same colliders many times (orbiting, hovering).
-        if self.solids.written.as_ref() == Some(solids) {
-            return;
+        for (buffers, solids) in self.solids.iter_mut().zip(sets) {
+            buffers.write(device, queue, solids);
         }
-        let buffers = &mut self.solids;
-        buffers.written = Some(solids.clone());
-        buffers.positions.write(device, queue, bytemuck::cast_slice(&solids.positions));
-        buffers.normals.write(device, queue, bytemuck::cast_slice(&solids.normals));
-        buffers.uvs.write(device, queue, bytemuck::cast_slice(&vec![[0.0f32; 2]; solids.positions.len()]));
-        buffers.indices.write(device, queue, bytemuck::cast_slice(&solids.indices));
-        buffers.index_count = solids.indices.len() as u32;
-        buffers.opaque = solids.opacity >= 1.0;
-        let material = MaterialUniform::flat(solids.color, solids.opacity);
-        queue.write_buffer(&buffers.material, 0, bytemuck::bytes_of(&material));
+        self.solid_count = sets.len();
     }
 
     fn update_slot(
@@ -483,8 +504,7 @@ impl Renderer {
                 pass.set_vertex_buffer(0, cloth.mesh.positions.slice(..));
                 pass.set_index_buffer(cloth.mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..cloth.mesh.index_count, 0, 0..1);
-                let solids = &self.solids;
-                if solids.index_count > 0 && solids.opaque {
+                for solids in self.solids[..self.solid_count].iter().filter(|s| s.draws_opaque()) {
                     pass.set_vertex_buffer(0, solids.positions.buffer.slice(..));
                     pass.set_index_buffer(solids.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
                     pass.draw_indexed(0..solids.index_count, 0, 0..1);
@@ -518,14 +538,10 @@ impl Renderer {
             let m = &slot.mesh;
             draw_lit(pass, &slot.bind_group, [&m.positions, &m.normals, &m.uvs], &m.indices, m.index_count);
         };
-        let solids = &self.solids;
-        let draw_solids = |pass: &mut wgpu::RenderPass| {
-            let vertices = [&solids.positions.buffer, &solids.normals.buffer, &solids.uvs.buffer];
-            draw_lit(pass, &solids.bind_group, vertices, &solids.indices.buffer, solids.index_count);
-        };
+        let solids = &self.solids[..self.solid_count];
         pass.set_pipeline(&self.pipelines.cloth);
-        if solids.index_count > 0 && solids.opaque {
-            draw_solids(&mut pass);
+        for set in solids.iter().filter(|s| s.draws_opaque()) {
+            set.draw(&mut pass);
         }
         draw_mesh(&mut pass, cloth);
         if self.wireframe {
@@ -539,8 +555,8 @@ impl Renderer {
         for slot in &self.ghosts[..self.ghost_count] {
             draw_mesh(&mut pass, slot);
         }
-        if solids.index_count > 0 && !solids.opaque {
-            draw_solids(&mut pass);
+        for set in solids.iter().filter(|s| s.index_count > 0 && !s.opaque) {
+            set.draw(&mut pass);
         }
         if self.segment_count > 0 {
             pass.set_pipeline(&self.pipelines.segment);

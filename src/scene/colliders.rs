@@ -161,11 +161,11 @@ pub struct Capsule {
     pub radius: Param,
 }
 
-fn yes() -> bool {
+pub(super) fn yes() -> bool {
     true
 }
 
-fn is_true(value: &bool) -> bool {
+pub(super) fn is_true(value: &bool) -> bool {
     *value
 }
 
@@ -173,11 +173,11 @@ fn zero() -> Param {
     Param::Constant(0.0)
 }
 
-fn one() -> Param {
+pub(super) fn one() -> Param {
     Param::Constant(1.0)
 }
 
-fn zeros() -> ParamVec3 {
+pub(super) fn zeros() -> ParamVec3 {
     (zero(), zero(), zero())
 }
 

@@ -128,7 +128,7 @@ mod tests {
     fn scene() -> Scene {
         let key = |frame: i32, ease: Ease| Key {
             frame,
-            pins: vec![Pin { grid: (0, 0), pos: (-1.0, 2.0, 0.0) }, Pin { grid: (32, 0), pos: (1.0, 2.0, 1e-7) }],
+            pins: vec![Pin::at((0, 0), (-1.0, 2.0, 0.0)), Pin::at((32, 0), (1.0, 2.0, 1e-7))],
             elasticity: 1.25,
             stiffness: 0.0,
             relax: RelaxSettings { iterations: 0, tolerance: 1e-9 },
@@ -181,6 +181,7 @@ mod tests {
                 }),
             ],
             colliders: Vec::new(),
+            references: Vec::new(),
             view: Some(View {
                 target: (0.5, 1.2, -0.25),
                 yaw_deg: 30.0,

@@ -7,6 +7,7 @@ use super::format::to_ron_string;
 use super::locate::{locate, tokenize};
 use super::mesh_files::read_meshes;
 use super::read_capped::read_capped;
+use super::reference_files::read_references;
 use super::types::Scene;
 use crate::atomic_file::write_atomically;
 
@@ -47,7 +48,7 @@ pub fn parse_bytes(bytes: &[u8], file_label: &str) -> Result<Scene, SceneError> 
 pub const MAX_SCENE_FILE_BYTES: u64 = 64 * 1024 * 1024;
 
 /// Reads, parses and validates the scene file at `path`, and reads the mesh
-/// files its colliders name (relative to it). Messages name the
+/// files its colliders and references name (relative to it). Messages name the
 /// file as `path` displays (`scenes/tent.ron:14:17: …`). A file larger than
 /// [`MAX_SCENE_FILE_BYTES`] is refused without reading it whole, whatever it
 /// is (`/dev/zero` included).
@@ -57,6 +58,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     // The bytes are UTF-8: `parse_bytes` checked.
     let text = std::str::from_utf8(&bytes).unwrap_or_default();
     read_meshes(&mut scene, path, text)?;
+    read_references(&mut scene, path, text)?;
     Ok(scene)
 }
 

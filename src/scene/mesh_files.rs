@@ -73,34 +73,41 @@ pub fn relative_path(scene_folder: &Path, file: &Path) -> PathBuf {
     relative
 }
 
-/// Renames every mesh file of `scene` for a scene file moving from the
-/// folder `from` to the folder `to` (a Save As elsewhere), so each still
-/// names the same file: relative to `to` where it can be, else absolute.
-pub fn move_mesh_files(scene: &mut Scene, from: &Path, to: &Path) {
+/// Renames every file `scene` names (mesh colliders' and references') for a
+/// scene file moving from the folder `from` to the folder `to` (a Save As
+/// elsewhere), so each still names the same file: relative to `to` where it
+/// can be, else absolute.
+pub fn move_referenced_files(scene: &mut Scene, from: &Path, to: &Path) {
+    let moved = |file: &mut String| *file = relative_path(to, &from.join(&*file)).display().to_string();
     for collider in &mut scene.colliders {
         if let Collider::Mesh(mesh) = collider {
-            let file = from.join(&mesh.file);
-            mesh.file = relative_path(to, &file).display().to_string();
+            moved(&mut mesh.file);
         }
     }
+    scene.references.iter_mut().for_each(|reference| moved(&mut reference.file));
 }
 
 /// The solid in the mesh file at `path`, or why not, in a user's words.
 pub fn read_mesh(path: &Path) -> Result<MeshSolid, String> {
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let bytes = read_capped(path, MAX_MESH_FILE_BYTES).map_err(|error| match error {
-        SceneError::Read { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-            format!("there is no such file ({})", path.display())
-        }
-        SceneError::TooLarge { .. } => format!("the file is over {} MiB", MAX_MESH_FILE_BYTES / (1024 * 1024)),
-        other => other.to_string(),
-    })?;
+    let bytes = read_file_bytes(path)?;
     let (vertices, triangles) = match extension.as_deref() {
         Some("obj") => obj_triangles(&bytes)?,
         Some("glb" | "gltf") => gltf_triangles(&bytes, path.parent().unwrap_or(Path::new("")))?,
         _ => return Err("Drape reads meshes from .obj, .glb and .gltf files".to_owned()),
     };
     MeshSolid::new(&vertices, &triangles).map_err(|why| format!("the mesh is not a solid: {why}"))
+}
+
+/// The bytes of the file at `path` (up to [`MAX_MESH_FILE_BYTES`]), or why not, in a user's words.
+pub(super) fn read_file_bytes(path: &Path) -> Result<Vec<u8>, String> {
+    read_capped(path, MAX_MESH_FILE_BYTES).map_err(|error| match error {
+        SceneError::Read { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
+            format!("there is no such file ({})", path.display())
+        }
+        SceneError::TooLarge { .. } => format!("the file is over {} MiB", MAX_MESH_FILE_BYTES / (1024 * 1024)),
+        other => other.to_string(),
+    })
 }
 
 /// Every face of an OBJ, fanned into triangles; materials are not read.
@@ -120,10 +127,8 @@ fn obj_triangles(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), String> {
     Ok((vertices, triangles))
 }
 
-/// Every triangle primitive of the default scene (or the first) of a glTF,
-/// placed by its nodes' transforms.
-fn gltf_triangles(bytes: &[u8], folder: &Path) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), String> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
+/// The bytes of every buffer of `gltf`: its binary chunk, or `.bin` files in `folder`.
+pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u8>>, String> {
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
         let data = match buffer.source() {
@@ -141,6 +146,14 @@ fn gltf_triangles(bytes: &[u8], folder: &Path) -> Result<(Vec<DVec3>, Vec<[u32; 
         }
         buffers.push(data);
     }
+    Ok(buffers)
+}
+
+/// Every triangle primitive of the default scene (or the first) of a glTF,
+/// placed by its nodes' transforms.
+fn gltf_triangles(bytes: &[u8], folder: &Path) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), String> {
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
+    let buffers = gltf_buffers(&gltf, folder)?;
     let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next()).ok_or("it has no scene")?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();

@@ -2,6 +2,7 @@
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
 //! - [`Collider`] and its kinds: what the cloth rests on and never enters.
+//! - [`Reference`]: a glTF file of the shot (a character), read into a rig by [`read_references`].
 //! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
 //!   each parameter listed once with its unit, range, default and doc
 //!   ([`ParamSpec`]); reading, validation, the editor and `drape check` follow it.
@@ -24,6 +25,8 @@ mod locate;
 mod mesh_files;
 mod param;
 mod read_capped;
+mod reference_files;
+mod references;
 mod schema;
 mod types;
 mod validate;
@@ -38,9 +41,11 @@ pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, save};
 pub use layers::*;
 pub use locate::{TextPosition, locate};
-pub use mesh_files::{MAX_MESH_FILE_BYTES, move_mesh_files, read_mesh, read_meshes, relative_path};
+pub use mesh_files::{MAX_MESH_FILE_BYTES, move_referenced_files, read_mesh, read_meshes, relative_path};
 pub use param::{Ease, Param, ParamKey};
 pub use read_capped::read_capped;
+pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig};
+pub use references::{Attachment, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use types::*;
 pub use validate::*;

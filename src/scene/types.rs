@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::colliders::Collider;
 use super::layers::Layer;
 use super::param::Ease;
+use super::references::{Attachment, Reference};
 
 /// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -30,6 +31,10 @@ pub struct Scene {
     /// What the cloth rests on and never enters, in every key and frame.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub colliders: Vec<Collider>,
+    /// glTF files of the shot (characters, props), drawn with the cloth and
+    /// played on its timeline.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub references: Vec<Reference>,
     /// Where the editor's camera looked when the scene was saved (with the
     /// playhead and Follow); absent, views frame the cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -250,14 +255,26 @@ pub fn default_stiffness() -> f64 {
     0.2
 }
 
-/// A grid point held at a fixed world position (metres).
+/// A grid point held at a world position (metres), or bound to a reference.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Pin {
     /// Grid index (i, j).
     pub grid: (u32, u32),
-    /// World position in metres.
+    /// World position in metres. For an attached pin, where its attachment
+    /// was at the key's frame when it was attached: the attachment decides.
     pub pos: (f64, f64, f64),
+    /// What the pin is bound to: it then sits exactly on its attachment at
+    /// every frame (`animate::attachments`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attach: Option<Attachment>,
+}
+
+impl Pin {
+    /// A loose pin at `pos`.
+    pub fn at(grid: (u32, u32), pos: (f64, f64, f64)) -> Pin {
+        Pin { grid, pos, attach: None }
+    }
 }
 
 /// When relaxation stops: once no constraint asks any point to move by more

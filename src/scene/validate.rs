@@ -14,6 +14,7 @@ use super::layers::Layer;
 use super::layers::ParamValue;
 use super::param::Ease;
 use super::param::Param;
+use super::references::{Attachment, Reference};
 use super::schema::{MAX_LAYER_VALUE, ParamRange, WaveAxis};
 use super::types::{Key, Pin, Scene, View};
 
@@ -75,6 +76,12 @@ pub const MAX_COLLIDERS: usize = 256;
 pub const MAX_FRICTION: f64 = 10.0;
 /// Largest thickness the cloth keeps from a collider (m).
 pub const MAX_THICKNESS_M: f64 = 0.1;
+/// Farthest an attached pin may sit off its surface (m).
+pub const MAX_ATTACHMENT_LIFT_M: f64 = 1.0;
+/// Most references (glTF files) in a scene.
+pub const MAX_REFERENCES: usize = 64;
+/// Fastest a reference's animation may play, as a multiple of its own speed.
+pub const MAX_REFERENCE_SPEED: f64 = 1000.0;
 
 /// One problem found in a scene: the path of the offending value
 /// (`keys[0].pins[2].grid`, `layers[1].magnitude[0].value`) and a message in
@@ -188,8 +195,73 @@ impl Checker {
         for (index, collider) in scene.colliders.iter().enumerate().take(MAX_COLLIDERS) {
             self.collider(index, collider);
         }
+        if scene.references.len() > MAX_REFERENCES {
+            self.push(
+                format!("references[{MAX_REFERENCES}]"),
+                format!("the scene has {} references; the limit is {MAX_REFERENCES}", scene.references.len()),
+            );
+        }
+        for (index, reference) in scene.references.iter().enumerate().take(MAX_REFERENCES) {
+            self.reference(index, reference);
+        }
         if let Some(view) = &scene.view {
             self.view(view);
+        }
+    }
+
+    /// A reference's file is a glTF file; its clock runs forwards at a sane
+    /// speed from a frame on the timeline's scale; its placement and
+    /// thickness are within range at every key.
+    fn reference(&mut self, index: usize, reference: &Reference) {
+        let label = reference.label(index);
+        let path = |field: &str| format!("references[{index}].{field}");
+        let extension = std::path::Path::new(&reference.file).extension().and_then(|e| e.to_str());
+        if reference.file.trim().is_empty() {
+            self.push(
+                path("file"),
+                format!("{label}: file is empty: name a .glb or .gltf file (relative to the scene file)"),
+            );
+        } else if !extension.is_some_and(|e| ["glb", "gltf"].contains(&e.to_ascii_lowercase().as_str())) {
+            self.push(
+                path("file"),
+                format!("{label}: {:?} is not a glTF file: a reference is a .glb or .gltf", reference.file),
+            );
+        }
+        if !(reference.speed > 0.0 && reference.speed <= MAX_REFERENCE_SPEED) {
+            self.push(
+                path("speed"),
+                format!(
+                    "{label}: speed {} must be greater than 0 and at most {MAX_REFERENCE_SPEED}",
+                    readable_number(reference.speed)
+                ),
+            );
+        }
+        if reference.start_frame.abs() > MAX_TIMELINE_FRAME {
+            self.push(
+                path("start_frame"),
+                format!("{label}: start_frame {} is beyond ±{MAX_TIMELINE_FRAME}", reference.start_frame),
+            );
+        }
+        for (field, (x, y, z)) in [("center", &reference.center), ("rotation_deg", &reference.rotation_deg)] {
+            for (axis, param) in [x, y, z].into_iter().enumerate() {
+                let range = if field == "center" {
+                    ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m")
+                } else {
+                    ParamRange::Any
+                };
+                let what = format!("{label}: {field} {}", ["x", "y", "z"][axis]);
+                self.layer_param(&path(&format!("{field}[{axis}]")), &what, param, range);
+            }
+        }
+        self.layer_param(
+            &path("scale"),
+            &format!("{label}: scale"),
+            &reference.scale,
+            ParamRange::Positive(MAX_PIN_COORD_M),
+        );
+        if let Some(thickness) = &reference.thickness {
+            let range = ParamRange::Within(0.0, MAX_THICKNESS_M, " m");
+            self.layer_param(&path("thickness"), &format!("{label}: thickness"), thickness, range);
         }
     }
 
@@ -543,6 +615,55 @@ impl Checker {
                 ),
             );
         }
+        if let Some(attachment) = &pin.attach {
+            self.attachment(&format!("{path}.attach"), attachment, &format!("pin ({i}, {j}) in {at}"), scene);
+        }
+    }
+
+    /// An attachment names one reference by its name, and its numbers are
+    /// finite: an offset within the world, barycentric weights of a point on
+    /// the triangle. What the file holds is checked once it is read.
+    fn attachment(&mut self, path: &str, attachment: &Attachment, what: &str, scene: &Scene) {
+        let name = attachment.reference();
+        let named = scene.references.iter().filter(|r| r.name == name).count();
+        let field = |f: &str| format!("{path}.{f}");
+        if named != 1 {
+            let why = if named == 0 { "no reference has that name" } else { "several references have that name" };
+            self.push(field("reference"), format!("{what} is attached to reference {name:?}, but {why}"));
+        }
+        match attachment {
+            Attachment::Node(node) => {
+                let (x, y, z) = node.offset;
+                if ![x, y, z].iter().all(|c| c.is_finite() && c.abs() <= MAX_PIN_COORD_M) {
+                    self.push(
+                        field("offset"),
+                        format!("{what}: the offset {} is not a point in the world", readable_vec3(node.offset)),
+                    );
+                }
+            }
+            Attachment::Surface(surface) => {
+                let (a, b, c) = surface.barycentric;
+                let weights = [a, b, c];
+                if !weights.iter().all(|w| w.is_finite() && *w >= -1e-9) || ((a + b + c) - 1.0).abs() > 1e-6 {
+                    self.push(
+                        field("barycentric"),
+                        format!(
+                            "{what}: barycentric {} must be three weights of at least 0 summing to 1",
+                            readable_vec3(surface.barycentric)
+                        ),
+                    );
+                }
+                if !(surface.lift_m.is_finite() && surface.lift_m.abs() <= MAX_ATTACHMENT_LIFT_M) {
+                    self.push(
+                        field("lift_m"),
+                        format!(
+                            "{what}: lift_m {} must be within ±{MAX_ATTACHMENT_LIFT_M} m",
+                            readable_number(surface.lift_m)
+                        ),
+                    );
+                }
+            }
+        }
     }
 
     /// A pinless key's start: finite, its centre within the world's bounds.
@@ -720,7 +841,7 @@ mod tests {
             timeline: Timeline::default(),
             keys: vec![Key {
                 frame: 0,
-                pins: vec![Pin { grid: (0, 0), pos: (-1.0, 2.0, 0.0) }, Pin { grid: (32, 0), pos: (1.0, 2.0, 0.0) }],
+                pins: vec![Pin::at((0, 0), (-1.0, 2.0, 0.0)), Pin::at((32, 0), (1.0, 2.0, 0.0))],
                 elasticity: 1.1,
                 stiffness: 0.2,
                 relax: RelaxSettings::default(),
@@ -733,6 +854,7 @@ mod tests {
             layers: vec![],
             view: None,
             colliders: Vec::new(),
+            references: Vec::new(),
         }
     }
 
@@ -749,11 +871,10 @@ mod tests {
     fn pins_per_key_are_limited() {
         let mut s = scene();
         s.cloth.grid = (100, 100);
-        s.keys[0].pins =
-            (0..MAX_PINS_PER_KEY as u32).map(|k| Pin { grid: (k % 100, k / 100), pos: (0.0, 1.0, 0.0) }).collect();
+        s.keys[0].pins = (0..MAX_PINS_PER_KEY as u32).map(|k| Pin::at((k % 100, k / 100), (0.0, 1.0, 0.0))).collect();
         assert_eq!(s.validate(), Ok(()), "exactly the limit is allowed");
-        s.keys[0].pins.push(Pin { grid: (99, 99), pos: (0.0, 1.0, 0.0) });
-        s.keys[0].pins.push(Pin { grid: (999, 0), pos: (0.0, 1.0, 0.0) });
+        s.keys[0].pins.push(Pin::at((99, 99), (0.0, 1.0, 0.0)));
+        s.keys[0].pins.push(Pin::at((999, 0), (0.0, 1.0, 0.0)));
         assert_eq!(
             messages(&s),
             ["keys[0].pins[4096]: key at frame 0 has 4 098 pins; the limit is 4 096 pins per key"],

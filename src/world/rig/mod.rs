@@ -211,7 +211,7 @@ fn check_mesh(mesh: &RigMesh, nodes: &[RigNode], skins: &[Skin]) -> Result<(), S
     if !mesh.positions.iter().all(|p| p.is_finite()) {
         return Err(format!("{what} has a vertex that is not finite"));
     }
-    if mesh.indices.len() % 3 != 0 {
+    if !mesh.indices.len().is_multiple_of(3) {
         return Err(format!("{what} has {} triangle indices, not a multiple of 3", mesh.indices.len()));
     }
     if let Some(bad) = mesh.indices.iter().find(|&&i| i as usize >= count) {

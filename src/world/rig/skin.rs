@@ -51,6 +51,32 @@ impl Rig {
         }
     }
 
+    /// Vertex `vertex` of mesh `mesh` at `pose`, in the file's world: the
+    /// same number [`Rig::posed_positions`] gives it. The origin for an
+    /// index out of range.
+    pub fn posed_vertex(&self, mesh: usize, vertex: usize, pose: &Pose) -> DVec3 {
+        let Some(mesh) = self.meshes.get(mesh) else { return DVec3::ZERO };
+        let Some(&bind) = mesh.positions.get(vertex) else { return DVec3::ZERO };
+        let mut p = bind;
+        for (target, &weight) in mesh.morph_targets.iter().zip(&pose.morph_weights[mesh.node]) {
+            if weight != 0.0 {
+                p += weight * target[vertex];
+            }
+        }
+        let Some(skin) = mesh.skin.map(|s| &self.skins[s]) else {
+            return pose.world_from_node[mesh.node].transform_point3(p);
+        };
+        let influences = &mesh.influences;
+        let range = influences.start[vertex] as usize..influences.start[vertex + 1] as usize;
+        let mut skinned = DVec3::ZERO;
+        for (&joint, &weight) in influences.joint[range.clone()].iter().zip(&influences.weight[range]) {
+            let joint = joint as usize;
+            skinned +=
+                weight * (pose.world_from_node[skin.joints[joint]] * skin.inverse_bind[joint]).transform_point3(p);
+        }
+        skinned
+    }
+
     /// Every mesh of the rig at `pose`, in [`Rig::meshes`] order.
     pub fn posed_meshes(&self, pose: &Pose) -> Vec<PosedMesh> {
         (0..self.meshes.len())
@@ -171,6 +197,18 @@ mod tests {
         // Just before 1 s the STEP weight is still 0.
         rig.posed_positions(0, &rig.pose(Some(0), 0.999), &mut out);
         assert!(out[0].z.abs() < 1e-12);
+    }
+
+    #[test]
+    fn one_vertex_posed_alone_is_the_vertex_posed_with_the_rest() {
+        let rig = bent();
+        let pose = rig.pose(Some(0), 1.0);
+        let mut all = Vec::new();
+        rig.posed_positions(0, &pose, &mut all);
+        for (v, p) in all.iter().enumerate() {
+            assert_eq!(rig.posed_vertex(0, v, &pose), *p);
+        }
+        assert_eq!(rig.posed_vertex(0, 99, &pose), DVec3::ZERO);
     }
 
     #[test]

@@ -1,0 +1,148 @@
+//! A scene's references at a frame: each file's animation played on the
+//! scene's clock, its meshes skinned and placed in the scene.
+
+use std::sync::{Arc, Mutex};
+
+use glam::{DMat4, DVec3};
+
+use super::track::sample;
+use crate::scene::{Param, ParamVec3, Reference, Scene};
+use crate::world::rig::{Pose, PosedMesh, Rig};
+use crate::world::{ColliderShape, MeshSolid, Obstacle};
+
+/// One reference at one frame.
+pub struct PosedReference<'a> {
+    pub rig: &'a Arc<Rig>,
+    /// Takes the file's coordinates into the scene's.
+    pub scene_from_file: DMat4,
+    pub pose: Pose,
+    /// The clip playing (an index into the rig's clips) and the time on its clock.
+    pub clip: Option<usize>,
+    pub t_secs: f64,
+}
+
+/// Reference `index` of `scene` at `frame`; None when there is no such
+/// reference or its file has not been read (a scene parsed from text).
+pub fn reference_at(scene: &Scene, index: usize, frame: f64) -> Option<PosedReference<'_>> {
+    let reference = scene.references.get(index)?;
+    let rig = reference.rig.0.as_ref()?;
+    let clip = match &reference.animation {
+        Some(name) => rig.clip_named(name),
+        None => (!rig.clips().is_empty()).then_some(0),
+    };
+    let span = clip.map_or((0.0, 0.0), |c| rig.clips()[c].span_secs());
+    let t_secs = reference.clip_time_secs(frame, scene.timeline.fps, span);
+    let scene_from_file = scene_from_file(reference, frame);
+    Some(PosedReference { rig, scene_from_file, pose: rig.pose(clip, t_secs), clip, t_secs })
+}
+
+/// `center · rotation · scale` of `reference` at `frame`; a scale an
+/// easing takes to 0 or below reads as a micrometre, as a mesh collider's.
+pub fn scene_from_file(reference: &Reference, frame: f64) -> DMat4 {
+    let at = |param: &Param| sample(param, frame);
+    let vector = |v: &ParamVec3| DVec3::new(at(&v.0), at(&v.1), at(&v.2));
+    let (x, y, z) = &reference.rotation_deg;
+    let rotation = ColliderShape::rotation_from_deg(at(x), at(y), at(z));
+    let scale = at(&reference.scale).max(1e-6);
+    DMat4::from_translation(vector(&reference.center))
+        * DMat4::from_mat3(rotation)
+        * DMat4::from_scale(DVec3::splat(scale))
+}
+
+impl PosedReference<'_> {
+    /// Every mesh of the file at this pose, in scene coordinates, in the
+    /// rig's mesh order.
+    pub fn meshes(&self) -> Vec<PosedMesh> {
+        let mut meshes = self.rig.posed_meshes(&self.pose);
+        for mesh in &mut meshes {
+            mesh.positions.iter_mut().for_each(|p| *p = self.scene_from_file.transform_point3(*p));
+            // A placement is a rotation and a uniform scale: normals turn with it.
+            mesh.normals
+                .iter_mut()
+                .for_each(|n| *n = self.scene_from_file.transform_vector3(*n).normalize_or(DVec3::Y));
+        }
+        meshes
+    }
+
+    /// Node `node`'s transform into the scene at this pose (None for no such node).
+    pub fn scene_from_node(&self, node: usize) -> Option<DMat4> {
+        Some(self.scene_from_file * *self.pose.world_from_node.get(node)?)
+    }
+}
+
+/// The references of `scene` that keep the cloth out, posed at `frame`,
+/// each with the thickness the cloth keeps from it: its own, else
+/// `key_thickness`. One solid per reference, of all its meshes.
+pub fn reference_obstacles(scene: &Scene, frame: f64, key_thickness: f64) -> Vec<Obstacle> {
+    let mut obstacles = Vec::new();
+    for (index, reference) in scene.references.iter().enumerate() {
+        if !reference.collider {
+            continue;
+        }
+        let Some(solid) = reference_at(scene, index, frame).and_then(|posed| posed.solid()) else { continue };
+        let thickness = reference.thickness.as_ref().map_or(key_thickness, |t| sample(t, frame)).max(0.0);
+        let shape =
+            ColliderShape::Mesh { solid, center: DVec3::ZERO, world_from_local: glam::DMat3::IDENTITY, scale: 1.0 };
+        obstacles.push(Obstacle { shape, thickness });
+    }
+    obstacles
+}
+
+/// What a posed solid is made from: the rig (held, so its address is not
+/// reused while the entry lives), the clip and its time, the placement.
+struct SolidKey {
+    rig: Arc<Rig>,
+    clip: Option<usize>,
+    t_bits: u64,
+    placement_bits: [u64; 16],
+}
+
+impl PartialEq for SolidKey {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.rig, &other.rig)
+            && self.clip == other.clip
+            && self.t_bits == other.t_bits
+            && self.placement_bits == other.placement_bits
+    }
+}
+
+/// The posed solids built last: a frame asks for its references' solids
+/// several times (every key's rest shape, the frame itself, the viewport),
+/// and building one is the costly part (a bounding-volume hierarchy).
+static POSED_SOLIDS: Mutex<Vec<(SolidKey, Arc<MeshSolid>)>> = Mutex::new(Vec::new());
+
+/// How many posed solids [`POSED_SOLIDS`] keeps.
+const KEPT_SOLIDS: usize = 16;
+
+impl PosedReference<'_> {
+    /// All its meshes at this pose as one solid in scene coordinates; None
+    /// when they hold no triangle with area. Equal poses give the same solid.
+    pub fn solid(&self) -> Option<Arc<MeshSolid>> {
+        let key = SolidKey {
+            rig: Arc::clone(self.rig),
+            clip: self.clip,
+            t_bits: self.t_secs.to_bits(),
+            placement_bits: self.scene_from_file.to_cols_array().map(f64::to_bits),
+        };
+        let kept =
+            |solids: &Vec<(SolidKey, Arc<MeshSolid>)>| solids.iter().find(|(k, _)| *k == key).map(|(_, s)| s.clone());
+        if let Some(solid) = POSED_SOLIDS.lock().ok().and_then(|solids| kept(&solids)) {
+            return Some(solid);
+        }
+        let mut vertices = Vec::new();
+        let mut triangles = Vec::new();
+        for (mesh, placed) in self.rig.meshes().iter().zip(self.meshes()) {
+            let base = vertices.len() as u32;
+            vertices.extend(placed.positions);
+            triangles.extend(mesh.indices.chunks_exact(3).map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+        }
+        let solid = Arc::new(MeshSolid::new(&vertices, &triangles).ok()?);
+        if let Ok(mut solids) = POSED_SOLIDS.lock() {
+            if solids.len() >= KEPT_SOLIDS {
+                solids.remove(0);
+            }
+            solids.push((key, solid.clone()));
+        }
+        Some(solid)
+    }
+}

@@ -1,0 +1,291 @@
+//! Reading the glTF 2.0 files a scene's references name into rigs: nodes,
+//! skins, the triangle meshes of the default scene, and animations.
+//!
+//! What Drape does not read is said, not guessed at: a file that needs an
+//! extension, a skinned mesh without joints, an animation name the file
+//! lacks. Lines and points are not surfaces and are left out; cameras,
+//! lights and textures are not read (a mesh takes its material's base colour).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{DMat4, DQuat, DVec3};
+
+use super::error::SceneError;
+use super::locate::locate;
+use super::mesh_files::{gltf_buffers, read_file_bytes};
+use super::references::{Attachment, LoadedRig};
+use super::types::Scene;
+use crate::world::rig::{Channel, Clip, Influences, Interpolation, Property, Rig, RigMesh, RigNode, Skin, Trs};
+
+/// Most vertices all the meshes of one referenced file may have together.
+pub const MAX_REFERENCE_VERTICES: usize = 4_000_000;
+
+/// Reads the file of every reference of `scene`, whose file is `scene_file`
+/// and whose text is `text` (for positions in messages), and keeps each rig
+/// in its reference. Hidden references are read too, so showing one never
+/// fails later. A named animation the file lacks is an error at its name,
+/// and so is an attached pin naming a node or triangle the file lacks.
+pub fn read_references(scene: &mut Scene, scene_file: &Path, text: &str) -> Result<(), SceneError> {
+    let folder = scene_file.parent().unwrap_or(Path::new(""));
+    let label = scene_file.display().to_string();
+    let mut read: HashMap<PathBuf, Arc<Rig>> = HashMap::new();
+    for (index, reference) in scene.references.iter_mut().enumerate() {
+        let what = reference.label(index);
+        let path = folder.join(&reference.file);
+        let rig = match read.get(&path) {
+            Some(rig) => Arc::clone(rig),
+            None => {
+                let rig = Arc::new(read_rig(&path).map_err(|why| {
+                    let at = locate(text, &format!("references[{index}].file"));
+                    SceneError::invalid(&label, at, format!("{what}: cannot use {:?}: {why}", reference.file))
+                })?);
+                read.insert(path, Arc::clone(&rig));
+                rig
+            }
+        };
+        if let Some(name) = &reference.animation
+            && rig.clip_named(name).is_none()
+        {
+            let names: Vec<String> = rig.clips().iter().map(|c| format!("{:?}", c.name)).collect();
+            let has = if names.is_empty() { "it has none".to_owned() } else { format!("it has {}", names.join(", ")) };
+            let at = locate(text, &format!("references[{index}].animation"));
+            let message = format!("{what}: {:?} has no animation {name:?} ({has})", reference.file);
+            return Err(SceneError::invalid(&label, at, message));
+        }
+        reference.rig = LoadedRig(Some(rig));
+    }
+    check_attachments(scene, &label, text)
+}
+
+/// Every attached pin names a node or a triangle its reference's file has.
+fn check_attachments(scene: &Scene, label: &str, text: &str) -> Result<(), SceneError> {
+    for (k, key) in scene.keys.iter().enumerate() {
+        for (p, pin) in key.pins.iter().enumerate() {
+            let Some(attachment) = &pin.attach else { continue };
+            let Some(reference) = scene.references.iter().find(|r| r.name == attachment.reference()) else { continue };
+            let Some(rig) = reference.rig.0.as_deref() else { continue };
+            let what =
+                format!("pin {:?} in the key at frame {} is attached to {:?}", pin.grid, key.frame, reference.file);
+            let problem = match attachment {
+                Attachment::Node(node) if rig.node_named(&node.node).is_none() => {
+                    Some(("node", format!("{what}, which has no node {:?}", node.node)))
+                }
+                Attachment::Surface(surface) => match rig.meshes().get(surface.mesh) {
+                    None => Some((
+                        "mesh",
+                        format!("{what}, which has {} meshes (mesh {} asked for)", rig.meshes().len(), surface.mesh),
+                    )),
+                    Some(mesh) if surface.triangle >= mesh.indices.len() / 3 => Some((
+                        "triangle",
+                        format!(
+                            "{what}, whose mesh {} has {} triangles (triangle {} asked for)",
+                            surface.mesh,
+                            mesh.indices.len() / 3,
+                            surface.triangle
+                        ),
+                    )),
+                    Some(_) => None,
+                },
+                Attachment::Node(_) => None,
+            };
+            if let Some((field, message)) = problem {
+                let at = locate(text, &format!("keys[{k}].pins[{p}].attach.{field}"));
+                return Err(SceneError::invalid(label, at, message));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The rig in the glTF file at `path`, or why not, in a user's words.
+pub fn read_rig(path: &Path) -> Result<Rig, String> {
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("glb" | "gltf")) {
+        return Err("a reference is a glTF 2.0 file: .glb, or .gltf with its .bin".to_owned());
+    }
+    let bytes = read_file_bytes(path)?;
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
+    if let Some(needed) = gltf.document.extensions_required().next() {
+        return Err(format!("it needs the extension {needed}, which Drape does not read"));
+    }
+    let buffers = gltf_buffers(&gltf, path.parent().unwrap_or(Path::new("")))?;
+    let document = &gltf.document;
+    let nodes = read_nodes(document);
+    let skins = read_skins(document, &buffers)?;
+    let meshes = read_meshes(document, &buffers)?;
+    let clips = read_clips(document, &buffers, &nodes)?;
+    Rig::new(nodes, meshes, skins, clips)
+}
+
+/// Every node with its parent, rest transform and default morph weights.
+fn read_nodes(document: &gltf::Document) -> Vec<RigNode> {
+    let mut nodes: Vec<RigNode> = document
+        .nodes()
+        .map(|node| {
+            let (translation, rotation, scale) = node.transform().decomposed();
+            let rest = Trs {
+                translation: DVec3::from_array(translation.map(f64::from)),
+                rotation: DQuat::from_array(rotation.map(f64::from)).normalize(),
+                scale: DVec3::from_array(scale.map(f64::from)),
+            };
+            let targets = node.mesh().and_then(|m| m.primitives().next()).map_or(0, |p| p.morph_targets().len());
+            let defaults = node.weights().or_else(|| node.mesh().and_then(|m| m.weights()));
+            let morph_weights = match defaults {
+                Some(weights) if weights.len() == targets => weights.iter().map(|&w| f64::from(w)).collect(),
+                _ => vec![0.0; targets],
+            };
+            RigNode { name: node.name().unwrap_or_default().to_owned(), parent: None, rest, morph_weights }
+        })
+        .collect();
+    for node in document.nodes() {
+        for child in node.children() {
+            nodes[child.index()].parent = Some(node.index());
+        }
+    }
+    nodes
+}
+
+fn read_skins(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Vec<Skin>, String> {
+    document
+        .skins()
+        .map(|skin| {
+            let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+            let reader = skin.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+            let inverse_bind = match reader.read_inverse_bind_matrices() {
+                Some(matrices) => matrices.map(|m| DMat4::from_cols_array_2d(&m.map(|c| c.map(f64::from)))).collect(),
+                None => vec![DMat4::IDENTITY; joints.len()],
+            };
+            Ok(Skin { joints, inverse_bind })
+        })
+        .collect()
+}
+
+/// The triangle primitives the default scene (or the first) draws, each
+/// with the node that draws it.
+fn read_meshes(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Vec<RigMesh>, String> {
+    let Some(scene) = document.default_scene().or_else(|| document.scenes().next()) else {
+        return Ok(Vec::new());
+    };
+    let mut meshes = Vec::new();
+    let mut vertices = 0usize;
+    let mut stack: Vec<gltf::Node> = scene.nodes().collect();
+    while let Some(node) = stack.pop() {
+        stack.extend(node.children());
+        let Some(mesh) = node.mesh() else { continue };
+        for primitive in mesh.primitives() {
+            let Some(rig_mesh) = read_primitive(&node, &mesh, &primitive, buffers)? else { continue };
+            vertices += rig_mesh.positions.len();
+            if vertices > MAX_REFERENCE_VERTICES {
+                return Err(format!("its meshes have over {MAX_REFERENCE_VERTICES} vertices"));
+            }
+            meshes.push(rig_mesh);
+        }
+    }
+    Ok(meshes)
+}
+
+/// One primitive as a rig mesh; None for lines and points.
+fn read_primitive(
+    node: &gltf::Node,
+    mesh: &gltf::Mesh,
+    primitive: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+) -> Result<Option<RigMesh>, String> {
+    use gltf::mesh::Mode;
+    let name = mesh.name().unwrap_or_default().to_owned();
+    let what = format!("mesh {name:?}");
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+    let Some(positions) = reader.read_positions() else { return Ok(None) };
+    let positions: Vec<DVec3> = positions.map(|p| DVec3::from_array(p.map(f64::from))).collect();
+    let count = positions.len() as u32;
+    let listed: Vec<u32> = match reader.read_indices() {
+        Some(indices) => indices.into_u32().collect(),
+        None => (0..count).collect(),
+    };
+    let indices = match primitive.mode() {
+        Mode::Triangles => listed.chunks_exact(3).flatten().copied().collect(),
+        Mode::TriangleStrip => (2..listed.len())
+            .flat_map(|k| {
+                let (a, b, c) = (listed[k - 2], listed[k - 1], listed[k]);
+                if k % 2 == 0 { [a, b, c] } else { [b, a, c] }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..listed.len()).flat_map(|k| [listed[0], listed[k - 1], listed[k]]).collect(),
+        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip => return Ok(None),
+    };
+    let skin = node.skin().map(|s| s.index());
+    let mut influences = Influences::default();
+    if skin.is_some() {
+        let mut sets = Vec::new();
+        for set in 0.. {
+            let (Some(joints), Some(weights)) = (reader.read_joints(set), reader.read_weights(set)) else { break };
+            let joints: Vec<[u16; 4]> = joints.into_u16().collect();
+            let weights: Vec<[f32; 4]> = weights.into_f32().collect();
+            if joints.len() != positions.len() || weights.len() != positions.len() {
+                return Err(format!("{what}: JOINTS_{set} or WEIGHTS_{set} does not cover every vertex"));
+            }
+            sets.push((joints, weights));
+        }
+        if sets.is_empty() {
+            return Err(format!("{what} is skinned but has no JOINTS_0 and WEIGHTS_0"));
+        }
+        influences.start.push(0);
+        for v in 0..positions.len() {
+            for (joints, weights) in &sets {
+                for (&joint, &weight) in joints[v].iter().zip(&weights[v]) {
+                    if weight != 0.0 {
+                        influences.joint.push(joint);
+                        influences.weight.push(f64::from(weight));
+                    }
+                }
+            }
+            influences.start.push(influences.joint.len() as u32);
+        }
+    }
+    let morph_targets = reader
+        .read_morph_targets()
+        .map(|(moves, _, _)| match moves {
+            Some(moves) => moves.map(|d| DVec3::from_array(d.map(f64::from))).collect(),
+            None => vec![DVec3::ZERO; positions.len()],
+        })
+        .collect();
+    let color = primitive.material().pbr_metallic_roughness().base_color_factor();
+    Ok(Some(RigMesh { name, node: node.index(), skin, positions, indices, influences, morph_targets, color }))
+}
+
+/// Every animation, its channels' samplers read out in full.
+fn read_clips(document: &gltf::Document, buffers: &[Vec<u8>], nodes: &[RigNode]) -> Result<Vec<Clip>, String> {
+    use gltf::animation::util::ReadOutputs;
+    let mut clips = Vec::new();
+    for animation in document.animations() {
+        let name = animation.name().map_or_else(|| format!("animation {}", animation.index() + 1), str::to_owned);
+        let mut channels = Vec::new();
+        for channel in animation.channels() {
+            let node = channel.target().node().index();
+            let reader = channel.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+            let (Some(inputs), Some(outputs)) = (reader.read_inputs(), reader.read_outputs()) else {
+                return Err(format!("animation {name:?} has a channel whose keys cannot be read"));
+            };
+            let times_secs: Vec<f64> = inputs.map(f64::from).collect();
+            let (property, width, values): (Property, usize, Vec<f64>) = match outputs {
+                ReadOutputs::Translations(v) => (Property::Translation, 3, v.flatten().map(f64::from).collect()),
+                ReadOutputs::Rotations(v) => (Property::Rotation, 4, v.into_f32().flatten().map(f64::from).collect()),
+                ReadOutputs::Scales(v) => (Property::Scale, 3, v.flatten().map(f64::from).collect()),
+                ReadOutputs::MorphTargetWeights(v) => {
+                    let width = nodes.get(node).map_or(0, |n| n.morph_weights.len());
+                    (Property::MorphWeights, width, v.into_f32().map(f64::from).collect())
+                }
+            };
+            let interpolation = match channel.sampler().interpolation() {
+                gltf::animation::Interpolation::Linear => Interpolation::Linear,
+                gltf::animation::Interpolation::Step => Interpolation::Step,
+                gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+            };
+            channels.push(Channel { node, property, interpolation, times_secs, values, width });
+        }
+        clips.push(Clip { name, channels });
+    }
+    Ok(clips)
+}

@@ -1,0 +1,335 @@
+//! References: glTF files read into rigs and posed on the scene's clock.
+//!
+//! A small glTF is written here by code (a parent chain, a CUBICSPLINE and
+//! a STEP channel, a two-joint skin with a morph target) and its poses are
+//! compared with values worked out by hand; the bundled walker
+//! (`assets/walker.glb`, made by `assets/make_walker.py`) is checked for
+//! what a character must do: stand in its bind pose, loop its walk. Files
+//! that are missing, malformed or name what they lack are positioned errors.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use drape::animate::references_at::reference_at;
+use drape::scene::{self, read_rig};
+use drape::world::rig::Rig;
+use glam::{DMat4, DQuat, DVec3};
+use serde_json::json;
+
+/// Binary data and the accessors over it, for writing a .gltf with a .bin.
+#[derive(Default)]
+struct Buffer {
+    bytes: Vec<u8>,
+    views: Vec<serde_json::Value>,
+    accessors: Vec<serde_json::Value>,
+}
+
+impl Buffer {
+    /// Adds `values` (f32) as an accessor of `kind` ("SCALAR", "VEC3", …)
+    /// and returns its index; `min_max` for POSITION and inputs.
+    fn floats(&mut self, values: &[f32], kind: &str, width: usize, min_max: bool) -> usize {
+        let offset = self.bytes.len();
+        values.iter().for_each(|v| self.bytes.extend_from_slice(&v.to_le_bytes()));
+        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": values.len() * 4}));
+        let mut accessor = json!({
+            "bufferView": self.views.len() - 1, "componentType": 5126, "count": values.len() / width, "type": kind
+        });
+        if min_max {
+            let column = |c: usize| values.iter().skip(c).step_by(width).copied();
+            let min: Vec<f32> = (0..width).map(|c| column(c).fold(f32::INFINITY, f32::min)).collect();
+            let max: Vec<f32> = (0..width).map(|c| column(c).fold(f32::NEG_INFINITY, f32::max)).collect();
+            accessor["min"] = json!(min);
+            accessor["max"] = json!(max);
+        }
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    /// Adds `values` as unsigned bytes (JOINTS_0) of `kind`.
+    fn bytes(&mut self, values: &[u8], kind: &str, width: usize) -> usize {
+        let offset = self.bytes.len();
+        self.bytes.extend_from_slice(values);
+        while !self.bytes.len().is_multiple_of(4) {
+            self.bytes.push(0);
+        }
+        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": values.len()}));
+        self.accessors.push(json!({
+            "bufferView": self.views.len() - 1, "componentType": 5121, "count": values.len() / width, "type": kind
+        }));
+        self.accessors.len() - 1
+    }
+}
+
+/// A glTF with: `arm` at (0, 1, 0) turned 90° about Y; its child `hand` 0.5
+/// along x, whose translation a CUBICSPLINE moves; a triangle skinned to
+/// both, with one morph target; `arm`'s scale keyed STEP. Written to
+/// `folder/rig.gltf` + `rig.bin`.
+fn write_test_gltf(folder: &Path) -> PathBuf {
+    let mut buffer = Buffer::default();
+    let positions = buffer.floats(&[0.0, 1.0, 0.0, 0.0, 1.0, -0.5, 0.0, 1.0, 0.5], "VEC3", 3, true);
+    let joints = buffer.bytes(&[0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0], "VEC4", 4);
+    let weights = buffer.floats(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0], "VEC4", 4, false);
+    let morph = buffer.floats(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.2, 0.0], "VEC3", 3, true);
+    // Bind: arm's world is T(0, 1, 0)·R_y(90°), hand's that times T(0.5, 0, 0).
+    let arm_world = DMat4::from_rotation_translation(DQuat::from_rotation_y(90f64.to_radians()), DVec3::Y);
+    let hand_world = arm_world * DMat4::from_translation(DVec3::new(0.5, 0.0, 0.0));
+    let inverse_bind: Vec<f32> =
+        [arm_world.inverse(), hand_world.inverse()].iter().flat_map(|m| m.to_cols_array()).map(|v| v as f32).collect();
+    let inverse_bind = buffer.floats(&inverse_bind, "MAT4", 16, false);
+    let times = buffer.floats(&[0.0, 1.0], "SCALAR", 1, true);
+    // CUBICSPLINE: (in-tangent, value, out-tangent) per key.
+    let cubic = [0.0, 0.0, 0.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let cubic = buffer.floats(&cubic, "VEC3", 3, false);
+    let step = buffer.floats(&[1.0, 1.0, 1.0, 2.0, 2.0, 2.0], "VEC3", 3, false);
+    let morph_weights = buffer.floats(&[0.0, 1.0], "SCALAR", 1, false);
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let gltf = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 2]}],
+        "nodes": [
+            {"name": "arm", "translation": [0.0, 1.0, 0.0], "rotation": [0.0, s, 0.0, s], "children": [1]},
+            {"name": "hand", "translation": [0.5, 0.0, 0.0]},
+            {"name": "skinned", "mesh": 0, "skin": 0}
+        ],
+        "meshes": [{"name": "tri", "weights": [0.0], "primitives": [{
+            "attributes": {"POSITION": positions, "JOINTS_0": joints, "WEIGHTS_0": weights},
+            "targets": [{"POSITION": morph}],
+            "material": 0
+        }]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 0.125, 1.0]}}],
+        "skins": [{"joints": [0, 1], "inverseBindMatrices": inverse_bind}],
+        "animations": [{"name": "reach", "samplers": [
+            {"input": times, "output": cubic, "interpolation": "CUBICSPLINE"},
+            {"input": times, "output": step, "interpolation": "STEP"},
+            {"input": times, "output": morph_weights, "interpolation": "LINEAR"}
+        ], "channels": [
+            {"sampler": 0, "target": {"node": 1, "path": "translation"}},
+            {"sampler": 1, "target": {"node": 0, "path": "scale"}},
+            {"sampler": 2, "target": {"node": 2, "path": "weights"}}
+        ]}],
+        "buffers": [{"uri": "rig.bin", "byteLength": buffer.bytes.len()}],
+        "bufferViews": buffer.views,
+        "accessors": buffer.accessors,
+    });
+    std::fs::write(folder.join("rig.bin"), &buffer.bytes).unwrap();
+    let path = folder.join("rig.gltf");
+    std::fs::write(&path, serde_json::to_string_pretty(&gltf).unwrap()).unwrap();
+    path
+}
+
+fn origin(rig: &Rig, node: &str, t_secs: f64) -> DVec3 {
+    let pose = rig.pose(Some(0), t_secs);
+    pose.world_from_node[rig.node_named(node).unwrap()].transform_point3(DVec3::ZERO)
+}
+
+#[test]
+fn a_written_gltf_poses_as_worked_out_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    let rig = read_rig(&write_test_gltf(dir.path())).unwrap();
+    assert_eq!(rig.nodes().iter().map(|n| n.name.as_str()).collect::<Vec<_>>(), ["arm", "hand", "skinned"]);
+    assert_eq!(rig.nodes()[1].parent, Some(0));
+    assert_eq!(rig.meshes()[0].color, [0.5, 0.25, 0.125, 1.0]);
+    assert_eq!(rig.clips()[0].span_secs(), (0.0, 1.0));
+    // The hand's translation at t = 0.5: Hermite with td = 1 from 0.5 (out-tangent
+    // 1) to 1.5 (in-tangent 0): 0.5·0.5 + 0.125·1 + 0.5·1.5 = 1.125 along the
+    // arm's x, which the arm's 90° about Y turns to −z; the STEP scale is still 1.
+    let hand = origin(&rig, "hand", 0.5);
+    assert!(hand.abs_diff_eq(DVec3::new(0.0, 1.0, -1.125), 1e-6), "{hand}");
+    // At 1 s: 1.5 along x, and the arm's STEP scale is 2: −3 along z.
+    let hand = origin(&rig, "hand", 1.0);
+    assert!(hand.abs_diff_eq(DVec3::new(0.0, 1.0, -3.0), 1e-6), "{hand}");
+
+    let mut skinned = Vec::new();
+    rig.posed_positions(0, &rig.rest_pose(), &mut skinned);
+    for (posed, bind) in skinned.iter().zip(&rig.meshes()[0].positions) {
+        assert!(posed.abs_diff_eq(*bind, 1e-6), "the bind pose moves {bind} to {posed}");
+    }
+    rig.posed_positions(0, &rig.pose(Some(0), 1.0), &mut skinned);
+    // Vertex 0, on the arm at its origin (0, 1, 0): the arm is still there.
+    assert!(skinned[0].abs_diff_eq(DVec3::new(0.0, 1.0, 0.0), 1e-6), "{}", skinned[0]);
+    // Vertex 1, on the hand where the hand was bound: wherever the hand now is.
+    assert!(skinned[1].abs_diff_eq(DVec3::new(0.0, 1.0, -3.0), 1e-6), "{}", skinned[1]);
+    // Vertex 2, (0, 1, 0.5) morphed by +0.2 y at weight 1, half arm and half
+    // hand. In the arm's bind frame it is at (−0.5, 0.2, 0); the arm scaled
+    // by 2 puts it at (−1, 0.4, 0) → world (0, 1.4, 1). In the hand's frame
+    // it is at (−1, 0.2, 0); the hand now 1.5 along the arm, scaled 2 with
+    // it: (1.5 − 1)·2 = 1 along the arm's x, 0.4 up → world (0, 1.4, −1).
+    // Half each: (0, 1.4, 0).
+    assert!(skinned[2].abs_diff_eq(DVec3::new(0.0, 1.4, 0.0), 1e-6), "{}", skinned[2]);
+}
+
+fn walker() -> Rig {
+    read_rig(Path::new("assets/walker.glb")).unwrap()
+}
+
+#[test]
+fn the_walker_stands_in_its_bind_pose_and_loops_its_walk() {
+    let rig = walker();
+    assert_eq!(rig.clips().len(), 1);
+    assert_eq!(rig.clips()[0].name, "Walk");
+    assert_eq!(rig.clips()[0].span_secs(), (0.0, 1.0));
+    assert_eq!(rig.skins()[0].joints.len(), 19);
+    assert!((9_000..=11_000).contains(&rig.vertex_count()), "{}", rig.vertex_count());
+    let (mut bind, mut start, mut end) = (Vec::new(), Vec::new(), Vec::new());
+    rig.posed_positions(0, &rig.rest_pose(), &mut bind);
+    let most_moved = bind.iter().zip(&rig.meshes()[0].positions).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
+    assert!(most_moved < 1e-5, "the bind pose moves a vertex by {most_moved} m");
+    rig.posed_positions(0, &rig.pose(Some(0), 0.0), &mut start);
+    rig.posed_positions(0, &rig.pose(Some(0), 1.0), &mut end);
+    let seam = start.iter().zip(&end).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
+    assert!(seam < 1e-6, "the walk's last pose is {seam} m from its first");
+    // Mid-stride the feet are apart and nothing sinks through the floor.
+    let mut mid = Vec::new();
+    rig.posed_positions(0, &rig.pose(Some(0), 0.25), &mut mid);
+    let lowest = mid.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    let (front, back) = mid.iter().fold((f64::NEG_INFINITY, f64::INFINITY), |(f, b), p| (f.max(p.z), b.min(p.z)));
+    assert!(lowest > -0.01, "a foot sinks to {lowest} m");
+    assert!(front - back > 0.7, "mid-stride spans only {} m front to back", front - back);
+}
+
+/// A scene with the walker placed at (1, 0, 0), half speed, repeated,
+/// starting at frame 12, with `extra` added to the reference.
+fn walker_scene(extra: &str) -> String {
+    let assets = std::fs::canonicalize("assets").unwrap();
+    format!(
+        "(version: 1, cloth: (size: (1.0, 1.0), grid: (5, 5)), timeline: (fps: 24.0, start: 0, end: 48), \
+         keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 2.0, 0.0))])], \
+         references: [(name: \"hero\", file: {:?}, center: (1.0, 0.0, 0.0), speed: 0.5, repeat: true, \
+         start_frame: 12{extra})])",
+        assets.join("walker.glb").display().to_string()
+    )
+}
+
+fn write_scene(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("scene.ron");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_reference_plays_on_the_scene_clock_where_it_is_placed() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene::load(&write_scene(dir.path(), &walker_scene(""))).unwrap();
+    let rig = walker();
+    let head = rig.node_named("head").unwrap();
+    // Frame 12 + 24 = 0.5 s of the clip at half speed; frame 12 + 48 + 24 repeats it.
+    let at = |frame: f64| reference_at(&scene, 0, frame).unwrap().scene_from_node(head).unwrap().w_axis.truncate();
+    let file = rig.pose(Some(0), 0.5).world_from_node[head].w_axis.truncate();
+    assert!(at(36.0).abs_diff_eq(file + DVec3::X, 1e-9), "{} vs {}", at(36.0), file + DVec3::X);
+    assert!(at(84.0).abs_diff_eq(at(36.0), 1e-9), "the walk repeats every 48 frames at half speed");
+    assert!(!at(30.0).abs_diff_eq(at(36.0), 1e-6), "the head moves while the walk plays");
+}
+
+fn drape_check(path: &Path) -> (bool, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_drape")).arg("check").arg(path).output().unwrap();
+    let text = String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success() || output.status.code() == Some(1), "{text}");
+    (output.status.success(), text)
+}
+
+#[test]
+fn check_says_what_a_reference_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ok, text) = drape_check(&write_scene(dir.path(), &walker_scene("")));
+    assert!(ok, "{text}");
+    assert!(text.contains("references 1"), "{text}");
+    assert!(text.contains("reference \"hero\""), "{text}");
+    assert!(text.contains("19 joints"), "{text}");
+    assert!(text.contains("animation \"Walk\" 0–1 s (48 frames at speed 0.5) from frame 12, repeated"), "{text}");
+}
+
+#[test]
+fn missing_malformed_or_mismatched_references_are_positioned_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = walker_scene("").replace("walker.glb", "nobody.glb");
+    let (ok, message) = drape_check(&write_scene(dir.path(), &text));
+    assert!(!ok);
+    let column = text.find("file:").unwrap() + "file: ".len() + 1;
+    assert!(message.contains(&format!("scene.ron:1:{column}: reference \"hero\": cannot use")), "{message}");
+    assert!(message.contains("there is no such file"), "{message}");
+
+    std::fs::write(dir.path().join("broken.glb"), b"glTF\x02\x00\x00\x00garbage").unwrap();
+    let text = "(version: 1, cloth: (size: (1.0, 1.0), grid: (5, 5)),\n keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 2.0, 0.0))])],\n references: [\n  (file: \"broken.glb\")])";
+    let (ok, message) = drape_check(&write_scene(dir.path(), text));
+    assert!(!ok);
+    assert!(
+        message.contains("scene.ron:4:10: reference 1: cannot use \"broken.glb\": not a readable glTF file"),
+        "{message}"
+    );
+
+    let (ok, message) = drape_check(&write_scene(dir.path(), &walker_scene(", animation: \"Run\"")));
+    assert!(!ok);
+    assert!(message.contains("has no animation \"Run\" (it has \"Walk\")"), "{message}");
+
+    let (ok, message) =
+        drape_check(&write_scene(dir.path(), &walker_scene(", speed: 0.0").replace("speed: 0.5, ", "")));
+    assert!(!ok);
+    assert!(message.contains("reference \"hero\": speed 0 must be greater than 0"), "{message}");
+
+    let text = walker_scene("").replace("walker.glb", "walker.fbx");
+    let (ok, message) = drape_check(&write_scene(dir.path(), &text));
+    assert!(!ok);
+    assert!(message.contains("is not a glTF file"), "{message}");
+}
+
+#[test]
+fn a_rig_that_needs_an_extension_says_which() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("draco.gltf");
+    let gltf = json!({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+                      "extensionsRequired": ["KHR_draco_mesh_compression"]});
+    std::fs::write(&path, gltf.to_string()).unwrap();
+    let error = read_rig(&path).unwrap_err();
+    assert!(error.contains("KHR_draco_mesh_compression"), "{error}");
+}
+
+/// `scenes/cape.ron`: a cape attached to the walker's chest, the walker a collider.
+fn cape() -> scene::Scene {
+    scene::load(Path::new("scenes/cape.ron")).unwrap_or_else(|error| panic!("{error}"))
+}
+
+#[test]
+fn the_capes_attached_pins_sit_on_their_attachments_at_every_frame() {
+    use drape::animate::attachments::attachment_at;
+    let scene = cape();
+    let mut evaluator = drape::animate::Evaluator::new();
+    let cols = scene.cloth.cols();
+    let mut moved = 0.0f64;
+    for frame in scene.timeline.start..=scene.timeline.end {
+        let frame = f64::from(frame);
+        let mesh = evaluator.evaluate_frame(&scene, frame);
+        for pin in &scene.keys[0].pins {
+            let attachment = pin.attach.as_ref().expect("every pin of the cape is attached");
+            let at = attachment_at(&scene, attachment, frame).unwrap();
+            let vertex = mesh.positions[pin.grid.1 as usize * cols + pin.grid.0 as usize].as_dvec3();
+            assert!(vertex.distance(at) < 1e-6, "frame {frame}: pin {:?} is {} m off", pin.grid, vertex.distance(at));
+            moved = moved.max(at.distance(DVec3::from(pin.pos)));
+        }
+    }
+    assert!(moved > 0.01, "the walk should carry the seam (it moved at most {moved} m)");
+}
+
+#[test]
+fn the_cape_stays_outside_the_walking_body() {
+    let scene = cape();
+    let thickness = scene.keys[0].thickness;
+    let mut evaluator = drape::animate::Evaluator::new();
+    let mut nearest = f64::INFINITY;
+    for frame in scene.timeline.start..=scene.timeline.end {
+        let frame = f64::from(frame);
+        let mesh = evaluator.evaluate_frame(&scene, frame);
+        let body = reference_at(&scene, 0, frame).unwrap().solid().unwrap();
+        for (k, p) in mesh.positions.iter().enumerate() {
+            let distance = body.surface_point(p.as_dvec3()).distance;
+            nearest = nearest.min(distance);
+            assert!(
+                distance >= thickness - 5e-4,
+                "frame {frame}: vertex {k} at {p} is {:.2} mm from the body",
+                distance * 1e3
+            );
+        }
+    }
+    // The legs and the back do push on it: some vertex rests against the body.
+    assert!(nearest < thickness + 2e-3, "the cape never comes near the body ({nearest} m)");
+}
