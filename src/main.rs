@@ -392,11 +392,7 @@ fn reference_summary(reference: &scene::Reference, fps: f64) -> String {
         scene::group_thousands(vertices as u64),
         rig.nodes().len()
     );
-    let clip = match &reference.animation {
-        Some(name) => rig.clip_named(name),
-        None => (!rig.clips().is_empty()).then_some(0),
-    };
-    match clip.map(|c| &rig.clips()[c]) {
+    match reference.clip_index().map(|c| &rig.clips()[c]) {
         Some(clip) => {
             let (first, last) = clip.span_secs();
             let frames = (last - first) * fps / reference.speed;

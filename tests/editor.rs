@@ -1376,3 +1376,151 @@ fn a_collider_is_picked_dragged_and_moved_along_an_axis_in_the_viewport() {
     assert_eq!(harness.state().selected_collider(), None);
     settle(&mut harness);
 }
+
+/// A scene file in `workspace` holding the carpet and a reference to the
+/// bundled walker by its absolute path; opened from the file, so the walker is read.
+fn open_carpet_with_walker(workspace: &Workspace) -> Harness<'static, DrapeApp> {
+    let walker = std::fs::canonicalize("assets/walker.glb").unwrap();
+    let text = std::fs::read_to_string("scenes/magic_carpet.ron").unwrap();
+    let reference =
+        format!("    references: [(name: \"walker\", file: {:?})],\n    keys: [", walker.display().to_string());
+    let path = workspace.path("walker.ron");
+    std::fs::write(&path, text.replacen("    keys: [", &reference, 1)).unwrap();
+    open_editor(workspace, scene::load(&path).unwrap(), Some(path))
+}
+
+/// The References panel lists a scene's reference; its speed, visibility,
+/// name, animation and a keyed number change through the panel, each one
+/// undo step, and undo brings the document back. The timeline grows a lane
+/// marking where the walk plays.
+#[test]
+fn the_references_panel_edits_a_walker_in_undoable_steps() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet_with_walker(&workspace);
+    let opened = harness.state().scene().clone();
+    assert!(opened.references[0].rig.0.is_some(), "the walker was read");
+    assert!(harness.query_by_label("Show reference \"walker\"").is_some(), "listed");
+    assert!(harness.query_by_label("Speed").is_none(), "nothing selected yet");
+    let track = harness.get_by_label("Timeline").rect();
+    assert_eq!(track.height(), 52.0, "one reference lane under the keys");
+
+    harness.get_by_label("Select reference \"walker\"").click();
+    harness.run_ok();
+    assert!(
+        harness.query_by_label_contains("joints; clip Walk 0–1 s (frames 0–24 on this timeline)").is_some(),
+        "the summary"
+    );
+    harness.get_by_role_and_label(Role::SpinButton, "Speed").set_value_accesskit(2.0);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references[0].speed, 2.0);
+    assert_eq!(harness.state().document().undo_label(), Some("Reference speed"));
+    assert!(harness.query_by_label_contains("(frames 0–12 on this timeline)").is_some(), "twice as fast");
+
+    harness.get_by_label("Show reference \"walker\"").click();
+    harness.run_ok();
+    assert!(!harness.state().scene().references[0].visible);
+    assert_eq!(harness.state().document().undo_label(), Some("Show reference"));
+    assert_eq!(harness.get_by_label("Timeline").rect().height(), 46.0, "a hidden reference has no lane");
+
+    // A name is one undo step when the field lets go, however many letters were typed.
+    let name = harness.get_by_role_and_label(Role::TextInput, "Name of reference 1");
+    name.focus();
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    harness.get_by_role_and_label(Role::TextInput, "Name of reference 1").type_text("hero");
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references[0].name, "walker", "still typing");
+    harness.key_press(Key::Enter);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references[0].name, "hero");
+    assert_eq!(harness.state().document().undo_label(), Some("Rename reference"));
+
+    harness.get_by_label("Animation").click();
+    harness.run_ok();
+    harness.get_by_label("Walk").click();
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references[0].animation.as_deref(), Some("Walk"));
+
+    // A number keyed at frame 0, then moved at frame 24: keyed there, its curve below.
+    harness.get_by_label("Key reference centre y").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(24.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "centre y").set_value_accesskit(0.5);
+    harness.run_ok();
+    let keys: Vec<(i32, f64)> = match &harness.state().scene().references[0].center.1 {
+        scene::Param::Keys(keys) => keys.iter().map(|k| (k.frame, k.value)).collect(),
+        other => panic!("not keyed: {other:?}"),
+    };
+    assert_eq!(keys, [(0, 0.0), (24, 0.5)]);
+    assert_eq!(harness.state().document().undo_label(), Some("Reference centre y"));
+    assert!(harness.query_by_label("Curve of centre y").is_some(), "the keyed number's curve");
+
+    for _ in 0..6 {
+        harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+        harness.run_ok();
+    }
+    assert_eq!(harness.state().scene(), &opened, "every step undone");
+    assert_eq!(harness.state().document().undo_label(), None);
+    settle(&mut harness);
+}
+
+/// Add reference… reads the picked file at once and names it after the
+/// file (a second one gets a new name); a file that is not glTF is
+/// reported and adds nothing.
+#[test]
+fn a_reference_is_added_through_the_panel() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    assert!(harness.query_by_label_contains("None. A reference is a glTF character").is_some());
+    let walker = std::fs::canonicalize("assets/walker.glb").unwrap();
+    for expected in ["walker", "walker 2"] {
+        harness.get_by_label("Add reference…").click();
+        harness.run_ok();
+        pick_in_file_dialog(&mut harness, &walker);
+        let reference = harness.state().scene().references.last().expect("added").clone();
+        assert_eq!(reference.name, expected);
+        assert_eq!(harness.state().document().undo_label(), Some("Add reference"));
+        assert!(reference.rig.0.is_some(), "the file was read");
+        let folder = harness.state().document().path().and_then(Path::parent).unwrap().to_path_buf();
+        assert!(Path::new(&reference.file).is_relative(), "named relative to the scene: {}", reference.file);
+        assert_eq!(std::fs::canonicalize(folder.join(&reference.file)).unwrap(), walker);
+    }
+    assert!(harness.query_by_label("Speed").is_some(), "the new one is selected");
+
+    let junk = workspace.path("junk.glb");
+    std::fs::write(&junk, "not a glTF file").unwrap();
+    harness.get_by_label("Add reference…").click();
+    harness.run_ok();
+    pick_in_file_dialog(&mut harness, &junk);
+    assert_eq!(harness.state().scene().references.len(), 2, "nothing added");
+    assert!(harness.query_by_label_contains("Cannot use").is_some(), "the problem is shown");
+
+    harness.get_by_label("Remove reference \"walker 2\"").click();
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references.len(), 1);
+    assert_eq!(harness.state().document().undo_label(), Some("Remove reference"));
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references.len(), 2, "removing is undone");
+    settle(&mut harness);
+}
+
+/// A reference whose file was not read (a scene from text) shows its file
+/// and numbers and says it is not read; the timeline has no lane for it.
+#[test]
+fn a_reference_not_read_is_shown_without_its_rig() {
+    let workspace = Workspace::new();
+    let mut scene = scene::load(&workspace.path("carpet.ron")).unwrap();
+    scene.references = ron::from_str(r#"[(name: "ghost", file: "ghost.glb", speed: 0.5)]"#).unwrap();
+    let mut harness = open_editor(&workspace, scene, None);
+    harness.get_by_label("Select reference \"ghost\"").click();
+    harness.run_ok();
+    assert!(harness.query_by_label_contains("not read").is_some());
+    assert!(harness.query_by_label("ghost.glb").is_some(), "the file");
+    assert!(harness.query_by_label("Key reference scale").is_some(), "the numbers");
+    assert_eq!(harness.get_by_label("Timeline").rect().height(), 46.0, "no clip, no lane");
+    harness.get_by_role_and_label(Role::SpinButton, "Start frame").set_value_accesskit(12.0);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().references[0].start_frame, 12);
+}

@@ -26,10 +26,7 @@ pub struct PosedReference<'a> {
 pub fn reference_at(scene: &Scene, index: usize, frame: f64) -> Option<PosedReference<'_>> {
     let reference = scene.references.get(index)?;
     let rig = reference.rig.0.as_ref()?;
-    let clip = match &reference.animation {
-        Some(name) => rig.clip_named(name),
-        None => (!rig.clips().is_empty()).then_some(0),
-    };
+    let clip = reference.clip_index();
     let span = clip.map_or((0.0, 0.0), |c| rig.clips()[c].span_secs());
     let t_secs = reference.clip_time_secs(frame, scene.timeline.fps, span);
     let scene_from_file = scene_from_file(reference, frame);

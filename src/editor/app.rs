@@ -1,6 +1,6 @@
 //! The editor window: menus on top, the View and Cloth panels on the left, the
-//! 3D viewport in the centre, the Layers panel on the right, a status bar and
-//! the timeline along the bottom.
+//! 3D viewport in the centre, the Layers, Colliders and References panels on
+//! the right, a status bar and the timeline along the bottom.
 //!
 //! The app is thin: it owns the [`Workspace`] (the document, what is shown,
 //! this document's playhead and selections) and one struct per panel, each
@@ -22,6 +22,7 @@ use super::files::{FileEvent, Files};
 use super::layers_panel::LayersPanel;
 use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
+use super::references_panel::ReferencesPanel;
 use super::shortcuts::{
     SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_REDO, SHORTCUT_REDO_ALT, SHORTCUT_SAVE, SHORTCUT_SAVE_AS, SHORTCUT_UNDO,
     SHORTCUTS,
@@ -44,6 +45,7 @@ pub struct DrapeApp {
     timeline: TimelinePanel,
     layers: LayersPanel,
     colliders: CollidersPanel,
+    references: ReferencesPanel,
     cloth: ClothPanel,
     files: Files,
     export: ExportWindow,
@@ -79,6 +81,7 @@ impl DrapeApp {
             timeline: TimelinePanel::default(),
             layers: LayersPanel::default(),
             colliders: CollidersPanel::default(),
+            references: ReferencesPanel::default(),
             cloth: ClothPanel::default(),
             files: Files::new(default_config_dir(), default_state_dir()),
             export: ExportWindow::default(),
@@ -280,6 +283,7 @@ impl DrapeApp {
                     self.timeline = self.timeline.for_new_document();
                     self.layers = LayersPanel::default();
                     self.colliders = CollidersPanel::default();
+                    self.references = ReferencesPanel::default();
                 }
                 FileEvent::OpenExport => self.export.open_for(&self.work.doc),
             }
@@ -543,6 +547,8 @@ impl eframe::App for DrapeApp {
                 self.layers.ui(ui, &mut self.work);
                 ui.separator();
                 self.colliders.ui(ui, &mut self.work);
+                ui.separator();
+                self.references.ui(ui, &mut self.work);
             });
         });
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));

@@ -1,5 +1,6 @@
-//! The curve view under the Layers and Colliders panels' numbers: one
-//! parameter of the selected layer (or number of the selected collider) over
+//! The curve view under the Layers, Colliders and References panels' numbers:
+//! one parameter of the selected layer (or number of the selected collider or
+//! reference) over
 //! the timeline's range, drawn with the evaluator's own [`sample`] (eases
 //! included), with the playhead and the keys as handles.
 //! Drag a key to change its value and frame, double-click to add a key on the
@@ -12,7 +13,7 @@ use super::document::Document;
 use super::param_edit::{key_at, param_mut, param_names, toggle_key};
 use super::workspace::Workspace;
 use crate::animate::track::sample;
-use crate::scene::{Collider, ColliderNumber, Ease, Layer, Param, ParamKey, Scene, Timeline};
+use crate::scene::{Collider, ColliderNumber, Ease, Layer, Param, ParamKey, Reference, Scene, Timeline};
 
 /// Height of the plot, points.
 const HEIGHT: f32 = 120.0;
@@ -24,11 +25,73 @@ const MARGIN: f64 = 0.2;
 const CURVE_COLOR: Color32 = Color32::from_rgb(90, 200, 255);
 
 /// An animatable number of the scene the view can show: a layer's
-/// parameter by name, or a collider's number.
+/// parameter by name, a collider's number, or a reference's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Curve {
     Layer(usize, &'static str),
     Collider(usize, ColliderNumber),
+    Reference(usize, ReferenceNumber),
+}
+
+/// An animatable number of a reference: its centre or rotation along an
+/// axis (0 x, 1 y, 2 z), or its scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReferenceNumber {
+    Center(usize),
+    Rotation(usize),
+    Scale,
+}
+
+impl ReferenceNumber {
+    /// Every number, in panel order.
+    pub const ALL: [ReferenceNumber; 7] = [
+        ReferenceNumber::Center(0),
+        ReferenceNumber::Center(1),
+        ReferenceNumber::Center(2),
+        ReferenceNumber::Rotation(0),
+        ReferenceNumber::Rotation(1),
+        ReferenceNumber::Rotation(2),
+        ReferenceNumber::Scale,
+    ];
+
+    /// Its name as its row shows it ("centre y", "rotation x", "scale").
+    pub fn label(self) -> String {
+        let axis = |a: usize| ["x", "y", "z"].get(a).copied().unwrap_or("?");
+        match self {
+            ReferenceNumber::Center(a) => format!("centre {}", axis(a)),
+            ReferenceNumber::Rotation(a) => format!("rotation {}", axis(a)),
+            ReferenceNumber::Scale => "scale".to_owned(),
+        }
+    }
+
+    /// The number in `reference`; `None` for an axis past z.
+    pub fn param(self, reference: &Reference) -> Option<&Param> {
+        match self {
+            ReferenceNumber::Center(a) => {
+                let (x, y, z) = &reference.center;
+                [x, y, z].get(a).copied()
+            }
+            ReferenceNumber::Rotation(a) => {
+                let (x, y, z) = &reference.rotation_deg;
+                [x, y, z].get(a).copied()
+            }
+            ReferenceNumber::Scale => Some(&reference.scale),
+        }
+    }
+
+    pub fn param_mut(self, reference: &mut Reference) -> Option<&mut Param> {
+        match self {
+            ReferenceNumber::Center(a) => {
+                let (x, y, z) = &mut reference.center;
+                [x, y, z].into_iter().nth(a)
+            }
+            ReferenceNumber::Rotation(a) => {
+                let (x, y, z) = &mut reference.rotation_deg;
+                [x, y, z].into_iter().nth(a)
+            }
+            ReferenceNumber::Scale => Some(&mut reference.scale),
+        }
+    }
 }
 
 impl Curve {
@@ -37,6 +100,7 @@ impl Curve {
         match self {
             Curve::Layer(index, name) => scene.layers.get(index)?.param(name).cloned(),
             Curve::Collider(index, number) => scene.colliders.get(index)?.param(number).cloned(),
+            Curve::Reference(index, number) => number.param(scene.references.get(index)?).cloned(),
         }
     }
 
@@ -44,6 +108,7 @@ impl Curve {
         match self {
             Curve::Layer(index, name) => param_mut(scene.layers.get_mut(index)?, name),
             Curve::Collider(index, number) => scene.colliders.get_mut(index)?.param_mut(number),
+            Curve::Reference(index, number) => number.param_mut(scene.references.get_mut(index)?),
         }
     }
 
@@ -52,6 +117,7 @@ impl Curve {
         match self {
             Curve::Layer(_, name) => name.replace('_', " "),
             Curve::Collider(_, number) => number.label(),
+            Curve::Reference(_, number) => number.label(),
         }
     }
 }
@@ -248,6 +314,18 @@ impl CurveView {
             }
         }
     }
+
+    /// The number shown for reference `index`: the chosen one, else its first
+    /// keyed number, else its centre x.
+    pub(super) fn shown_for_reference(&self, index: usize, reference: &Reference) -> Curve {
+        if let Some(Curve::Reference(i, number)) = self.chosen
+            && i == index
+        {
+            return Curve::Reference(i, number);
+        }
+        let keyed = ReferenceNumber::ALL.into_iter().find(|n| matches!(n.param(reference), Some(Param::Keys(_))));
+        Curve::Reference(index, keyed.unwrap_or(ReferenceNumber::ALL[0]))
+    }
 }
 
 impl CurveView {
@@ -256,7 +334,7 @@ impl CurveView {
     pub(super) fn button_ui(&mut self, ui: &mut egui::Ui, curve: Curve, shown: bool) {
         let name = match curve {
             Curve::Layer(_, name) => name.to_owned(),
-            Curve::Collider(..) => curve.name(),
+            Curve::Collider(..) | Curve::Reference(..) => curve.name(),
         };
         let (rect, response) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::click());
         response.widget_info(|| {
@@ -286,7 +364,7 @@ impl CurveView {
         let Some(param) = curve.param(w.doc.scene()) else { return };
         let name = match curve {
             Curve::Layer(_, name) => name.to_owned(),
-            Curve::Collider(..) => curve.name(),
+            Curve::Collider(..) | Curve::Reference(..) => curve.name(),
         };
         let keys = keys_of(&param).to_vec();
         let timeline = w.doc.scene().timeline.clone();
@@ -656,5 +734,28 @@ mod tests {
         assert!(plot.values.0 < -0.05 && plot.values.1 > 1.05, "the overshoot is in view: {:?}", plot.values);
         let flat = Plot::of(rect(), &timeline, &Param::Constant(0.03));
         assert!(flat.values.0 < 0.03 && flat.values.1 > 0.03);
+    }
+
+    #[test]
+    fn a_reference_shows_its_first_keyed_number_else_its_centre_x_or_the_chosen_one() {
+        let mut reference: Reference = ron::from_str(r#"(file: "hero.glb")"#).unwrap();
+        let mut view = CurveView::default();
+        assert_eq!(view.shown_for_reference(1, &reference), Curve::Reference(1, ReferenceNumber::Center(0)));
+        reference.scale = Param::Keys(keys(&[(0, 1.0), (10, 2.0)]));
+        assert_eq!(view.shown_for_reference(1, &reference), Curve::Reference(1, ReferenceNumber::Scale));
+        view.chosen = Some(Curve::Reference(1, ReferenceNumber::Rotation(1)));
+        assert_eq!(view.shown_for_reference(1, &reference), Curve::Reference(1, ReferenceNumber::Rotation(1)));
+        assert_eq!(view.shown_for_reference(0, &reference), Curve::Reference(0, ReferenceNumber::Scale), "its own");
+        let labels: Vec<String> = ReferenceNumber::ALL.iter().map(|n| n.label()).collect();
+        assert_eq!(labels, ["centre x", "centre y", "centre z", "rotation x", "rotation y", "rotation z", "scale"]);
+        let mut scene = crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap();
+        scene.references = vec![reference];
+        let curve = Curve::Reference(0, ReferenceNumber::Rotation(2));
+        if let Some(p) = curve.param_mut(&mut scene) {
+            *p = Param::Constant(90.0);
+        }
+        assert_eq!(scene.references[0].rotation_deg.2, Param::Constant(90.0));
+        assert_eq!(curve.param(&scene), Some(Param::Constant(90.0)));
+        assert_eq!(Curve::Reference(1, ReferenceNumber::Scale).param(&scene), None, "no such reference");
     }
 }

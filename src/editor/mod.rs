@@ -6,7 +6,8 @@
 //! struct per panel, each holding only its own state and drawn by a `ui`
 //! method that takes the workspace:
 //! [`viewport_panel`] (with `viewport_input` for the mouse, [`viewport`] for
-//! the GPU), `timeline`, `layers_panel` (with [`curve_view`]), `cloth_panel`
+//! the GPU), `timeline`, `layers_panel`, `colliders_panel` and
+//! `references_panel` (with [`curve_view`]), `cloth_panel`
 //! (with [`grid_editor`]), [`files`] and `export_window`. No panel imports
 //! another panel or the app; what one panel changes for another (the
 //! playhead, selected pins, key or layer, Follow, auto-key) lives in the
@@ -38,6 +39,7 @@ pub mod pin_drag;
 pub mod prompt;
 pub mod recent;
 pub mod recovery;
+mod references_panel;
 pub mod selection;
 pub mod shaper;
 pub mod shortcuts;

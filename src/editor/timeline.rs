@@ -2,6 +2,8 @@
 //! fps and range fields, and the track — a ruler with frame numbers, the
 //! playhead to scrub, and the rest-shape keys as diamonds to select, drag to
 //! retime, and right-click for their easing and in-between relaxation.
+//! Under them, one thin lane per shown reference marks where its animation
+//! plays (the track grows by those lanes only when the scene has some).
 //!
 //! Every frame is computed directly, so scrubbing shows the frame at once.
 
@@ -13,7 +15,7 @@ use super::number_field::number_field;
 use super::param_edit::Keyed;
 use super::timeline_zoom::TimelineZoom;
 use super::workspace::Workspace;
-use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME};
+use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME, Scene};
 
 /// Widths (points) that hold the transport row still while the playhead moves.
 const PLAY_BUTTON_WIDTH: f32 = 56.0;
@@ -30,6 +32,44 @@ const TRACK_HEIGHT: f32 = 46.0;
 const DIAMOND: f32 = 6.0;
 /// Labels on the ruler at least this far apart, points.
 const MIN_LABEL_GAP: f32 = 44.0;
+/// Height of a reference's lane under the keys, points, and the most lanes
+/// (more references share them, in turn).
+const LANE: f32 = 6.0;
+const MAX_LANES: usize = 4;
+/// A muted violet: the references' bars, apart from keys (white, yellow) and layer dots (blue).
+const REFERENCE_BAR: Color32 = Color32::from_rgba_premultiplied(96, 84, 128, 150);
+
+/// Where one shown reference's animation plays, as its lane draws it.
+#[derive(Clone, Debug, PartialEq)]
+struct ReferenceBar {
+    /// The reference's name, or "reference N".
+    name: String,
+    clip: crate::scene::ClipFrames,
+    lane: usize,
+}
+
+/// A bar for every visible reference of `scene` whose clip is known, in
+/// scene order, each in its lane.
+fn reference_bars(scene: &Scene) -> Vec<ReferenceBar> {
+    let shown = scene.references.iter().enumerate().filter(|(_, r)| r.visible);
+    let clips = shown.filter_map(|(index, r)| {
+        let name = if r.name.trim().is_empty() { format!("reference {}", index + 1) } else { r.name.clone() };
+        Some((name, r.clip_frames(scene.timeline.fps)?))
+    });
+    clips.enumerate().map(|(n, (name, clip))| ReferenceBar { name, clip, lane: n % MAX_LANES }).collect()
+}
+
+/// How many lanes `bars` fill.
+fn lane_count(bars: &[ReferenceBar]) -> usize {
+    bars.len().min(MAX_LANES)
+}
+
+/// The frames a bar covers: its clip's first play, and with repeat on
+/// until the end of the timeline.
+fn bar_frames(bar: &ReferenceBar, timeline_end: f64) -> (f64, f64) {
+    let (first, last) = bar.clip.frames;
+    if bar.clip.repeat && last > first { (first, last.max(timeline_end)) } else { (first, last) }
+}
 
 /// A ruler step (1, 2, 5, 10, 20, 50, …) that keeps labels `MIN_LABEL_GAP` apart.
 pub fn ruler_step(points_per_frame: f32) -> i32 {
@@ -227,7 +267,11 @@ impl TimelinePanel {
     fn track_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         let timeline = w.doc.scene().timeline.clone();
         let width = ui.available_width();
-        let (rect, response) = ui.allocate_exact_size(Vec2::new(width, TRACK_HEIGHT), Sense::click_and_drag());
+        let bars = reference_bars(w.doc.scene());
+        let height = TRACK_HEIGHT + lane_count(&bars) as f32 * LANE;
+        let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click_and_drag());
+        // The ruler and the keys' rows; the references' lanes below.
+        let body = Rect::from_min_size(rect.min, Vec2::new(rect.width(), TRACK_HEIGHT));
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Slider, true, "Timeline"));
         let inner = rect.shrink2(Vec2::new(DIAMOND + 2.0, 0.0));
         self.zoom_and_pan(ui, &response, inner, &timeline);
@@ -270,7 +314,7 @@ impl TimelinePanel {
 
         // Keys.
         let keys = w.doc.scene().keys.clone();
-        let center_y = rect.bottom() - DIAMOND - 3.0;
+        let center_y = body.bottom() - DIAMOND - 3.0;
         let pointer = response.interact_pointer_pos().or(response.hover_pos());
         let key_under = |pos: Pos2| {
             keys.iter().position(|k| {
@@ -335,6 +379,8 @@ impl TimelinePanel {
             painter.circle_filled(Pos2::new(track.x(f64::from(*frame)), dot_y), radius, color);
         }
 
+        paint_reference_bars(&painter, &track, body.bottom(), &bars, f64::from(timeline.end));
+
         // Playhead.
         let x = track.x(w.frame());
         let red = Color32::from_rgb(230, 60, 50);
@@ -375,7 +421,11 @@ impl TimelinePanel {
         }
         if let Some(pos) = response.hover_pos() {
             let frame = track.frame(pos.x).round().clamp(track.start, track.end);
-            response.clone().on_hover_text_at_pointer(format!("frame {frame}"));
+            let text = match bar_under(&track, body.bottom(), &bars, f64::from(timeline.end), pos) {
+                Some(bar) => format!("frame {frame} · {}", bar_text(bar)),
+                None => format!("frame {frame}"),
+            };
+            response.clone().on_hover_text_at_pointer(text);
         }
         if let Some(index) = w.session.selected_key.filter(|i| *i < keys.len()) {
             // Clicks inside must not close it: its number fields take a click to type into.
@@ -430,6 +480,48 @@ impl TimelinePanel {
             }
         }
     }
+}
+
+/// The references' lanes under the keys' row (whose bottom is `top`): a
+/// thin bar from where each clip starts to where it ends, bracketed; one
+/// that repeats carries on to the timeline's end, a tick at its first
+/// cycle's end.
+fn paint_reference_bars(painter: &egui::Painter, track: &Track, top: f32, bars: &[ReferenceBar], end: f64) {
+    for bar in bars {
+        let mid = top + LANE * (bar.lane as f32 + 0.5);
+        let (from, to) = bar_frames(bar, end);
+        let (x0, x1) = (track.x(from), track.x(to));
+        let line = Rect::from_min_max(Pos2::new(x0, mid - 1.0), Pos2::new(x1.max(x0 + 1.0), mid + 1.0));
+        painter.rect_filled(line, 0.0, REFERENCE_BAR);
+        let tick = |x: f32| {
+            painter.line_segment(
+                [Pos2::new(x, mid - LANE * 0.4), Pos2::new(x, mid + LANE * 0.4)],
+                Stroke::new(1.0, REFERENCE_BAR),
+            )
+        };
+        tick(x0);
+        tick(track.x(bar.clip.frames.1));
+    }
+}
+
+/// The bar under `pos` in the references' lanes below `top` (the last drawn wins).
+fn bar_under<'a>(track: &Track, top: f32, bars: &'a [ReferenceBar], end: f64, pos: Pos2) -> Option<&'a ReferenceBar> {
+    if pos.y < top {
+        return None;
+    }
+    let lane = ((pos.y - top) / LANE) as usize;
+    bars.iter().rev().filter(|b| b.lane == lane).find(|bar| {
+        let (from, to) = bar_frames(bar, end);
+        pos.x >= track.x(from) - 3.0 && pos.x <= track.x(to) + 3.0
+    })
+}
+
+/// What a bar's hover says: `walker: clip Walk, frames 0–24, repeating`.
+fn bar_text(bar: &ReferenceBar) -> String {
+    let (first, last) = bar.clip.frames;
+    let again = if bar.clip.repeat { ", repeating" } else { "" };
+    let frame = |f: f64| crate::scene::readable_number((f * 10.0).round() / 10.0);
+    format!("{}: clip {}, frames {}–{}{again}", bar.name, bar.clip.name, frame(first), frame(last))
 }
 
 fn timeline_field(
@@ -559,5 +651,30 @@ mod tests {
         // A one-frame range still maps without dividing by zero.
         let flat = Track { start: 5.0, end: 5.0, ..track };
         assert!(flat.x(5.0).is_finite() && flat.frame(50.0).is_finite());
+    }
+
+    #[test]
+    fn a_shown_reference_s_bar_spans_its_clip_and_a_repeating_one_runs_on() {
+        let walker = crate::scene::read_rig(std::path::Path::new("assets/walker.glb")).expect("the bundled walker");
+        let mut scene = crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap();
+        scene.references = ron::from_str(r#"[(name: "a", file: "a.glb", start_frame: 12), (file: "b.glb")]"#).unwrap();
+        for reference in &mut scene.references {
+            reference.rig = crate::scene::LoadedRig(Some(std::sync::Arc::new(walker.clone())));
+        }
+        let bars = reference_bars(&scene);
+        assert_eq!(bars.iter().map(|b| (b.name.as_str(), b.lane)).collect::<Vec<_>>(), [("a", 0), ("reference 2", 1)]);
+        assert_eq!(bar_frames(&bars[0], 120.0), (12.0, 36.0), "a 1 s walk at 24 fps from frame 12");
+        assert_eq!(bar_text(&bars[0]), "a: clip Walk, frames 12–36");
+        scene.references[0].repeat = true;
+        scene.references[1].visible = false;
+        let bars = reference_bars(&scene);
+        assert_eq!(bars.len(), 1, "a hidden reference has no bar");
+        assert_eq!(bar_frames(&bars[0], 120.0), (12.0, 120.0), "on to the timeline's end");
+        let track = Track { rect: Rect::from_min_size(Pos2::ZERO, Vec2::new(120.0, 46.0)), start: 0.0, end: 120.0 };
+        let at = |x: f32, y: f32| bar_under(&track, 46.0, &bars, 120.0, Pos2::new(x, y)).map(|b| b.name.clone());
+        assert_eq!(at(60.0, 49.0), Some("a".to_owned()));
+        assert_eq!(at(60.0, 40.0), None, "above the lanes: the keys' row");
+        assert_eq!(at(5.0, 49.0), None, "before it starts");
+        assert_eq!(at(60.0, 55.0), None, "another lane");
     }
 }

@@ -71,6 +71,32 @@ impl Reference {
         }
     }
 
+    /// The clip that plays (an index into the rig's clips): the named one,
+    /// else the file's first; None when the rig is not read, has no clip or
+    /// lacks the named one.
+    pub fn clip_index(&self) -> Option<usize> {
+        let rig = self.rig.0.as_deref()?;
+        match &self.animation {
+            Some(name) => rig.clip_named(name),
+            None => (!rig.clips().is_empty()).then_some(0),
+        }
+    }
+
+    /// Where its clip plays on a timeline at `fps`: the inverse of
+    /// [`Reference::clip_time_secs`] at the clip's first and last key; None
+    /// without a clip ([`Reference::clip_index`]).
+    pub fn clip_frames(&self, fps: f64) -> Option<ClipFrames> {
+        let clip = &self.rig.0.as_deref()?.clips()[self.clip_index()?];
+        let secs = clip.span_secs();
+        let frame_at = |t: f64| f64::from(self.start_frame) + t * fps / self.speed;
+        Some(ClipFrames {
+            name: clip.name.clone(),
+            secs,
+            frames: (frame_at(secs.0), frame_at(secs.1)),
+            repeat: self.repeat,
+        })
+    }
+
     /// The time (s) on the animation's clock at scene frame `frame` of a
     /// timeline at `fps`, for an animation spanning `span_secs`: repeated
     /// within the span when `repeat` is on.
@@ -131,6 +157,19 @@ impl Attachment {
             Attachment::Surface(surface) => &surface.reference,
         }
     }
+}
+
+/// Where a reference's clip plays on the scene's timeline.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClipFrames {
+    /// The clip's name in the file.
+    pub name: String,
+    /// Its first and last key on its own clock (s).
+    pub secs: (f64, f64),
+    /// The scene frames (fractional) where its first and last key play, the first time.
+    pub frames: (f64, f64),
+    /// Whether it plays over and over.
+    pub repeat: bool,
 }
 
 /// A reference's rig once read; empty until then. Two are equal whatever
