@@ -46,6 +46,7 @@ fn tablecloth(n: u32) -> Scene {
         view: None,
         colliders: Vec::new(),
         references: Vec::new(),
+        follow: None,
     }
 }
 

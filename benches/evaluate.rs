@@ -93,6 +93,7 @@ fn scene(n: u32) -> Scene {
         view: None,
         colliders: Vec::new(),
         references: Vec::new(),
+        follow: None,
     }
 }
 
@@ -202,6 +203,41 @@ fn with_a_mesh_collider(c: &mut Criterion) {
     group.finish();
 }
 
+/// The references issue's case: `scenes/cape.ron` at 64 × 64 (its pins
+/// attached to the 10 072-vertex skinned walker's chest) with two layers (its
+/// wave and a sway), every call the next frame of the walk, so each one
+/// poses the character afresh; then the same with the walker a collider
+/// (posing its solid every frame).
+fn on_a_character(c: &mut Criterion) {
+    let mut group = c.benchmark_group("evaluate");
+    group.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(4));
+    let cape = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cape.ron");
+    let mut scene = drape::scene::load(&cape).expect("the bundled cape");
+    scene.cloth.grid = (64, 64);
+    for (pin, i) in scene.keys[0].pins.iter_mut().zip([0, 14, 32, 49, 63]) {
+        pin.grid = (i, 0);
+    }
+    let sway = "Sway((name: \"breeze\", magnitude: 0.05, direction: (0.0, 0.0, -1.0), speed: 1.0, frequency: 0.5))";
+    scene.layers.push(ron::from_str(sway).expect("a sway"));
+    assert_eq!(scene.layers.len(), 2);
+    for collider in [false, true] {
+        scene.references[0].collider = collider;
+        let mut evaluator = Evaluator::new();
+        let mut mesh = evaluator.evaluate(&scene, 0.0);
+        let name = if collider { "64x64 cape on a walker, a collider" } else { "64x64 cape on a walker" };
+        let mut frame = 0u32;
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                frame = (frame + 1) % 48;
+                let t_secs = f64::from(frame) / scene.timeline.fps;
+                evaluator.evaluate_into(&scene, black_box(t_secs), EvaluateOptions::default(), &mut mesh);
+                black_box(&mesh);
+            })
+        });
+    }
+    group.finish();
+}
+
 /// A unit sphere: an icosahedron split `levels` times (20 · 4^levels triangles), wound outwards.
 fn icosphere(levels: u32) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
     use glam::DVec3;
@@ -265,5 +301,5 @@ fn icosphere(levels: u32) -> (Vec<glam::DVec3>, Vec<[u32; 3]>) {
     (vertices, faces)
 }
 
-criterion_group!(benches, evaluate, late_frame_ratio, with_colliders, with_a_mesh_collider);
+criterion_group!(benches, evaluate, late_frame_ratio, with_colliders, with_a_mesh_collider, on_a_character);
 criterion_main!(benches);

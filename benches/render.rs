@@ -44,6 +44,7 @@ fn scene(n: u32) -> Scene {
         view: None,
         colliders: Vec::new(),
         references: Vec::new(),
+        follow: None,
     }
 }
 

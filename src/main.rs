@@ -376,6 +376,13 @@ fn check(path: &Path) -> Result<()> {
             say!("    {}: {}", reference.label(index), reference_summary(reference, scene.timeline.fps));
         }
     }
+    if let Some(follow) = &scene.follow {
+        say!(
+            "  follows   node {:?} of reference {:?}: the keys are carried as it moves",
+            follow.node,
+            follow.reference
+        );
+    }
     Ok(())
 }
 

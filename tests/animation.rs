@@ -57,6 +57,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
         view: None,
         colliders: Vec::new(),
         references: Vec::new(),
+        follow: None,
     }
 }
 

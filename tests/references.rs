@@ -333,3 +333,35 @@ fn the_cape_stays_outside_the_walking_body() {
     // The legs and the back do push on it: some vertex rests against the body.
     assert!(nearest < thickness + 2e-3, "the cape never comes near the body ({nearest} m)");
 }
+
+#[test]
+fn a_cloth_following_a_node_is_carried_as_the_node_moves() {
+    let dir = tempfile::tempdir().unwrap();
+    write_test_gltf(dir.path());
+    let text = "(version: 1, cloth: (size: (0.4, 0.4), grid: (5, 5)), timeline: (fps: 24.0, start: 0, end: 48), \
+                keys: [(frame: 0, pins: [(grid: (0, 0), pos: (-0.2, 1.0, -0.5)), (grid: (4, 0), pos: (0.2, 1.0, -0.5))])], \
+                references: [(name: \"rig\", file: \"rig.gltf\")], follow: (reference: \"rig\", node: \"hand\"))";
+    let scene = scene::load(&write_scene(dir.path(), text)).unwrap();
+    let mut evaluator = drape::animate::Evaluator::new();
+    let rest = evaluator.key_shape(&scene, &scene.keys[0]).positions.clone();
+    let at_key = evaluator.evaluate_frame(&scene, 0.0);
+    // No layers: on its key's frame the cloth is the key's rest shape.
+    for (p, q) in at_key.positions.iter().zip(&rest) {
+        assert!(p.distance(*q) < 1e-6, "{p} vs {q}");
+    }
+    // Frame 12 is 0.5 s: the hand has moved from 0.5 to 1.125 along the arm,
+    // which points along −z; its turn and scale are unchanged.
+    let moved = evaluator.evaluate_frame(&scene, 12.0);
+    for (p, q) in moved.positions.iter().zip(&rest) {
+        let expected = *q + glam::Vec3::new(0.0, 0.0, -0.625);
+        assert!(p.distance(expected) < 1e-5, "{p} vs {expected}");
+    }
+    let wrong = text.replace("node: \"hand\"", "node: \"foot\"");
+    let (ok, message) = drape_check(&write_scene(dir.path(), &wrong));
+    assert!(!ok);
+    assert!(message.contains("the cloth follows node \"foot\" of \"rig.gltf\", which has no such node"), "{message}");
+    let wrong = text.replace("reference: \"rig\", node", "reference: \"hero\", node");
+    let (ok, message) = drape_check(&write_scene(dir.path(), &wrong));
+    assert!(!ok);
+    assert!(message.contains("the cloth follows reference \"hero\", but no reference has that name"), "{message}");
+}

@@ -652,6 +652,7 @@ fn any_scene() -> impl Strategy<Value = Scene> {
                     layers,
                     colliders,
                     references,
+                    follow: None,
                     view,
                 }
             },

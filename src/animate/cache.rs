@@ -320,6 +320,7 @@ mod tests {
             view: None,
             colliders: Vec::new(),
             references: Vec::new(),
+            follow: None,
         }
     }
 

@@ -20,6 +20,7 @@ use super::blend::{Segment, blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache, key_obstacles};
 use super::colliders_at::obstacles_at;
 use super::falloff::AttenuationField;
+use super::follow::carry_with_node;
 use super::keep_out::keep_out;
 use super::noise::FractalSampler;
 use super::stretch_limit::StretchLimiter;
@@ -204,6 +205,7 @@ impl Evaluator {
                 Segment::Hold(index) => (index, index, 0.0),
                 Segment::Between { from, eased } => (from, from + 1, eased),
             };
+            carry_with_node(scene, &shapes, (a, b, eased), frame, points);
             carry_to_attachments(scene, (a, b), eased, frame, points);
             let obstacles = obstacles_at(scene, frame);
             self.held.clear();

@@ -11,6 +11,7 @@
 //!   are listed once in `scene/layers.rs`.
 //! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
 //! - [`colliders_at`], [`keep_out`]: the colliders at a frame, and every point kept outside them.
+//! - [`follow`]: the cloth carried by a node of a reference.
 //! - [`attachments`]: pins bound to a reference, exactly on it at every frame.
 //! - [`references_at`]: each referenced glTF file posed at a frame, placed in the scene.
 //! - [`noise`]: the seeded value noise behind the gusts.
@@ -23,6 +24,7 @@ pub mod colliders_at;
 pub mod ease;
 pub mod evaluate;
 pub mod falloff;
+pub mod follow;
 pub mod follow_through;
 pub mod gusts;
 pub mod keep_out;

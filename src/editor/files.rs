@@ -100,6 +100,7 @@ pub fn new_scene() -> Scene {
         view: None,
         colliders: Vec::new(),
         references: Vec::new(),
+        follow: None,
     }
 }
 

@@ -182,6 +182,7 @@ mod tests {
             ],
             colliders: Vec::new(),
             references: Vec::new(),
+            follow: None,
             view: Some(View {
                 target: (0.5, 1.2, -0.25),
                 yaw_deg: 30.0,

@@ -45,7 +45,7 @@ pub use mesh_files::{MAX_MESH_FILE_BYTES, move_referenced_files, read_mesh, read
 pub use param::{Ease, Param, ParamKey};
 pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig};
-pub use references::{Attachment, ClipFrames, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
+pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use types::*;
 pub use validate::*;

@@ -59,8 +59,18 @@ pub fn read_references(scene: &mut Scene, scene_file: &Path, text: &str) -> Resu
     check_attachments(scene, &label, text)
 }
 
-/// Every attached pin names a node or a triangle its reference's file has.
+/// The followed node, and every attached pin's node or triangle, are in
+/// their reference's file.
 fn check_attachments(scene: &Scene, label: &str, text: &str) -> Result<(), SceneError> {
+    if let Some(follow) = &scene.follow
+        && let Some(reference) = scene.references.iter().find(|r| r.name == follow.reference)
+        && let Some(rig) = reference.rig.0.as_deref()
+        && rig.node_named(&follow.node).is_none()
+    {
+        let message =
+            format!("the cloth follows node {:?} of {:?}, which has no such node", follow.node, reference.file);
+        return Err(SceneError::invalid(label, locate(text, "follow.node"), message));
+    }
     for (k, key) in scene.keys.iter().enumerate() {
         for (p, pin) in key.pins.iter().enumerate() {
             let Some(attachment) = &pin.attach else { continue };

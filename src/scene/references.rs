@@ -107,6 +107,18 @@ impl Reference {
     }
 }
 
+/// A node the whole cloth follows (`follow` in the scene): every key is
+/// authored where the node is at the key's frame, and at any frame the
+/// blended cloth is carried by how the node has moved since.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Follow {
+    /// The reference's `name`.
+    pub reference: String,
+    /// The node's name in its file (any node, a skin's joint included).
+    pub node: String,
+}
+
 /// What an attached pin is bound to, in a reference named by its `name`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Attachment {

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::colliders::Collider;
 use super::layers::Layer;
 use super::param::Ease;
-use super::references::{Attachment, Reference};
+use super::references::{Attachment, Follow, Reference};
 
 /// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -35,6 +35,10 @@ pub struct Scene {
     /// played on its timeline.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub references: Vec<Reference>,
+    /// A node of a reference the cloth follows: its keys are carried by how
+    /// the node moves (`animate::follow`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub follow: Option<Follow>,
     /// Where the editor's camera looked when the scene was saved (with the
     /// playhead and Follow); absent, views frame the cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -204,6 +204,13 @@ impl Checker {
         for (index, reference) in scene.references.iter().enumerate().take(MAX_REFERENCES) {
             self.reference(index, reference);
         }
+        if let Some(follow) = &scene.follow {
+            let named = scene.references.iter().filter(|r| r.name == follow.reference).count();
+            if named != 1 {
+                let why = if named == 0 { "no reference has that name" } else { "several references have that name" };
+                self.push("follow.reference", format!("the cloth follows reference {:?}, but {why}", follow.reference));
+            }
+        }
         if let Some(view) = &scene.view {
             self.view(view);
         }
@@ -855,6 +862,7 @@ mod tests {
             view: None,
             colliders: Vec::new(),
             references: Vec::new(),
+            follow: None,
         }
     }
 
