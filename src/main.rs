@@ -399,16 +399,15 @@ fn reference_summary(reference: &scene::Reference, fps: f64) -> String {
         scene::group_thousands(vertices as u64),
         rig.nodes().len()
     );
-    match reference.clip_index().map(|c| &rig.clips()[c]) {
+    match reference.clip_frames(fps) {
         Some(clip) => {
-            let (first, last) = clip.span_secs();
-            let frames = (last - first) * fps / reference.speed;
+            let (first, last) = clip.secs;
             parts.push(format!(
                 "animation {:?} {}–{} s ({} frames at speed {}) from frame {}{}",
                 clip.name,
                 readable_number(first),
                 readable_number(last),
-                readable_number((frames * 100.0).round() / 100.0),
+                readable_number(((clip.frames.1 - clip.frames.0) * 100.0).round() / 100.0),
                 readable_number(reference.speed),
                 reference.start_frame,
                 if reference.repeat { ", repeated" } else { "" }

@@ -365,3 +365,58 @@ fn a_cloth_following_a_node_is_carried_as_the_node_moves() {
     assert!(!ok);
     assert!(message.contains("the cloth follows reference \"hero\", but no reference has that name"), "{message}");
 }
+
+/// Blender itself, when it is installed (not in CI: it is a large package):
+/// `tests/tools/blender_rig.py` builds a skinned tube on a three-bone chain
+/// with Bezier-keyed bones and a keyed shape key, exports it with Blender's
+/// own glTF exporter, and writes where Blender shows its bones and vertices
+/// at several frames; Drape plays the file as a reference and must put
+/// every bone's head and every vertex within 0.1 mm of Blender's.
+#[test]
+fn a_gltf_exported_by_blender_plays_as_blender_shows_it() {
+    let has_blender = Command::new("blender").arg("--version").output().is_ok_and(|o| o.status.success());
+    if !has_blender {
+        println!("SKIPPED: Blender is not installed (apt install blender to run this check)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let frames = [0, 7, 16, 25, 33, 40, 48];
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/tools/blender_rig.py");
+    let run = Command::new("blender")
+        .args(["-b", "--factory-startup", "--python"])
+        .arg(&script)
+        .arg("--")
+        .arg(dir.path())
+        .args(frames.map(|f| f.to_string()))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "Blender failed:\n{}", String::from_utf8_lossy(&run.stderr));
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("blender.json")).unwrap()).unwrap();
+    let fps = report["fps"].as_f64().unwrap();
+    let text = format!(
+        "(version: 1, cloth: (size: (1.0, 1.0), grid: (3, 3)), timeline: (fps: {fps:?}, start: 0, end: 48), \
+         keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 3.0, 0.0))])], \
+         references: [(name: \"tube\", file: \"rig.glb\")])"
+    );
+    let scene = scene::load(&write_scene(dir.path(), &text)).unwrap();
+    let rig = scene.references[0].rig.0.clone().unwrap();
+    assert_eq!(rig.clips().len(), 2, "Blender exports the bones' action and the shape key's as two animations");
+    let point = |v: &serde_json::Value| DVec3::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), v[2].as_f64().unwrap());
+    for shown in report["frames"].as_array().unwrap() {
+        let frame = shown["frame"].as_f64().unwrap();
+        let posed = reference_at(&scene, 0, frame).unwrap();
+        for (name, bone) in shown["bones"].as_object().unwrap() {
+            let node = rig.node_named(name).unwrap_or_else(|| panic!("no node {name}"));
+            let head = posed.scene_from_node(node).unwrap().transform_point3(DVec3::ZERO);
+            let blender = point(&bone["head"]);
+            assert!(head.distance(blender) < 1e-4, "frame {frame}: bone {name} at {head}, Blender {blender}");
+        }
+        let drape: Vec<DVec3> = posed.meshes().into_iter().flat_map(|m| m.positions).collect();
+        let blender: Vec<DVec3> = shown["vertices"].as_array().unwrap().iter().map(point).collect();
+        let nearest = |p: &DVec3, among: &[DVec3]| among.iter().map(|q| p.distance(*q)).fold(f64::INFINITY, f64::min);
+        let worst = blender.iter().map(|p| nearest(p, &drape)).chain(drape.iter().map(|p| nearest(p, &blender)));
+        let worst = worst.fold(0.0, f64::max);
+        assert!(worst < 1e-4, "frame {frame}: a vertex is {worst} m from Blender's");
+    }
+}

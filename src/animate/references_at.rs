@@ -16,8 +16,8 @@ pub struct PosedReference<'a> {
     /// Takes the file's coordinates into the scene's.
     pub scene_from_file: DMat4,
     pub pose: Pose,
-    /// The clip playing (an index into the rig's clips) and the time on its clock.
-    pub clip: Option<usize>,
+    /// The clips playing (indices into the rig's clips) and the time on their clock.
+    pub clips: Vec<usize>,
     pub t_secs: f64,
 }
 
@@ -26,11 +26,11 @@ pub struct PosedReference<'a> {
 pub fn reference_at(scene: &Scene, index: usize, frame: f64) -> Option<PosedReference<'_>> {
     let reference = scene.references.get(index)?;
     let rig = reference.rig.0.as_ref()?;
-    let clip = reference.clip_index();
-    let span = clip.map_or((0.0, 0.0), |c| rig.clips()[c].span_secs());
+    let clips = reference.playing_clips();
+    let span = reference.clip_span_secs().unwrap_or((0.0, 0.0));
     let t_secs = reference.clip_time_secs(frame, scene.timeline.fps, span);
     let scene_from_file = scene_from_file(reference, frame);
-    Some(PosedReference { rig, scene_from_file, pose: rig.pose(clip, t_secs), clip, t_secs })
+    Some(PosedReference { rig, scene_from_file, pose: rig.pose_clips(&clips, t_secs), clips, t_secs })
 }
 
 /// `center · rotation · scale` of `reference` at `frame`; a scale an
@@ -89,7 +89,7 @@ pub fn reference_obstacles(scene: &Scene, frame: f64, key_thickness: f64) -> Vec
 /// reused while the entry lives), the clip and its time, the placement.
 struct SolidKey {
     rig: Arc<Rig>,
-    clip: Option<usize>,
+    clips: Vec<usize>,
     t_bits: u64,
     placement_bits: [u64; 16],
 }
@@ -97,7 +97,7 @@ struct SolidKey {
 impl PartialEq for SolidKey {
     fn eq(&self, other: &Self) -> bool {
         Arc::ptr_eq(&self.rig, &other.rig)
-            && self.clip == other.clip
+            && self.clips == other.clips
             && self.t_bits == other.t_bits
             && self.placement_bits == other.placement_bits
     }
@@ -117,7 +117,7 @@ impl PosedReference<'_> {
     pub fn solid(&self) -> Option<Arc<MeshSolid>> {
         let key = SolidKey {
             rig: Arc::clone(self.rig),
-            clip: self.clip,
+            clips: self.clips.clone(),
             t_bits: self.t_secs.to_bits(),
             placement_bits: self.scene_from_file.to_cols_array().map(f64::to_bits),
         };

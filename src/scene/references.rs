@@ -24,8 +24,8 @@ pub struct Reference {
     pub name: String,
     /// A glTF 2.0 file (`.glb`, or `.gltf` with its `.bin` beside it), relative to the scene file.
     pub file: String,
-    /// The animation that plays, by name; absent: the file's first (none
-    /// if the file has none).
+    /// The animation that plays, by name; absent: every animation of the
+    /// file together (none if it has none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animation: Option<String>,
     /// The scene frame at which the animation's time 0 plays (may be negative).
@@ -71,30 +71,35 @@ impl Reference {
         }
     }
 
-    /// The clip that plays (an index into the rig's clips): the named one,
-    /// else the file's first; None when the rig is not read, has no clip or
-    /// lacks the named one.
-    pub fn clip_index(&self) -> Option<usize> {
-        let rig = self.rig.0.as_deref()?;
+    /// The clips that play (indices into the rig's clips): the named one,
+    /// else every clip of the file together (Blender exports a skeleton's
+    /// action and its mesh's shape-key action as two); empty when the rig is
+    /// not read, has none or lacks the named one.
+    pub fn playing_clips(&self) -> Vec<usize> {
+        let Some(rig) = self.rig.0.as_deref() else { return Vec::new() };
         match &self.animation {
-            Some(name) => rig.clip_named(name),
-            None => (!rig.clips().is_empty()).then_some(0),
+            Some(name) => rig.clip_named(name).into_iter().collect(),
+            None => (0..rig.clips().len()).collect(),
         }
     }
 
-    /// Where its clip plays on a timeline at `fps`: the inverse of
-    /// [`Reference::clip_time_secs`] at the clip's first and last key; None
-    /// without a clip ([`Reference::clip_index`]).
+    /// The span (s) of the clips that play together: from the earliest key
+    /// of any to the latest; None without a clip.
+    pub fn clip_span_secs(&self) -> Option<(f64, f64)> {
+        let rig = self.rig.0.as_deref()?;
+        let spans = self.playing_clips().into_iter().map(|c| rig.clips()[c].span_secs());
+        spans.reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+    }
+
+    /// Where its clips play on a timeline at `fps`: the inverse of
+    /// [`Reference::clip_time_secs`] at their first and last key; None
+    /// without a clip ([`Reference::playing_clips`]).
     pub fn clip_frames(&self, fps: f64) -> Option<ClipFrames> {
-        let clip = &self.rig.0.as_deref()?.clips()[self.clip_index()?];
-        let secs = clip.span_secs();
+        let rig = self.rig.0.as_deref()?;
+        let secs = self.clip_span_secs()?;
+        let names: Vec<&str> = self.playing_clips().into_iter().map(|c| rig.clips()[c].name.as_str()).collect();
         let frame_at = |t: f64| f64::from(self.start_frame) + t * fps / self.speed;
-        Some(ClipFrames {
-            name: clip.name.clone(),
-            secs,
-            frames: (frame_at(secs.0), frame_at(secs.1)),
-            repeat: self.repeat,
-        })
+        Some(ClipFrames { name: names.join(" + "), secs, frames: (frame_at(secs.0), frame_at(secs.1)), repeat: self.repeat })
     }
 
     /// The time (s) on the animation's clock at scene frame `frame` of a
@@ -174,7 +179,7 @@ impl Attachment {
 /// Where a reference's clip plays on the scene's timeline.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClipFrames {
-    /// The clip's name in the file.
+    /// The clips' names in the file, joined by " + ".
     pub name: String,
     /// Its first and last key on its own clock (s).
     pub secs: (f64, f64),

@@ -24,9 +24,17 @@ impl Rig {
     /// `t_secs` of its clock; the rest pose for None or an index out of
     /// range. Properties the clip does not key keep their rest values.
     pub fn pose(&self, clip: Option<usize>, t_secs: f64) -> Pose {
+        self.pose_clips(clip.as_slice(), t_secs)
+    }
+
+    /// Every node with the clips `clips` playing together at `t_secs` of one
+    /// clock (a file's skeleton action and shape-key action, as Blender
+    /// exports them); where two key the same property, the later in
+    /// `clips` wins. Indices out of range are left out.
+    pub fn pose_clips(&self, clips: &[usize], t_secs: f64) -> Pose {
         let mut local: Vec<Trs> = self.nodes.iter().map(|n| n.rest).collect();
         let mut morph_weights: Vec<Vec<f64>> = self.nodes.iter().map(|n| n.morph_weights.clone()).collect();
-        if let Some(clip) = clip.and_then(|c| self.clips.get(c)) {
+        for clip in clips.iter().filter_map(|&c| self.clips.get(c)) {
             for channel in &clip.channels {
                 let node = channel.node;
                 match channel.property {
