@@ -6,7 +6,8 @@
 //! And scrubbing: the editor's whole CPU time for one frame (egui's layout of
 //! every panel plus evaluating the cloth at the new frame), run headless by
 //! egui_kittest without a GPU, a 128² cloth with two keys and four layers,
-//! the playhead moved one frame per iteration.
+//! the playhead moved one frame per iteration; and the bundled cape at 128²,
+//! its pins attached to the walking glTF character.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -143,6 +144,28 @@ fn scrub_frame(c: &mut Criterion) {
             })
         });
     }
+    // The references issue's case: the bundled cape at 128 × 128, its pins
+    // attached to the 10 072-vertex walker (posed every frame), the walker not a collider.
+    let cape = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cape.ron");
+    let mut scene = drape::scene::load(&cape).expect("the bundled cape");
+    scene.cloth.grid = (128, 128);
+    for (pin, i) in scene.keys[0].pins.iter_mut().zip([0, 28, 64, 99, 127]) {
+        pin.grid = (i, 0);
+    }
+    scene.references[0].collider = false;
+    let mut harness = Harness::builder()
+        .with_size([1400.0, 860.0])
+        .build_eframe(move |_| DrapeApp::new(scene, None, None).with_file_dirs(None, None));
+    harness.step();
+    let mut frame = 0.0;
+    group.bench_function("128x128 cape on a walker", |b| {
+        b.iter(|| {
+            frame = (frame + 1.0) % 49.0;
+            harness.state_mut().set_frame(frame);
+            harness.step();
+            black_box(harness.state().mesh().positions[0])
+        })
+    });
     group.finish();
 }
 

@@ -121,9 +121,15 @@ impl PosedReference<'_> {
             t_bits: self.t_secs.to_bits(),
             placement_bits: self.scene_from_file.to_cols_array().map(f64::to_bits),
         };
-        let kept =
-            |solids: &Vec<(SolidKey, Arc<MeshSolid>)>| solids.iter().find(|(k, _)| *k == key).map(|(_, s)| s.clone());
-        if let Some(solid) = POSED_SOLIDS.lock().ok().and_then(|solids| kept(&solids)) {
+        // Least recently used out first: a key's pose is asked for at every frame.
+        let kept = |solids: &mut Vec<(SolidKey, Arc<MeshSolid>)>| {
+            let at = solids.iter().position(|(k, _)| *k == key)?;
+            let entry = solids.remove(at);
+            let solid = entry.1.clone();
+            solids.push(entry);
+            Some(solid)
+        };
+        if let Some(solid) = POSED_SOLIDS.lock().ok().and_then(|mut solids| kept(&mut solids)) {
             return Some(solid);
         }
         let mut vertices = Vec::new();
