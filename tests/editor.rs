@@ -1524,3 +1524,193 @@ fn a_reference_not_read_is_shown_without_its_rig() {
     harness.run_ok();
     assert_eq!(harness.state().scene().references[0].start_frame, 12);
 }
+
+/// The cape on the walker: a copy of `scenes/cape.ron` in `workspace`
+/// naming the walker by its absolute path, opened from the file.
+fn open_cape(workspace: &Workspace) -> Harness<'static, DrapeApp> {
+    let walker = std::fs::canonicalize("assets/walker.glb").unwrap();
+    let text = std::fs::read_to_string("scenes/cape.ron").unwrap();
+    let text = text.replace("\"../assets/walker.glb\"", &format!("{:?}", walker.display().to_string()));
+    let path = workspace.path("cape.ron");
+    std::fs::write(&path, text).unwrap();
+    open_editor(workspace, scene::load(&path).unwrap(), Some(path))
+}
+
+fn pin_of(scene: &Scene, key: usize, grid: (u32, u32)) -> scene::Pin {
+    scene.keys[key].pins.iter().find(|p| p.grid == grid).cloned().expect("pinned")
+}
+
+/// Clicks the widget labelled `label` once scrolled into view, as a user scrolls the Cloth panel to it.
+fn click_scrolled(harness: &mut Harness<'_, DrapeApp>, label: &str) {
+    harness.get_by_label(label).scroll_to_me();
+    harness.run_ok();
+    harness.get_by_label(label).click();
+    harness.run_ok();
+}
+
+/// Where pin `grid` of key `key` is held by its attachment at the key's frame.
+fn attached_place(scene: &Scene, key: usize, grid: (u32, u32)) -> glam::DVec3 {
+    let attachment = pin_of(scene, key, grid).attach.expect("attached");
+    let frame = f64::from(scene.keys[key].frame);
+    drape::animate::attachments::attachment_at(scene, &attachment, frame).expect("placed")
+}
+
+/// The Cloth panel shows what holds a selected pin and lets go of it
+/// without moving it (one undo step), attaches it to a node picked from a
+/// filtered list where it is, and detaches several pins at once.
+#[test]
+fn a_pin_is_detached_and_attached_to_a_node_in_the_cloth_panel() {
+    let workspace = Workspace::new();
+    let mut harness = open_cape(&workspace);
+    let opened = harness.state().scene().clone();
+    let grid = (9, 0);
+    harness.state_mut().select_pins(&[grid]);
+    harness.run_ok();
+    assert!(harness.query_by_label("Attached to walker · node chest").is_some(), "the attachment is shown");
+    // The walker holds pins: it cannot be removed yet, and the status says which and what to do.
+    harness.get_by_label("Remove reference \"walker\"").click();
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &opened);
+    assert!(harness.query_by_label_contains("5 pins (0, 0), (4, 0), (9, 0), … of the key at frame 0").is_some());
+
+    let held = attached_place(&opened, 0, grid);
+    click_scrolled(&mut harness, "Detach");
+    let pin = pin_of(harness.state().scene(), 0, grid);
+    assert_eq!(pin.attach, None);
+    assert!(glam::DVec3::from(pin.pos).distance(held) < 1e-9, "stays where it was held: {:?} {held}", pin.pos);
+    assert_eq!(harness.state().document().undo_label(), Some("Detach pin"));
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().scene(), &opened, "undo attaches it again");
+
+    // Loose again, then onto the chest through the node list: filtered, picked, where it is.
+    click_scrolled(&mut harness, "Detach");
+    let loose = glam::DVec3::from(pin_of(harness.state().scene(), 0, grid).pos);
+    click_scrolled(&mut harness, "Attach to node…");
+    assert!(harness.query_by_label("head").is_some(), "the walker's nodes are listed");
+    let filter = harness.get_by_role_and_label(Role::TextInput, "Filter nodes");
+    filter.focus();
+    filter.type_text("che");
+    harness.run_ok();
+    assert!(harness.query_by_label("head").is_none(), "filtered out");
+    click_scrolled(&mut harness, "chest");
+    let pin = pin_of(harness.state().scene(), 0, grid);
+    let Some(scene::Attachment::Node(node)) = &pin.attach else { panic!("not on a node: {pin:?}") };
+    assert_eq!((node.reference.as_str(), node.node.as_str()), ("walker", "chest"));
+    let held = attached_place(harness.state().scene(), 0, grid);
+    assert!(held.distance(loose) < 1e-6 && held.distance(glam::DVec3::from(pin.pos)) < 1e-6, "no jump: {held}");
+    assert_eq!(harness.state().document().undo_label(), Some("Attach pin"));
+    assert!(harness.query_by_label("chest").is_none(), "the list closes once picked");
+
+    // All five: how many are attached, and Detach 5 in one step.
+    let all: Vec<(u32, u32)> = opened.keys[0].pins.iter().map(|p| p.grid).collect();
+    harness.state_mut().select_pins(&all);
+    harness.run_ok();
+    assert!(harness.query_by_label("5 of 5 attached").is_some());
+    click_scrolled(&mut harness, "Detach 5");
+    assert!(harness.state().scene().keys[0].pins.iter().all(|p| p.attach.is_none()));
+    assert_eq!(harness.state().document().undo_label(), Some("Detach pins"));
+    settle(&mut harness);
+}
+
+/// Attach by clicking: the next click on the walker in the viewport, at a
+/// frame off the key, attaches the one selected pin to that skin point
+/// (the key holding it where that point is at the key's frame); a click on
+/// nothing says so and waits for another, Esc cancels. Dragging the pin
+/// then lets go of the skin.
+#[test]
+fn a_pin_is_attached_by_clicking_on_the_walker_and_let_go_to_move() {
+    let workspace = Workspace::new();
+    let mut harness = open_cape(&workspace);
+    harness.state_mut().set_frame(10.0);
+    settle(&mut harness);
+    let grid = (9, 0);
+    harness.state_mut().select_pins(&[grid]);
+    harness.run_ok();
+    click_scrolled(&mut harness, "Attach by clicking");
+    assert_eq!(harness.state().attaching(), Some(grid));
+    assert!(harness.query_by_label_contains("Click on a reference to attach pin (9, 0)").is_some(), "the status");
+    harness.key_press(Key::Escape);
+    harness.run_ok();
+    assert_eq!(harness.state().attaching(), None, "Esc cancels");
+    click_scrolled(&mut harness, "Attach by clicking");
+    harness.state_mut().select_pins(&[(0, 0)]);
+    harness.run_ok();
+    assert_eq!(harness.state().attaching(), None, "another pin picked: not this one's click any more");
+    harness.state_mut().select_pins(&[grid]);
+    click_scrolled(&mut harness, "Attach by clicking");
+
+    let before = harness.state().scene().clone();
+    let sky = harness.state().viewport_rect().left_top() + egui::vec2(8.0, 8.0);
+    click_at(&mut harness, sky, Modifiers::NONE);
+    assert_eq!(harness.state().scene(), &before, "nothing attached");
+    assert!(harness.query_by_label_contains("No reference there").is_some());
+    assert_eq!(harness.state().attaching(), Some(grid), "still waiting for a click on a reference");
+
+    // Where the pin hangs on screen: the ray through it meets the walker's back just behind it.
+    let cols = before.cloth.cols();
+    let hanging = harness.state().mesh().positions[grid.1 as usize * cols + grid.0 as usize];
+    let at = harness.state().screen_pos(hanging).expect("the pin is in view");
+    click_at(&mut harness, at, Modifiers::NONE);
+    let pin = pin_of(harness.state().scene(), 0, grid);
+    let Some(scene::Attachment::Surface(surface)) = pin.attach.clone() else { panic!("not on the skin: {pin:?}") };
+    assert_eq!((surface.reference.as_str(), surface.lift_m), ("walker", before.keys[0].thickness));
+    let held = attached_place(harness.state().scene(), 0, grid);
+    assert!(held.distance(glam::DVec3::from(pin.pos)) < 1e-6, "pos is where it is held at the key: {held}");
+    assert_eq!(harness.state().document().undo_label(), Some("Attach pin"));
+    assert_eq!(harness.state().attaching(), None);
+    // The skin point is the one under the mouse at the frame shown (a thickness off it).
+    let attachment = scene::Attachment::Surface(surface);
+    let shown = drape::animate::attachments::attachment_at(harness.state().scene(), &attachment, 10.0).unwrap();
+    let on_screen = harness.state().screen_pos(shown.as_vec3()).unwrap();
+    assert!(on_screen.distance(at) < 4.0, "clicked at {at:?}, attached at {on_screen:?}");
+
+    // Dragged up at the key's frame: let go of the skin, moved, and the status says so.
+    harness.state_mut().set_frame(0.0);
+    settle(&mut harness);
+    let cols = harness.state().scene().cloth.cols();
+    let start = harness.state().mesh().positions[grid.1 as usize * cols + grid.0 as usize];
+    let from = harness.state().screen_pos(start).unwrap();
+    drag(&mut harness, from, from - egui::vec2(0.0, 40.0));
+    let pin = pin_of(harness.state().scene(), 0, grid);
+    assert_eq!(pin.attach, None);
+    assert!(pin.pos.1 > held.y + 0.02, "moved up: {held} → {:?}", pin.pos);
+    assert!(harness.query_by_label_contains("Detached pin (9, 0) from walker to move it").is_some(), "the status");
+    assert_eq!(harness.state().document().undo_label(), Some("Move pin"));
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(pin_of(harness.state().scene(), 0, grid).attach, Some(attachment), "undo attaches it again");
+}
+
+/// A pin attached to a node stays attached when typed or dragged to a new
+/// place: its offset in the node takes the move.
+#[test]
+fn a_node_attached_pin_moves_by_typing_and_dragging_and_stays_attached() {
+    let workspace = Workspace::new();
+    let mut harness = open_cape(&workspace);
+    let grid = (0, 0);
+    harness.state_mut().select_pins(&[grid]);
+    harness.run_ok();
+    let before = attached_place(harness.state().scene(), 0, grid);
+    harness.get_by_role_and_label(Role::SpinButton, "X").set_value_accesskit(before.x - 0.05);
+    harness.run_ok();
+    let pin = pin_of(harness.state().scene(), 0, grid);
+    assert!(matches!(&pin.attach, Some(scene::Attachment::Node(n)) if n.node == "chest"), "{pin:?}");
+    let typed = glam::DVec3::new(before.x - 0.05, before.y, before.z);
+    assert!(attached_place(harness.state().scene(), 0, grid).distance(typed) < 1e-6);
+    assert!(glam::DVec3::from(pin.pos).distance(typed) < 1e-9);
+    assert_eq!(harness.state().document().undo_label(), Some("Move pin"));
+    settle(&mut harness);
+
+    let cols = harness.state().scene().cloth.cols();
+    let start = harness.state().mesh().positions[grid.1 as usize * cols + grid.0 as usize];
+    let from = harness.state().screen_pos(start).unwrap();
+    drag(&mut harness, from, from - egui::vec2(0.0, 40.0));
+    let pin = pin_of(harness.state().scene(), 0, grid);
+    assert!(matches!(&pin.attach, Some(scene::Attachment::Node(n)) if n.node == "chest"), "{pin:?}");
+    let held = attached_place(harness.state().scene(), 0, grid);
+    assert!(held.distance(glam::DVec3::from(pin.pos)) < 1e-6, "held where it was dragged: {held} {:?}", pin.pos);
+    assert!(held.y > typed.y + 0.02, "dragged up: {typed} → {held}");
+    assert_eq!(harness.state().document().undo_label(), Some("Move pin"));
+    settle(&mut harness);
+}

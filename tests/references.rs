@@ -402,7 +402,8 @@ fn a_gltf_exported_by_blender_plays_as_blender_shows_it() {
     let scene = scene::load(&write_scene(dir.path(), &text)).unwrap();
     let rig = scene.references[0].rig.0.clone().unwrap();
     assert_eq!(rig.clips().len(), 2, "Blender exports the bones' action and the shape key's as two animations");
-    let point = |v: &serde_json::Value| DVec3::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), v[2].as_f64().unwrap());
+    let point =
+        |v: &serde_json::Value| DVec3::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), v[2].as_f64().unwrap());
     for shown in report["frames"].as_array().unwrap() {
         let frame = shown["frame"].as_f64().unwrap();
         let posed = reference_at(&scene, 0, frame).unwrap();

@@ -181,6 +181,11 @@ impl DrapeApp {
         &self.work.session.selection
     }
 
+    /// The pin the next click on a reference attaches, while attaching by clicking.
+    pub fn attaching(&self) -> Option<(u32, u32)> {
+        self.work.session.attaching
+    }
+
     /// The collider the Colliders panel shows and the viewport outlines.
     pub fn selected_collider(&self) -> Option<usize> {
         self.work.session.selected_collider
@@ -385,6 +390,10 @@ impl DrapeApp {
             self.files.file_new(w, camera);
         }
         self.after_files();
+        // Whatever has the focus: the mode is the viewport's, and Esc is how it ends.
+        if self.work.session.attaching.is_some() && ctx.input(|i| i.key_pressed(KeyCode::Escape)) {
+            self.work.cancel_attach_by_click();
+        }
         if ctx.egui_wants_keyboard_input() || self.viewport.pin_drag.is_some() {
             return;
         }
@@ -451,49 +460,69 @@ impl DrapeApp {
         self.viewport.draw_ui(ui, &mut self.work, area);
     }
 
+    /// The status bar: relaxation progress, then a fresh message (beside
+    /// the progress, so a long relaxation does not hide it); without either,
+    /// what the mouse is doing. The grid and timings on the right keep their
+    /// room: a long message is cut (whole on hover).
     fn status_bar(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            if let Some(status) = self.work.shown.relax_status() {
-                ui.add(egui::Spinner::new());
-                let keys = if status.keys_total > 1 {
-                    format!(" key {} of {},", status.keys_done + 1, status.keys_total)
-                } else {
-                    String::new()
-                };
-                let (cols, rows) = status.level;
-                ui.label(format!(
-                    "Relaxing…{keys} {cols}×{rows} level, sweep {}/{} ({:.1} s)",
-                    status.iteration,
-                    status.max_iterations,
-                    status.started.elapsed().as_secs_f64()
-                ));
-            } else if let Some(message) = &self.work.message {
-                if message.at.elapsed().as_secs_f64() < MESSAGE_SECS {
-                    let color = if message.error { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
-                    ui.colored_label(color, &message.text);
-                }
-            } else if let Some(drag) = &self.viewport.pin_drag {
-                let lock = match drag.lock {
-                    Some(axis) => format!("locked to {axis:?}"),
-                    None => "in the view plane".to_owned(),
-                };
-                ui.label(format!("Moving pin {:?} {lock} — X/Y/Z lock an axis, Esc puts it back", drag.grabbed));
-            } else if let Some((i, j)) = self.work.session.hovered {
-                ui.label(format!("Grid point ({i}, {j})"));
-            }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                // Frames are drawn on demand: a rate only means something while they run continuously.
-                let rate = if self.work.session.playing && self.frame_interval_ms > 0.0 {
-                    format!(" · {:.0} fps", 1000.0 / self.frame_interval_ms)
-                } else {
-                    String::new()
-                };
-                ui.label(format!("{:.1} ms CPU{rate}", self.last_update_ms))
-                    .on_hover_text("The editor's CPU time for the last frame (and frames per second while playing).");
-                let cloth = &self.work.shown.scene.cloth;
-                ui.label(format!("{} × {} grid ·", cloth.cols(), cloth.rows()));
-            });
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            // Frames are drawn on demand: a rate only means something while they run continuously.
+            let rate = if self.work.session.playing && self.frame_interval_ms > 0.0 {
+                format!(" · {:.0} fps", 1000.0 / self.frame_interval_ms)
+            } else {
+                String::new()
+            };
+            ui.label(format!("{:.1} ms CPU{rate}", self.last_update_ms))
+                .on_hover_text("The editor's CPU time for the last frame (and frames per second while playing).");
+            let cloth = &self.work.shown.scene.cloth;
+            ui.label(format!("{} × {} grid ·", cloth.cols(), cloth.rows()));
+            ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| self.status_text_ui(ui));
         });
+    }
+
+    /// The status bar's left part: relaxation, a message, or the mouse.
+    fn status_text_ui(&self, ui: &mut egui::Ui) {
+        let relaxing = self.work.shown.relax_status();
+        if let Some(status) = &relaxing {
+            ui.add(egui::Spinner::new());
+            let keys = if status.keys_total > 1 {
+                format!(" key {} of {},", status.keys_done + 1, status.keys_total)
+            } else {
+                String::new()
+            };
+            let (cols, rows) = status.level;
+            ui.label(format!(
+                "Relaxing…{keys} {cols}×{rows} level, sweep {}/{} ({:.1} s)",
+                status.iteration,
+                status.max_iterations,
+                status.started.elapsed().as_secs_f64()
+            ));
+        }
+        let message = self.work.message.as_ref().filter(|m| m.at.elapsed().as_secs_f64() < MESSAGE_SECS);
+        if let Some(message) = message {
+            if relaxing.is_some() {
+                ui.separator();
+            }
+            let color = if message.error { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
+            ui.add(egui::Label::new(egui::RichText::new(&message.text).color(color)).truncate());
+        } else if relaxing.is_none() {
+            self.pointer_status_ui(ui);
+        }
+    }
+
+    /// What the mouse is doing: dragging a pin, attaching one by clicking, or over a grid point.
+    fn pointer_status_ui(&self, ui: &mut egui::Ui) {
+        if let Some(drag) = &self.viewport.pin_drag {
+            let lock = match drag.lock {
+                Some(axis) => format!("locked to {axis:?}"),
+                None => "in the view plane".to_owned(),
+            };
+            ui.label(format!("Moving pin {:?} {lock} — X/Y/Z lock an axis, Esc puts it back", drag.grabbed));
+        } else if let Some((i, j)) = self.work.session.attaching {
+            ui.label(format!("Click on a reference to attach pin ({i}, {j}) · Esc cancels"));
+        } else if let Some((i, j)) = self.work.session.hovered {
+            ui.label(format!("Grid point ({i}, {j})"));
+        }
     }
 
     /// `tent.ron* — /path/to — Drape`: the star marks unsaved changes.
@@ -552,6 +581,7 @@ impl eframe::App for DrapeApp {
             });
         });
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));
+        self.work.keep_attach_mode_on_its_pin();
         self.shortcuts_window(&ctx);
         self.export.window_ui(&ctx, &mut self.work);
         self.files.dialogs_ui(&ctx, &mut self.work, &mut self.viewport.camera);

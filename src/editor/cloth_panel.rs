@@ -1,28 +1,33 @@
 //! The Cloth panel: the cloth's size, grid, texture and stretch limit, the fabric of the key
-//! being edited, its pins in the 2D grid editor, and exact pin positions.
+//! being edited, its pins in the 2D grid editor, exact pin positions, and what
+//! holds the selected pins to a reference (`pin_attach_rows`).
 //! Every change goes through the document, so it is undoable and validated.
 
 use eframe::egui::{self, Response};
+use glam::DVec3;
 
 use super::number_field::{number_field, number_slider};
 
-use super::edits;
 use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
+use super::node_picker::NodePicker;
+use super::pin_attach_rows::attachment_ui;
 use super::selection;
 use super::workspace::Workspace;
+use super::{attach, edits};
 use crate::scene::{
     ClothTexture, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
-    MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Scene,
+    MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Pin, Scene,
 };
 
 /// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
 const ADD_KEY_WIDTH: f32 = 96.0;
 
-/// The Cloth panel's own state: the grid editor's view.
+/// The Cloth panel's own state: the grid editor's view and the node list of "Attach to node…".
 #[derive(Default)]
 pub struct ClothPanel {
     grid_editor: GridEditor,
+    node_picker: NodePicker,
 }
 
 impl ClothPanel {
@@ -59,7 +64,7 @@ impl ClothPanel {
                 GridAction::ClickNothing(how) => selection::click_on_nothing(&mut w.session.selection, how),
             }
         }
-        selected_pin_fields(ui, w);
+        selected_pin_fields(ui, w, &mut self.node_picker);
     }
 }
 
@@ -74,6 +79,27 @@ fn key_field(w: &mut Workspace, response: &Response, label: &str, change: impl F
         && let Some(index) = w.key_to_edit(label)
     {
         w.apply(label, |s| change(&mut s.keys[index]));
+    }
+}
+
+/// Moves pins of the key being edited when `response` changed the value (with
+/// auto-key off a key, of a new key at the playhead) to where `moves` puts
+/// them, given the scene and that key's index; attached pins as
+/// [`Workspace::move_pins`] moves them. A drag on the widget is one undo step.
+fn pins_field(
+    w: &mut Workspace,
+    response: &Response,
+    label: &str,
+    moves: impl FnOnce(&Scene, usize) -> Vec<((u32, u32), DVec3)>,
+) {
+    if response.drag_started() {
+        w.doc.begin_gesture(label);
+    }
+    if response.changed()
+        && let Some(index) = w.key_to_edit(label)
+    {
+        let moves = moves(w.doc.scene(), index);
+        w.move_pins(label, index, &moves);
     }
 }
 
@@ -265,40 +291,42 @@ fn placement_rows_ui(ui: &mut egui::Ui, w: &mut Workspace, key: &Key) {
     }
 }
 
-/// Exact values for the selected pins: one pin's position, or several pins' shared offset.
-fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
+/// Exact values for the selected pins: one pin's position, or several pins'
+/// shared offset, where they are at the key's frame (attached pins on their
+/// attachments); then what they are attached to and the verbs to change it.
+fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePicker) {
     let index = w.edit_key_index();
-    let key = w.doc.scene().keys[index].clone();
-    let selected: Vec<_> = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).cloned().collect();
-    match selected.as_slice() {
-        [] => {
+    let scene = w.doc.scene().clone();
+    let key = &scene.keys[index];
+    let selected: Vec<Pin> = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).cloned().collect();
+    let places: Vec<(f64, f64, f64)> = selected.iter().map(|p| attach::pin_at_key(&scene, key, p).into()).collect();
+    match (selected.as_slice(), places.as_slice()) {
+        ([], _) => {
             ui.weak("No pin selected.");
         }
-        [pin] => {
+        ([pin], [place]) => {
             ui.label(format!("Pin ({}, {}), metres", pin.grid.0, pin.grid.1));
             let grid = pin.grid;
             ui.horizontal(|ui| {
-                let mut pos = pin.pos;
+                let mut pos = *place;
                 for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
                     let label = ui.label(axis).id;
                     let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
                     // Set on the pin as the edited key holds it (a new auto-key holds the pose here).
                     let value = *value;
-                    key_field(w, &r, "Move pin", |k| {
-                        if let Some(now) = k.pins.iter().find(|p| p.grid == grid).map(|p| p.pos) {
-                            edits::move_pin(k, grid, pos_after(now, axis, value));
-                        }
+                    pins_field(w, &r, "Move pin", |s, k| {
+                        let now = attach::pin_place(s, k, grid);
+                        now.map(|now| (grid, DVec3::from(pos_after(now.into(), axis, value)))).into_iter().collect()
                     });
                 }
             });
         }
-        many => {
+        (many, _) => {
             // Their centre, like one pin's position: typing a value moves them all by the change.
             ui.label(format!("{} pins selected: their centre, metres", many.len()));
             let count = many.len() as f64;
-            let centre = many
-                .iter()
-                .fold((0.0, 0.0, 0.0), |c, p| (c.0 + p.pos.0 / count, c.1 + p.pos.1 / count, c.2 + p.pos.2 / count));
+            let centre =
+                places.iter().fold((0.0, 0.0, 0.0), |c, p| (c.0 + p.0 / count, c.1 + p.1 / count, c.2 + p.2 / count));
             ui.horizontal(|ui| {
                 let mut moved = centre;
                 for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
@@ -307,18 +335,20 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
                     // Each pin keeps its offset from the centre; written value + offset so pins
                     // level with the centre get the typed number exactly.
                     let (value, from) = (*value, axis_of(centre, axis));
-                    key_field(w, &r, "Move pins", |k| {
+                    pins_field(w, &r, "Move pins", |s, k| {
+                        let mut moves = Vec::new();
                         for pin in many {
-                            if let Some(now) = k.pins.iter().find(|p| p.grid == pin.grid).map(|p| p.pos) {
-                                let to = value + (axis_of(now, axis) - from);
-                                edits::move_pin(k, pin.grid, pos_after(now, axis, to));
-                            }
+                            let Some(now) = attach::pin_place(s, k, pin.grid).map(Into::into) else { continue };
+                            let to = value + (axis_of(now, axis) - from);
+                            moves.push((pin.grid, DVec3::from(pos_after(now, axis, to))));
                         }
+                        moves
                     });
                 }
             });
         }
     }
+    attachment_ui(ui, w, &selected, picker);
     ui.horizontal(|ui| {
         let any = !selected.is_empty();
         if ui.add_enabled(any, egui::Button::new("Unpin")).on_hover_text("Unpin the selected pins (Delete)").clicked() {
@@ -331,7 +361,7 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace) {
             ui.ctx().copy_text(text);
         }
         let can_paste = !w.session.copied_pins.is_empty();
-        let hint = "Pin the copied grid points here at their copied positions (Ctrl+V)";
+        let hint = "Pin the copied grid points here as they were copied: position and attachment (Ctrl+V)";
         if ui.add_enabled(can_paste, egui::Button::new("Paste")).on_hover_text(hint).clicked() {
             w.paste_pins(None);
         }

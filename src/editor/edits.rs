@@ -63,16 +63,12 @@ pub fn move_pin(key: &mut Key, grid: (u32, u32), pos: (f64, f64, f64)) {
     }
 }
 
-/// Gives each pin of `key` at a grid point in `grids` the position of its
-/// partner across the cloth's middle column (grid i ↔ cols − 1 − i, same
-/// row), reflected in the plane x = 0; a pin without a partner in `key`
-/// stays. Pins on the middle column reflect their own x.
-pub fn mirror_pins(key: &mut Key, grids: &[(u32, u32)], cols: u32) {
-    let before = key.pins.clone();
-    for pin in key.pins.iter_mut().filter(|p| grids.contains(&p.grid)) {
-        let partner = (cols.saturating_sub(1).saturating_sub(pin.grid.0), pin.grid.1);
-        if let Some(other) = before.iter().find(|p| p.grid == partner) {
-            pin.pos = (-other.pos.0, other.pos.1, other.pos.2);
+/// Puts back pins of `key` as `pins` hold them (position and attachment),
+/// matched by grid point: a drag's Esc. Pins not in `key` stay out.
+pub fn restore_pins(key: &mut Key, pins: &[Pin]) {
+    for pin in key.pins.iter_mut() {
+        if let Some(start) = pins.iter().find(|p| p.grid == pin.grid) {
+            *pin = start.clone();
         }
     }
 }
@@ -150,23 +146,6 @@ mod tests {
         key.placement = Some(own);
         unpin(&mut key, &[(0, 0)]);
         assert_eq!(key.placement, Some(own));
-    }
-
-    #[test]
-    fn mirroring_takes_the_partner_pins_position_reflected_in_x() {
-        let pin = |grid, pos| Pin::at(grid, pos);
-        let mut key = scene().keys[0].clone();
-        key.pins = vec![
-            pin((0, 0), (-0.4, 1.0, 0.1)),
-            pin((4, 0), (0.6, 1.2, 0.3)),
-            pin((2, 4), (0.1, 0.5, 0.0)),
-            pin((0, 4), (-0.5, 0.2, 0.0)),
-        ];
-        mirror_pins(&mut key, &[(0, 0), (2, 4), (0, 4)], 5);
-        assert_eq!(key.pins[0].pos, (-0.6, 1.2, 0.3), "takes (4, 0) reflected");
-        assert_eq!(key.pins[1].pos, (0.6, 1.2, 0.3), "not selected: stays");
-        assert_eq!(key.pins[2].pos, (-0.1, 0.5, 0.0), "the middle column reflects itself");
-        assert_eq!(key.pins[3].pos, (-0.5, 0.2, 0.0), "no partner at (4, 4): stays");
     }
 
     #[test]

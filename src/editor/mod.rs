@@ -16,8 +16,12 @@
 //! Shared behaviour has one home: every typed number is a `number_field`
 //! (and `typing_pace` keeps typing and Tab in separate frames), the pin
 //! selection rules are [`selection`]'s, the translate gizmo's geometry
-//! [`gizmo`]'s, and the timeline's zoom window `timeline_zoom`'s.
+//! [`gizmo`]'s, the timeline's zoom window `timeline_zoom`'s, and attaching
+//! pins to references (and moving or letting go of attached pins) [`attach`]'s,
+//! with [`reference_pick`] finding the skin point a click in the viewport
+//! meets (`viewport_attach_input`; the mode lives in the session).
 pub mod app;
+pub mod attach;
 pub mod bezier_handles;
 mod cloth_panel;
 mod collider_drag;
@@ -32,13 +36,17 @@ pub mod gizmo;
 pub mod grid_editor;
 mod icons;
 mod layers_panel;
+mod node_picker;
 mod number_field;
 pub mod param_edit;
 pub mod picking;
+mod pin_attach_rows;
+mod pin_clipboard;
 pub mod pin_drag;
 pub mod prompt;
 pub mod recent;
 pub mod recovery;
+pub mod reference_pick;
 mod references_panel;
 pub mod selection;
 pub mod shaper;
@@ -50,6 +58,7 @@ mod typing_pace;
 #[cfg(test)]
 mod ui_driver;
 pub mod viewport;
+mod viewport_attach_input;
 mod viewport_collider_input;
 mod viewport_input;
 pub mod viewport_panel;

@@ -1,7 +1,9 @@
 //! A drag of pins in the viewport: which pins, from where, and an axis it may be locked to.
 
 use eframe::egui;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
+
+use crate::scene::Pin;
 
 /// A world axis a dragged pin is locked to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,8 +39,14 @@ pub fn drag_keys(ui: &egui::Ui, lock: &mut Option<AxisLock>) -> bool {
     escape
 }
 
-/// A pin being dragged: its grid point and its position when the drag began.
-pub type MovingPin = ((u32, u32), (f64, f64, f64));
+/// A pin being dragged, as its key held it when the drag began.
+#[derive(Clone, Debug)]
+pub struct MovingPin {
+    /// The pin then (its attachment too): Esc puts it back.
+    pub start: Pin,
+    /// Where it was then at its key's frame (m): on its attachment, if attached.
+    pub from: DVec3,
+}
 
 /// A drag of one or more pins, from where they were when it began.
 pub struct PinDrag {

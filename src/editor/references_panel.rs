@@ -194,8 +194,13 @@ impl ReferencesPanel {
         response.gained_focus()
     }
 
-    /// Removes reference `index` (one undo step), keeping the selection on the same reference.
+    /// Removes reference `index` (one undo step), keeping the selection on
+    /// the same reference. Refused, saying which, while pins are attached to it.
     fn remove(&mut self, w: &mut Workspace, index: usize) {
+        if let Some(holding) = holding_pins(w.doc.scene(), index) {
+            w.report(holding, true);
+            return;
+        }
         let count = w.doc.scene().references.len();
         w.apply("Remove reference", |s| {
             s.references.remove(index);
@@ -250,14 +255,14 @@ impl ReferencesPanel {
     }
 }
 
-/// Which of the file's animations plays: its first (the default), or one by name.
+/// Which of the file's animations play: all together (the default), or one by name.
 fn animation_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &Reference) {
     let clips: Vec<String> =
         reference.rig.0.as_ref().map(|rig| rig.clips().iter().map(|c| c.name.clone()).collect()).unwrap_or_default();
-    let first = match clips.first() {
-        Some(name) => format!("First ({name})"),
-        None if reference.rig.0.is_some() => "First (the file has none)".to_owned(),
-        None => "First".to_owned(),
+    let first = match clips.len() {
+        0 if reference.rig.0.is_some() => "All (the file has none)".to_owned(),
+        0 => "All".to_owned(),
+        _ => format!("All ({})", clips.join(", ")),
     };
     let shown = match &reference.animation {
         None => first.clone(),
@@ -274,7 +279,7 @@ fn animation_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &
                     ui.selectable_value(&mut chosen, Some(name.clone()), name);
                 }
             });
-        combo.response.labelled_by(label).on_hover_text("Which of the file's animations plays");
+        combo.response.labelled_by(label).on_hover_text("Which of the file's animations play: all together (a skeleton's and a shape key's, as Blender exports them), or one");
     });
     if chosen != reference.animation {
         w.apply("Reference animation", |s| s.references[index].animation = chosen);
@@ -434,6 +439,35 @@ fn short(value: f64) -> String {
     readable_number((value * 100.0).round() / 100.0)
 }
 
+/// Why reference `index` cannot be removed yet: the pins attached to it
+/// (the first few, and the keys holding them), and what to do; None when none is.
+fn holding_pins(scene: &Scene, index: usize) -> Option<String> {
+    let name = &scene.references.get(index)?.name;
+    let mut pins = Vec::new();
+    let mut frames = Vec::new();
+    for key in &scene.keys {
+        for pin in key.pins.iter().filter(|p| p.attach.as_ref().is_some_and(|a| a.reference() == name)) {
+            pins.push(format!("({}, {})", pin.grid.0, pin.grid.1));
+            if frames.last() != Some(&key.frame) {
+                frames.push(key.frame);
+            }
+        }
+    }
+    let (count, verb, them) = match pins.len() {
+        0 => return None,
+        1 => ("pin".to_owned(), "is", "it"),
+        n => (format!("{n} pins"), "are", "them"),
+    };
+    let more = if pins.len() > 3 { ", …" } else { "" };
+    let listed = pins[..pins.len().min(3)].join(", ");
+    let keys = match frames[..] {
+        [frame] => format!("the key at frame {frame}"),
+        _ => format!("the keys at frames {}", frames.iter().map(i32::to_string).collect::<Vec<_>>().join(", ")),
+    };
+    let label = scene.references[index].label(index);
+    Some(format!("Cannot remove {label}: {count} {listed}{more} of {keys} {verb} attached to it. Detach {them} first."))
+}
+
 /// Renames reference `index` (one undo step); pins attached to it by its
 /// old name follow it, so the rename keeps them attached.
 fn rename(w: &mut Workspace, index: usize, name: String) {
@@ -509,6 +543,25 @@ mod tests {
         let rig = read_rig(Path::new("assets/walker.glb")).expect("the bundled walker");
         let reference = new_reference("walker".to_owned(), "walker.glb".to_owned(), LoadedRig(Some(Arc::new(rig))));
         reference.expect("a reference with defaults")
+    }
+
+    #[test]
+    fn a_reference_holding_pins_names_them_and_says_to_detach_them() {
+        let mut scene = crate::scene::parse(include_str!("../../scenes/cape.ron"), "cape.ron").unwrap();
+        let text = holding_pins(&scene, 0).expect("five pins hold the walker");
+        assert_eq!(
+            text,
+            "Cannot remove reference \"walker\": 5 pins (0, 0), (4, 0), (9, 0), … of the key at frame 0 \
+             are attached to it. Detach them first."
+        );
+        scene.keys[0].pins.iter_mut().skip(1).for_each(|p| p.attach = None);
+        let mut second = scene.keys[0].clone();
+        second.frame = 24;
+        scene.keys.push(second);
+        assert!(holding_pins(&scene, 0).unwrap().contains(": 2 pins (0, 0), (0, 0) of the keys at frames 0, 24 are "));
+        scene.keys.pop();
+        scene.keys[0].pins[0].attach = None;
+        assert_eq!(holding_pins(&scene, 0), None);
     }
 
     #[test]

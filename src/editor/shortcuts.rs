@@ -43,4 +43,6 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Drag a collider", "Move it in the view plane, at the playhead (keyed numbers get a key there)"),
     ("X / Y / Z while dragging", "Lock the move to that axis (again: unlock)"),
     ("Esc while dragging", "Put the pins (or the collider) back"),
+    ("Click a reference (Attach by clicking)", "Attach the selected pin to that point of its skin"),
+    ("Esc while attaching by clicking", "Attach nothing"),
 ];

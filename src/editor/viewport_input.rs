@@ -10,7 +10,7 @@ use super::pin_drag::{AxisLock, MovingPin, PinDrag, drag_keys};
 use super::selection::{self, Pick};
 use super::viewport_panel::{SolidLook, ViewportPanel};
 use super::workspace::Workspace;
-use super::{edits, picking};
+use super::{attach, edits, picking};
 
 /// Mouse-wheel points per dolly step.
 const POINTS_PER_DOLLY_STEP: f32 = 50.0;
@@ -58,6 +58,7 @@ impl ViewportPanel {
         if let Some(pointer) = pointer_px
             && self.pin_drag.is_none()
             && self.collider_drag.is_none()
+            && w.session.attaching.is_none()
             && response.hovered()
         {
             let (point, collider) = self.under_pointer(w, pointer, size_px, pixels_per_point);
@@ -74,6 +75,15 @@ impl ViewportPanel {
             return;
         }
         if alt {
+            return;
+        }
+        if w.session.attaching.is_some() {
+            // The mode takes the primary button: a click attaches, a drag does nothing.
+            if response.clicked_by(PointerButton::Primary)
+                && let Some(pointer) = pointer_px
+            {
+                self.attach_click(w, pointer, size_px);
+            }
             return;
         }
         if self.box_select.is_some() {
@@ -271,8 +281,8 @@ impl ViewportPanel {
             selection::pick(&mut w.session.selection, &[grabbed], if add { Pick::Add } else { Pick::Replace });
         }
         let Some((index, pins)) = begin_selected_pins_drag(w) else { return };
-        let Some(&(_, start)) = pins.iter().find(|(grid, _)| *grid == grabbed) else { return };
-        let anchor = Vec3::new(start.0 as f32, start.1 as f32, start.2 as f32);
+        let Some(start) = pins.iter().find(|p| p.start.grid == grabbed) else { return };
+        let anchor = start.from.as_vec3();
         self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: None, key: index, by_gizmo: false });
     }
 
@@ -291,7 +301,7 @@ impl ViewportPanel {
             return;
         };
         let Some((index, pins)) = begin_selected_pins_drag(w) else { return };
-        let Some(&(grabbed, _)) = pins.first() else { return };
+        let Some(grabbed) = pins.first().map(|p| p.start.grid) else { return };
         self.pin_drag = Some(PinDrag { grabbed, anchor, pins, lock: Some(axis), key: index, by_gizmo: true });
     }
 
@@ -307,12 +317,9 @@ impl ViewportPanel {
         let escape = drag_keys(ui, &mut drag.lock);
         let (key, pins) = (drag.key, drag.pins.clone());
         if escape {
-            // Back where they were: the gesture then changed nothing and leaves no undo step.
-            w.apply("Move pin", |s| {
-                for (grid, pos) in &pins {
-                    edits::move_pin(&mut s.keys[key], *grid, *pos);
-                }
-            });
+            // Back as they were (attached too): the gesture then changed nothing and leaves no undo step.
+            let starts: Vec<_> = pins.iter().map(|p| p.start.clone()).collect();
+            w.apply("Move pin", |s| edits::restore_pins(&mut s.keys[key], &starts));
             self.finish_pin_drag(w);
             return;
         }
@@ -322,12 +329,8 @@ impl ViewportPanel {
         {
             let offset = (moved - drag.anchor).as_dvec3();
             let label = if pins.len() == 1 { "Move pin" } else { "Move pins" };
-            w.apply(label, |s| {
-                for (grid, pos) in &pins {
-                    let to = (pos.0 + offset.x, pos.1 + offset.y, pos.2 + offset.z);
-                    edits::move_pin(&mut s.keys[key], *grid, to);
-                }
-            });
+            let moves: Vec<_> = pins.iter().map(|p| (p.start.grid, p.from + offset)).collect();
+            w.move_pins(label, key, &moves);
         }
         if response.drag_stopped() || !ui.input(|i| i.pointer.primary_down()) {
             self.finish_pin_drag(w);
@@ -342,12 +345,15 @@ impl ViewportPanel {
 
 /// Opens the undo step of a drag of the selected pins and returns the key
 /// it moves (with auto-key off a key, a new key at the playhead) and the
-/// selected pins with their start positions; `None` when no key can be made.
+/// selected pins as they start (attached ones where their attachments hold
+/// them at the key's frame); `None` when no key can be made.
 fn begin_selected_pins_drag(w: &mut Workspace) -> Option<(usize, Vec<MovingPin>)> {
     let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
     w.doc.begin_gesture(label);
     let index = w.key_to_edit(label)?;
     let key = &w.doc.scene().keys[index];
-    let pins = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).map(|p| (p.grid, p.pos)).collect();
+    let selected = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid));
+    let pins =
+        selected.map(|p| MovingPin { start: p.clone(), from: attach::pin_at_key(w.doc.scene(), key, p) }).collect();
     Some((index, pins))
 }

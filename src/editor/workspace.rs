@@ -55,6 +55,9 @@ pub struct Session {
     pub auto_key: bool,
     /// Pin positions copied from a key (grid point, metres), to paste on another.
     pub copied_pins: Vec<Pin>,
+    /// Attach by clicking: the pin (grid point) the next click on a
+    /// reference in the viewport attaches there; Esc leaves the mode.
+    pub attaching: Option<(u32, u32)>,
 }
 
 impl Session {
@@ -272,58 +275,6 @@ impl Workspace {
                 s.colliders.remove(index);
             });
         }
-    }
-
-    /// Copies the selected pins' positions in the key being edited (Ctrl+C);
-    /// returns them as the scene file writes pins, for the system clipboard
-    /// (`None` with nothing selected).
-    pub fn copy_selected_pins(&mut self) -> Option<String> {
-        let key = &self.doc.scene().keys[self.edit_key_index()];
-        let copied: Vec<Pin> = key.pins.iter().filter(|p| self.session.selection.contains(&p.grid)).cloned().collect();
-        if copied.is_empty() {
-            return None;
-        }
-        let plural = if copied.len() == 1 { "" } else { "s" };
-        self.report(format!("Copied {} pin position{plural}.", copied.len()), false);
-        let text = ron::to_string(&copied).ok();
-        self.session.copied_pins = copied;
-        text
-    }
-
-    /// Puts copied pin positions on the key being edited (Ctrl+V): `text`
-    /// from the clipboard when it holds pins as the scene file writes them
-    /// (copied here, or from a scene file), else the pins copied last. Each
-    /// grid point is pinned there at its copied position (a pin already
-    /// there moves), and the pasted pins become the selection.
-    pub fn paste_pins(&mut self, text: Option<&str>) {
-        if let Some(pins) = text.and_then(|t| ron::from_str::<Vec<Pin>>(t.trim().trim_end_matches(',')).ok())
-            && !pins.is_empty()
-        {
-            self.session.copied_pins = pins;
-        }
-        let copied = self.session.copied_pins.clone();
-        if copied.is_empty() {
-            return;
-        }
-        let Some(index) = self.key_to_edit("Paste pins") else { return };
-        self.apply("Paste pins", |s| {
-            for pin in &copied {
-                edits::pin_point(&mut s.keys[index], pin.grid, pin.pos);
-            }
-        });
-        self.session.selection = copied.iter().map(|p| p.grid).collect();
-    }
-
-    /// The selected pins take their partners' positions across the cloth's
-    /// middle column, reflected in x = 0 ([`edits::mirror_pins`]).
-    pub fn mirror_selected_pins(&mut self) {
-        let selection = self.session.selection.clone();
-        if selection.is_empty() {
-            return;
-        }
-        let cols = self.doc.scene().cloth.grid.0;
-        let Some(index) = self.key_to_edit("Mirror pins") else { return };
-        self.apply("Mirror pins", |s| edits::mirror_pins(&mut s.keys[index], &selection, cols));
     }
 
     /// K: a new rest-shape key at the playhead's frame, holding the pose shown

@@ -99,7 +99,12 @@ impl Reference {
         let secs = self.clip_span_secs()?;
         let names: Vec<&str> = self.playing_clips().into_iter().map(|c| rig.clips()[c].name.as_str()).collect();
         let frame_at = |t: f64| f64::from(self.start_frame) + t * fps / self.speed;
-        Some(ClipFrames { name: names.join(" + "), secs, frames: (frame_at(secs.0), frame_at(secs.1)), repeat: self.repeat })
+        Some(ClipFrames {
+            name: names.join(" + "),
+            secs,
+            frames: (frame_at(secs.0), frame_at(secs.1)),
+            repeat: self.repeat,
+        })
     }
 
     /// The time (s) on the animation's clock at scene frame `frame` of a
