@@ -1714,3 +1714,28 @@ fn a_node_attached_pin_moves_by_typing_and_dragging_and_stays_attached() {
     assert_eq!(harness.state().document().undo_label(), Some("Move pin"));
     settle(&mut harness);
 }
+
+/// The Cloth panel's Follow row: the cloth follows a node picked from the
+/// filtered list (one undo step), and Stop lets it go.
+#[test]
+fn the_cloth_follows_a_node_picked_in_the_cloth_panel() {
+    let workspace = Workspace::new();
+    let mut harness = open_cape(&workspace);
+    assert_eq!(harness.state().scene().follow, None);
+    assert!(harness.query_by_label("nothing").is_some(), "Follows: nothing");
+    click_scrolled(&mut harness, "Follow node…");
+    let filter = harness.get_by_role_and_label(Role::TextInput, "Filter nodes");
+    filter.focus();
+    filter.type_text("hip");
+    harness.run_ok();
+    click_scrolled(&mut harness, "hips");
+    let follow = harness.state().scene().follow.clone().expect("following");
+    assert_eq!((follow.reference.as_str(), follow.node.as_str()), ("walker", "hips"));
+    assert_eq!(harness.state().document().undo_label(), Some("Follow node"));
+    assert!(harness.query_by_label("walker · hips").is_some());
+    click_scrolled(&mut harness, "Stop");
+    assert_eq!(harness.state().scene().follow, None);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert!(harness.state().scene().follow.is_some(), "undo follows again");
+}

@@ -16,18 +16,20 @@ use super::selection;
 use super::workspace::Workspace;
 use super::{attach, edits};
 use crate::scene::{
-    ClothTexture, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
+    ClothTexture, Follow, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
     MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Pin, Scene,
 };
 
 /// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
 const ADD_KEY_WIDTH: f32 = 96.0;
 
-/// The Cloth panel's own state: the grid editor's view and the node list of "Attach to node…".
+/// The Cloth panel's own state: the grid editor's view, the node list of
+/// "Attach to node…" and that of "Follow node…".
 #[derive(Default)]
 pub struct ClothPanel {
     grid_editor: GridEditor,
     node_picker: NodePicker,
+    follow_picker: NodePicker,
 }
 
 impl ClothPanel {
@@ -35,11 +37,46 @@ impl ClothPanel {
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.heading("Cloth");
             cloth_section(ui, w);
+            self.follow_ui(ui, w);
             ui.separator();
             fabric_section(ui, w);
             ui.separator();
             self.pins_section(ui, w);
         });
+    }
+
+    /// What the cloth follows: a node of a reference (its keys carried as the
+    /// node moves), chosen from the node list, or nothing. Only with
+    /// references in the scene, so the panel holds still without them.
+    fn follow_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+        let scene = w.doc.scene();
+        if scene.references.is_empty() {
+            return;
+        }
+        let follow = scene.follow.clone();
+        ui.horizontal(|ui| {
+            ui.label("Follows");
+            let shown = match &follow {
+                Some(f) => format!("{} · {}", f.reference, f.node),
+                None => "nothing".to_owned(),
+            };
+            ui.monospace(shown);
+            let hint = "Carry the whole cloth with a node (a joint) of a reference: each key is where the node \
+                        is at the key's frame, and the cloth moves as the node does";
+            let button = egui::Button::new("Follow node…").selected(self.follow_picker.is_open());
+            if ui.add(button).on_hover_text(hint).clicked() {
+                self.follow_picker.toggle();
+            }
+            let stop = ui.add_enabled(follow.is_some(), egui::Button::new("Stop"));
+            if stop.on_hover_text("The cloth no longer follows the node").clicked() {
+                w.apply("Stop following", |s| s.follow = None);
+            }
+        });
+        let references = w.doc.scene().references.clone();
+        if let Some((index, node)) = self.follow_picker.pick_ui(ui, &references) {
+            let reference = references[index].name.clone();
+            w.apply("Follow node", |s| s.follow = Some(Follow { reference, node }));
+        }
     }
 
     fn pins_section(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
