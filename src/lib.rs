@@ -39,7 +39,7 @@
 //! | module | may import |
 //! |---|---|
 //! | `atomic_file`, `mesh`, `image`, `world` | nothing of Drape |
-//! | `scene` | `atomic_file`, `world` |
+//! | `scene` | `atomic_file`, `image`, `world` |
 //! | `shape` | `scene`, `mesh`, `world` |
 //! | `animate` | `scene`, `shape`, `mesh`, `world` |
 //! | `look` | `scene` |

@@ -451,3 +451,55 @@ fn a_renderer_kept_between_frames_draws_changed_solids_as_a_fresh_one() {
     };
     assert!(picture(&frames[0]) != picture(&frames[2]), "the ball is in view and moved");
 }
+
+/// A reference's base-colour texture is drawn: a quad facing the camera
+/// with a two-pixel texture (left red, right green) written here as a
+/// `.gltf` with its `.bin` and `.png` beside it, seen through a saved view.
+/// Untextured, both halves would be the same (white) base colour.
+#[test]
+fn a_referenced_mesh_is_drawn_with_its_texture() {
+    let dir = tempfile::tempdir().unwrap();
+    let floats = |values: &[f32]| values.iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<u8>>();
+    let mut bin = floats(&[-1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 2.0, 0.0, -1.0, 2.0, 0.0]);
+    bin.extend(floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]));
+    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    std::fs::write(dir.path().join("quad.bin"), &bin).unwrap();
+    let texture = RgbaImage { width: 2, height: 1, pixels: vec![230, 20, 20, 255, 20, 230, 20, 255] };
+    let mut png = Vec::new();
+    write_png(&texture, &mut png).unwrap();
+    std::fs::write(dir.path().join("quad.png"), png).unwrap();
+    let gltf = serde_json::json!({
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0, "sampler": 0}], "samplers": [{"magFilter": 9728, "minFilter": 9728}],
+        "images": [{"uri": "quad.png"}],
+        "buffers": [{"uri": "quad.bin", "byteLength": bin.len()}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 80, "byteLength": 12}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, 0.0], "max": [1.0, 2.0, 0.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ]
+    });
+    std::fs::write(dir.path().join("quad.gltf"), gltf.to_string()).unwrap();
+    let text = "(version: 1, cloth: (size: (0.1, 0.1), grid: (3, 3)), \
+                keys: [(frame: 0, pins: [(grid: (0, 0), pos: (3.0, 3.0, -2.0))])], \
+                references: [(name: \"quad\", file: \"quad.gltf\")], \
+                view: (target: (0.0, 1.0, 0.0), yaw_deg: 0.0, pitch_deg: 0.0, distance_m: 4.0, fov_y_deg: 35.0))";
+    std::fs::write(dir.path().join("quad.ron"), text).unwrap();
+    let scene = scene::load(&dir.path().join("quad.ron")).unwrap();
+    let image = render_scene_frame(Some(&context()), &scene, 0.0, (320, 240), SceneOverlays::default()).unwrap();
+    let pixel = |x: u32, y: u32| {
+        let at = ((y * image.width + x) * 4) as usize;
+        [image.pixels[at], image.pixels[at + 1], image.pixels[at + 2]].map(f32::from)
+    };
+    // 0.5 m either side of the middle, 4 m away: about 48 px either side of 160.
+    let (left, right) = (pixel(112, 120), pixel(208, 120));
+    assert!(left[0] > 2.0 * left[1] && left[0] > 2.0 * left[2], "the left half is red: {left:?}");
+    assert!(right[1] > 2.0 * right[0] && right[1] > 2.0 * right[2], "the right half is green: {right:?}");
+}

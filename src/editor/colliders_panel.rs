@@ -11,11 +11,8 @@ use eframe::egui;
 
 use super::curve_view::{Curve, CurveView};
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use super::icons::{Icon, icon_button};
-use super::number_field::number_field;
-use super::param_edit::{key_at, set_at_keying, toggle_key};
+use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
 use super::workspace::Workspace;
-use crate::animate::track::sample;
 use crate::scene::{
     Collider, ColliderNumber, LoadedMesh, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
     relative_path,
@@ -202,15 +199,6 @@ fn thickness_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, collider: &C
     });
 }
 
-/// What a number field allows and how fast it drags.
-#[derive(Clone, Copy)]
-struct NumberRange {
-    min: f64,
-    max: f64,
-    speed: f64,
-    unit: &'static str,
-}
-
 /// The range of a collider's number by what it measures (validation's bounds).
 fn number_range(number: ColliderNumber) -> NumberRange {
     match number.field.measure {
@@ -221,8 +209,7 @@ fn number_range(number: ColliderNumber) -> NumberRange {
     }
 }
 
-/// One animatable number: its label, its value at `frame` and its key
-/// toggle. `param_of` finds the number in the scene being edited.
+/// One of the collider's animatable numbers as a row ([`keyed_number_row_ui`]).
 fn number_row_ui(
     ui: &mut egui::Ui,
     w: &mut Workspace,
@@ -232,35 +219,8 @@ fn number_row_ui(
     range: NumberRange,
     param_of: impl Fn(&mut crate::scene::Scene) -> Option<&mut Param>,
 ) {
-    let keyed_here = key_at(param, frame).is_some();
-    let keyed = matches!(param, Param::Keys(_));
-    let mut value = sample(param, f64::from(frame));
-    let label = ui.label(label_text).id;
-    let field =
-        number_field(&mut value).range(range.min..=range.max).speed(range.speed).max_decimals(4).suffix(range.unit);
-    let response = ui.add(field).labelled_by(label);
-    let hint = if keyed { "Keyed: click to add or remove the key at this frame" } else { "Key this number here" };
-    let toggle =
-        icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key {label_text}")).on_hover_text(hint);
-    let what = format!("Collider {label_text}");
-    if response.drag_started() {
-        w.doc.begin_gesture(&what);
-    }
-    if response.changed() {
-        let auto_key = w.session.auto_key;
-        w.apply(&what, |s| {
-            if let Some(p) = param_of(s) {
-                set_at_keying(p, frame, value, auto_key);
-            }
-        });
-    }
-    if toggle.clicked() {
-        w.apply("Key collider number", |s| {
-            if let Some(p) = param_of(s) {
-                toggle_key(p, frame);
-            }
-        });
-    }
+    let owner = Owner { diamond_prefix: "", noun: "Collider" };
+    keyed_number_row_ui(ui, w, frame, owner, label_text, param, range, param_of);
 }
 
 /// A dialog for a mesh file, starting in the scene's folder.

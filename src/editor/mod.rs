@@ -35,6 +35,7 @@ pub mod files;
 pub mod gizmo;
 pub mod grid_editor;
 mod icons;
+mod keyed_number;
 mod layers_panel;
 mod node_picker;
 mod number_field;

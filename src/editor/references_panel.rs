@@ -14,9 +14,9 @@ use eframe::egui;
 
 use super::curve_view::{Curve, CurveView, ReferenceNumber};
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use super::icons::{Icon, icon_button};
+use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
 use super::number_field::number_field;
-use super::param_edit::{key_at, set_at_keying, toggle_key};
+use super::param_edit::set_at_keying;
 use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::scene::{
@@ -350,8 +350,7 @@ fn field_edit(w: &mut Workspace, response: &egui::Response, label: &str, change:
     }
 }
 
-/// One animatable number: its label, its value at `frame` and its key
-/// toggle. `param_of` finds the number in the scene being edited.
+/// One of the reference's animatable numbers as a row ([`keyed_number_row_ui`]).
 fn number_row_ui(
     ui: &mut egui::Ui,
     w: &mut Workspace,
@@ -360,45 +359,18 @@ fn number_row_ui(
     param: &Param,
     param_of: impl Fn(&mut Scene) -> Option<&mut Param>,
 ) {
-    let label_text = number.label();
-    let keyed_here = key_at(param, frame).is_some();
-    let keyed = matches!(param, Param::Keys(_));
-    let mut value = sample(param, f64::from(frame));
-    let label = ui.label(&label_text).id;
-    let (min, max, speed, unit) = number_range(number);
-    let field = number_field(&mut value).range(min..=max).speed(speed).max_decimals(4).suffix(unit);
-    let response = ui.add(field).labelled_by(label);
-    let hint = if keyed { "Keyed: click to add or remove the key at this frame" } else { "Key this number here" };
-    let toggle = icon_button(ui, Icon::Diamond { filled: keyed_here }, true, &format!("Key reference {label_text}"))
-        .on_hover_text(hint);
-    let what = format!("Reference {label_text}");
-    if response.drag_started() {
-        w.doc.begin_gesture(&what);
-    }
-    if response.changed() {
-        let auto_key = w.session.auto_key;
-        w.apply(&what, |s| {
-            if let Some(p) = param_of(s) {
-                set_at_keying(p, frame, value, auto_key);
-            }
-        });
-    }
-    if toggle.clicked() {
-        w.apply("Key reference number", |s| {
-            if let Some(p) = param_of(s) {
-                toggle_key(p, frame);
-            }
-        });
-    }
+    let owner = Owner { diamond_prefix: "reference ", noun: "Reference" };
+    keyed_number_row_ui(ui, w, frame, owner, &number.label(), param, number_range(number), param_of);
 }
 
 /// A number's bounds (validation's), drag speed and unit.
-fn number_range(number: ReferenceNumber) -> (f64, f64, f64, &'static str) {
-    match number {
+fn number_range(number: ReferenceNumber) -> NumberRange {
+    let (min, max, speed, unit) = match number {
         ReferenceNumber::Center(_) => (-MAX_PIN_COORD_M, MAX_PIN_COORD_M, 0.005, " m"),
         ReferenceNumber::Rotation(_) => (-36_000.0, 36_000.0, 0.5, "°"),
         ReferenceNumber::Scale => (1e-4, MAX_PIN_COORD_M, 0.005, ""),
-    }
+    };
+    NumberRange { min, max, speed, unit }
 }
 
 /// What the file holds and where its clip plays:

@@ -20,5 +20,6 @@ pub fn collider_solids(scene: &Scene, frame: f64, opacity: f32) -> Solids {
         indices: mesh.indices,
         color: Solids::PROP_COLOR,
         opacity,
+        ..Solids::NONE
     }
 }

@@ -1,8 +1,8 @@
 //! A scene's visible references at a frame as solids for the renderer: one
-//! set per mesh, in its material's base colour.
+//! set per mesh, in its material's base colour and texture.
 
 use crate::animate::references_at::reference_at;
-use crate::render::Solids;
+use crate::render::{SolidTexture, Solids};
 use crate::scene::Scene;
 
 /// Every mesh of every visible, read reference of `scene` at `frame`, at
@@ -22,6 +22,8 @@ pub fn reference_solids(scene: &Scene, frame: f64, opacity: f32) -> Vec<Solids> 
                 indices: mesh.indices.clone(),
                 color: [r, g, b],
                 opacity: opacity * a,
+                texture: mesh.texture.clone().map(SolidTexture),
+                uvs: mesh.uvs.clone(),
             });
         }
     }

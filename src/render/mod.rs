@@ -30,5 +30,5 @@ pub use camera::OrbitCamera;
 pub use context::{ContextError, GpuContext};
 pub use overlay::{Overlay, PinState};
 pub use renderer::{FrameInput, Ghost, Ground, RenderOptions, Renderer};
-pub use solids::Solids;
+pub use solids::{SolidTexture, Solids};
 pub use target::OffscreenTarget;

@@ -13,7 +13,7 @@ use super::camera::OrbitCamera;
 use super::gpu_mesh::GpuMesh;
 use super::overlay::Overlay;
 use super::pipelines::{Pipelines, SHADOW_FORMAT};
-use super::solids::Solids;
+use super::solids::{SolidTexture, Solids};
 use super::target::OffscreenTarget;
 use super::textures;
 use super::uniforms::{FrameUniform, MaterialUniform, SHADOW_MAP_PX, shadow_clip_from_world};
@@ -196,6 +196,8 @@ struct SolidBuffers {
     opaque: bool,
     material: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
+    /// The texture `bind_group` samples (none: the plain white one).
+    texture: Option<SolidTexture>,
 }
 
 impl SolidBuffers {
@@ -218,6 +220,7 @@ impl SolidBuffers {
             opaque: true,
             material,
             bind_group,
+            texture: None,
         }
     }
 
@@ -242,11 +245,19 @@ impl SolidBuffers {
         self.written = Some(solids.clone());
         self.positions.write(device, queue, bytemuck::cast_slice(&solids.positions));
         self.normals.write(device, queue, bytemuck::cast_slice(&solids.normals));
-        self.uvs.write(device, queue, bytemuck::cast_slice(&vec![[0.0f32; 2]; solids.positions.len()]));
+        let textured = solids.texture.is_some() && solids.uvs.len() == solids.positions.len();
+        if textured {
+            self.uvs.write(device, queue, bytemuck::cast_slice(&solids.uvs));
+        } else {
+            self.uvs.write(device, queue, bytemuck::cast_slice(&vec![[0.0f32; 2]; solids.positions.len()]));
+        }
         self.indices.write(device, queue, bytemuck::cast_slice(&solids.indices));
         self.index_count = solids.indices.len() as u32;
         self.opaque = solids.opacity >= 1.0;
-        let material = MaterialUniform::flat(solids.color, solids.opacity);
+        let mut material = MaterialUniform::flat(solids.color, solids.opacity);
+        if textured {
+            material.params[0] = 1.0;
+        }
         queue.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));
     }
 
@@ -381,6 +392,15 @@ impl Renderer {
         texture: ClothTexture,
     ) -> wgpu::BindGroup {
         let view = &self.texture_views.iter().find(|(t, _)| *t == texture).expect("every texture is uploaded").1;
+        self.material_bind_group_with_view(device, material, view)
+    }
+
+    fn material_bind_group_with_view(
+        &self,
+        device: &wgpu::Device,
+        material: &wgpu::Buffer,
+        view: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("material"),
             layout: &self.pipelines.material_layout,
@@ -454,8 +474,28 @@ impl Renderer {
             let buffers = SolidBuffers::new(device, self);
             self.solids.push(buffers);
         }
-        for (buffers, solids) in self.solids.iter_mut().zip(sets) {
-            buffers.write(device, queue, solids);
+        for (index, set) in sets.iter().enumerate() {
+            // A new texture (or none, after one): uploaded once, its own bind group.
+            if self.solids[index].texture != set.texture {
+                let material = &self.solids[index].material;
+                let bind_group = match &set.texture {
+                    Some(texture) => {
+                        let rgba = &texture.0;
+                        let image = crate::image::RgbaImage {
+                            width: rgba.width,
+                            height: rgba.height,
+                            pixels: rgba.rgba.clone(),
+                        };
+                        let uploaded = textures::upload(device, queue, &image, "solid texture");
+                        let view = uploaded.create_view(&wgpu::TextureViewDescriptor::default());
+                        self.material_bind_group_with_view(device, material, &view)
+                    }
+                    None => self.material_bind_group(device, material, ClothTexture::Plain),
+                };
+                self.solids[index].bind_group = bind_group;
+                self.solids[index].texture = set.texture.clone();
+            }
+            self.solids[index].write(device, queue, set);
         }
         self.solid_count = sets.len();
     }

@@ -3,8 +3,9 @@
 //!
 //! What Drape does not read is said, not guessed at: a file that needs an
 //! extension, a skinned mesh without joints, an animation name the file
-//! lacks. Lines and points are not surfaces and are left out; cameras,
-//! lights and textures are not read (a mesh takes its material's base colour).
+//! lacks. Lines and points are not surfaces and are left out; cameras and
+//! lights are not read. A mesh takes its material's base colour and
+//! base-colour texture (PNG or JPEG).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -17,7 +18,10 @@ use super::locate::locate;
 use super::mesh_files::{gltf_buffers, read_file_bytes};
 use super::references::{Attachment, LoadedRig};
 use super::types::Scene;
-use crate::world::rig::{Channel, Clip, Influences, Interpolation, Property, Rig, RigMesh, RigNode, Skin, Trs};
+use crate::image::RgbaImage;
+use crate::world::rig::{
+    Channel, Clip, Influences, Interpolation, Property, Rig, RigMesh, RigNode, RigTexture, Skin, Trs,
+};
 
 /// Most vertices all the meshes of one referenced file may have together.
 pub const MAX_REFERENCE_VERTICES: usize = 4_000_000;
@@ -124,7 +128,8 @@ pub fn read_rig(path: &Path) -> Result<Rig, String> {
     let document = &gltf.document;
     let nodes = read_nodes(document);
     let skins = read_skins(document, &buffers)?;
-    let meshes = read_meshes(document, &buffers)?;
+    let images = read_images(document, &buffers, path.parent().unwrap_or(Path::new("")))?;
+    let meshes = read_meshes(document, &buffers, &images)?;
     let clips = read_clips(document, &buffers, &nodes)?;
     Rig::new(nodes, meshes, skins, clips)
 }
@@ -174,7 +179,11 @@ fn read_skins(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Vec<Skin
 
 /// The triangle primitives the default scene (or the first) draws, each
 /// with the node that draws it.
-fn read_meshes(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Vec<RigMesh>, String> {
+fn read_meshes(
+    document: &gltf::Document,
+    buffers: &[Vec<u8>],
+    images: &[Arc<RigTexture>],
+) -> Result<Vec<RigMesh>, String> {
     let Some(scene) = document.default_scene().or_else(|| document.scenes().next()) else {
         return Ok(Vec::new());
     };
@@ -185,7 +194,7 @@ fn read_meshes(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Vec<Rig
         stack.extend(node.children());
         let Some(mesh) = node.mesh() else { continue };
         for primitive in mesh.primitives() {
-            let Some(rig_mesh) = read_primitive(&node, &mesh, &primitive, buffers)? else { continue };
+            let Some(rig_mesh) = read_primitive(&node, &mesh, &primitive, buffers, images)? else { continue };
             vertices += rig_mesh.positions.len();
             if vertices > MAX_REFERENCE_VERTICES {
                 return Err(format!("its meshes have over {MAX_REFERENCE_VERTICES} vertices"));
@@ -202,6 +211,7 @@ fn read_primitive(
     mesh: &gltf::Mesh,
     primitive: &gltf::Primitive,
     buffers: &[Vec<u8>],
+    images: &[Arc<RigTexture>],
 ) -> Result<Option<RigMesh>, String> {
     use gltf::mesh::Mode;
     let name = mesh.name().unwrap_or_default().to_owned();
@@ -261,8 +271,67 @@ fn read_primitive(
             None => vec![DVec3::ZERO; positions.len()],
         })
         .collect();
-    let color = primitive.material().pbr_metallic_roughness().base_color_factor();
-    Ok(Some(RigMesh { name, node: node.index(), skin, positions, indices, influences, morph_targets, color }))
+    let pbr = primitive.material().pbr_metallic_roughness();
+    let color = pbr.base_color_factor();
+    // The base-colour texture, where the primitive has the coordinates it names.
+    let textured = pbr.base_color_texture().and_then(|info| {
+        let uvs: Vec<[f32; 2]> = reader.read_tex_coords(info.tex_coord())?.into_f32().collect();
+        let image = images.get(info.texture().source().index())?;
+        (uvs.len() == positions.len()).then(|| (Arc::clone(image), uvs))
+    });
+    let (texture, uvs) = textured.map_or((None, Vec::new()), |(image, uvs)| (Some(image), uvs));
+    let node = node.index();
+    Ok(Some(RigMesh { name, node, skin, positions, indices, influences, morph_targets, color, texture, uvs }))
+}
+
+/// Every image of the file decoded (PNG or JPEG, from a buffer or a file
+/// beside it), in the file's order.
+fn read_images(document: &gltf::Document, buffers: &[Vec<u8>], folder: &Path) -> Result<Vec<Arc<RigTexture>>, String> {
+    use gltf::image::Source;
+    let mut images = Vec::new();
+    for image in document.images() {
+        let what = format!("image {} ({:?})", image.index(), image.name().unwrap_or_default());
+        let (bytes, mime_type): (Vec<u8>, Option<&str>) = match image.source() {
+            Source::View { view, mime_type } => {
+                let data = buffers.get(view.buffer().index()).ok_or(format!("{what} names a missing buffer"))?;
+                let bytes = data
+                    .get(view.offset()..view.offset() + view.length())
+                    .ok_or(format!("{what} lies outside its buffer"))?;
+                (bytes.to_vec(), Some(mime_type))
+            }
+            Source::Uri { uri, .. } if uri.starts_with("data:") => {
+                return Err(format!("{what} is embedded as a data URI, which Drape does not read: export a .glb"));
+            }
+            Source::Uri { uri, mime_type } => {
+                (read_file_bytes(&folder.join(uri)).map_err(|why| format!("{what} ({uri:?}): {why}"))?, mime_type)
+            }
+        };
+        let texture = decode_image(&bytes, mime_type).map_err(|why| format!("{what}: {why}"))?;
+        images.push(Arc::new(texture));
+    }
+    Ok(images)
+}
+
+/// PNG or JPEG bytes (told by their first bytes, else `mime_type`) as sRGB RGBA.
+fn decode_image(bytes: &[u8], mime_type: Option<&str>) -> Result<RigTexture, String> {
+    let is_png = bytes.starts_with(b"\x89PNG") || mime_type == Some("image/png");
+    let is_jpeg = bytes.starts_with(&[0xFF, 0xD8]) || mime_type == Some("image/jpeg");
+    if is_png {
+        let image = RgbaImage::decode_png(bytes).map_err(|error| format!("not a readable PNG ({error})"))?;
+        return Ok(RigTexture { width: image.width, height: image.height, rgba: image.pixels });
+    }
+    if is_jpeg {
+        use zune_core::bytestream::ZCursor;
+        use zune_core::colorspace::ColorSpace;
+        use zune_core::options::DecoderOptions;
+        let options = DecoderOptions::default().jpeg_set_out_colorspace(ColorSpace::RGBA);
+        let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
+        let rgba = decoder.decode().map_err(|error| format!("not a readable JPEG ({error:?})"))?;
+        let info = decoder.info().ok_or("not a readable JPEG (no size)")?;
+        let (width, height) = (u32::from(info.width), u32::from(info.height));
+        return Ok(RigTexture { width, height, rgba });
+    }
+    Err("only PNG and JPEG images are read".to_owned())
 }
 
 /// Every animation, its channels' samplers read out in full.
@@ -298,4 +367,27 @@ fn read_clips(document: &gltf::Document, buffers: &[Vec<u8>], nodes: &[RigNode])
         clips.push(Clip { name, channels });
     }
     Ok(clips)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn png_and_jpeg_textures_decode_and_other_images_say_what_is_read() {
+        // An 8 × 8 JPEG of one red, made by tests/data/textures/make_textures.sh.
+        let jpeg = decode_image(include_bytes!("../../tests/data/textures/red.jpg"), None).unwrap();
+        assert_eq!((jpeg.width, jpeg.height, jpeg.rgba.len()), (8, 8, 256));
+        let [r, g, b, a] = [jpeg.rgba[0], jpeg.rgba[1], jpeg.rgba[2], jpeg.rgba[3]].map(i32::from);
+        assert!((r - 0xe0).abs() <= 3 && (g - 0x10).abs() <= 3 && (b - 0x10).abs() <= 3 && a == 255, "{r} {g} {b} {a}");
+        let mut png = Vec::new();
+        let image = RgbaImage { width: 1, height: 2, pixels: vec![1, 2, 3, 255, 4, 5, 6, 128] };
+        let mut encoder = png::Encoder::new(&mut png, 1, 2);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.write_header().unwrap().write_image_data(&image.pixels).unwrap();
+        let decoded = decode_image(&png, Some("image/png")).unwrap();
+        assert_eq!((decoded.width, decoded.height, decoded.rgba), (1, 2, image.pixels));
+        assert!(decode_image(b"GIF89a", Some("image/gif")).unwrap_err().contains("only PNG and JPEG"));
+        assert!(decode_image(&[0xFF, 0xD8, 0, 0], None).unwrap_err().contains("not a readable JPEG"));
+    }
 }

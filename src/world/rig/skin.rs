@@ -140,6 +140,8 @@ mod tests {
             // One morph target: the first vertex 0.2 along +z.
             morph_targets: vec![vec![DVec3::new(0.0, 0.0, 0.2), DVec3::ZERO, DVec3::ZERO]],
             color: [1.0; 4],
+            texture: None,
+            uvs: Vec::new(),
         };
         let z90 = DQuat::from_rotation_z(90f64.to_radians()).to_array();
         let channels = vec![
@@ -228,6 +230,8 @@ mod tests {
             influences: Influences::default(),
             morph_targets: vec![],
             color: [1.0; 4],
+            texture: None,
+            uvs: Vec::new(),
         };
         let rig = Rig::new(vec![node], vec![mesh], vec![], vec![]).unwrap();
         let posed = rig.posed_meshes(&rig.rest_pose());
