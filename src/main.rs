@@ -137,6 +137,10 @@ enum Command {
         /// Leave the scene's references (glTF characters and props) out of the picture.
         #[arg(long)]
         no_references: bool,
+        /// Look through the scene's shot camera (the default when it has one, at its
+        /// image size unless --size says otherwise) or the framing view.
+        #[arg(long, value_enum)]
+        camera: Option<render_command::CameraChoice>,
         /// Write a sequence or GIF even when its estimated size is over 8 GiB or over the free space on the disk.
         #[arg(long)]
         force: bool,
@@ -208,6 +212,7 @@ fn main() -> ExitCode {
             triangulation,
             no_colliders,
             no_references,
+            camera,
             force,
         } => {
             let overlays = SceneOverlays {
@@ -217,8 +222,10 @@ fn main() -> ExitCode {
                 triangulation,
                 hide_colliders: no_colliders,
                 hide_references: no_references,
+                view_camera: camera == Some(render_command::CameraChoice::View),
             };
-            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, force };
+            let shot = camera == Some(render_command::CameraChoice::Shot);
+            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, shot, force };
             render_command::render(&scene, &output, request)
         }
     };
@@ -376,6 +383,9 @@ fn check(path: &Path) -> Result<()> {
             say!("    {}: {}", reference.label(index), reference_summary(reference, scene.timeline.fps));
         }
     }
+    if let Some(camera) = &scene.camera {
+        say!("  camera    {}", camera_summary(camera));
+    }
     if let Some(follow) = &scene.follow {
         say!(
             "  follows   node {:?} of reference {:?}: the keys are carried as it moves",
@@ -384,6 +394,28 @@ fn check(path: &Path) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The shot camera in a line: where it is and looks, its lens, its picture.
+/// A number that is keyed is said to be animated.
+fn camera_summary(camera: &scene::ShotCamera) -> String {
+    let vector = |(x, y, z): &scene::ParamVec3| match (x, y, z) {
+        (Param::Constant(x), Param::Constant(y), Param::Constant(z)) => readable_vec3((*x, *y, *z)),
+        _ => "animated".to_owned(),
+    };
+    let lens = match (&camera.focal_length_mm, &camera.sensor_width_mm) {
+        (Param::Constant(f), Param::Constant(w)) => {
+            format!(
+                "{} mm on a {} mm sensor ({:.1}° across)",
+                readable_number(*f),
+                readable_number(*w),
+                scene::horizontal_fov_deg(*f, *w)
+            )
+        }
+        _ => "an animated lens".to_owned(),
+    };
+    let (width, height) = camera.image_size;
+    format!("from {} at {}, {lens}, {width} × {height} px", vector(&camera.position), vector(&camera.target))
 }
 
 /// What a reference holds and how it plays: `walker.glb: 10 072 vertices,

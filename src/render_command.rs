@@ -32,8 +32,19 @@ pub struct RenderRequest {
     pub frames: Option<FrameRange>,
     pub size_px: Option<(u32, u32)>,
     pub overlays: SceneOverlays,
+    /// `--camera shot`: the scene must have a shot camera.
+    pub shot: bool,
     /// Write a sequence or GIF even when its size estimate is over the limit or the free space.
     pub force: bool,
+}
+
+/// Which camera a render looks through (`--camera`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CameraChoice {
+    /// The framing view: the scene's saved view, or one that frames every key.
+    View,
+    /// The scene's shot camera.
+    Shot,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,7 +83,15 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         }
         (Some(other), _) => bail!("cannot render to .{other} ({}): use .png, .gif or a directory", output.display()),
     };
-    let default_size = if kind == Output::Gif { DEFAULT_GIF_SIZE } else { DEFAULT_PNG_SIZE };
+    if request.shot && scene.camera.is_none() {
+        bail!("--camera shot: the scene has no shot camera (`camera: (position: …, target: …)`)");
+    }
+    let shot_size = scene.camera.as_ref().filter(|_| !request.overlays.view_camera).map(|c| c.image_size);
+    let default_size = match shot_size {
+        Some(size) => size,
+        None if kind == Output::Gif => DEFAULT_GIF_SIZE,
+        None => DEFAULT_PNG_SIZE,
+    };
     let size_px = request.size_px.unwrap_or(default_size);
     let start = scene.timeline.start;
     let range = match (request.frames, request.frame, kind) {

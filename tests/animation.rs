@@ -58,6 +58,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
         colliders: Vec::new(),
         references: Vec::new(),
         follow: None,
+        camera: None,
     }
 }
 

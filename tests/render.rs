@@ -503,3 +503,35 @@ fn a_referenced_mesh_is_drawn_with_its_texture() {
     assert!(left[0] > 2.0 * left[1] && left[0] > 2.0 * left[2], "the left half is red: {left:?}");
     assert!(right[1] > 2.0 * right[0] && right[1] > 2.0 * right[2], "the right half is green: {right:?}");
 }
+
+/// A scene's shot camera is what `drape render` looks through, at its
+/// image size unless --size says otherwise; `--camera shot` on a scene
+/// without one is refused; `--camera view` looks through the framing view.
+#[test]
+fn render_looks_through_the_shot_camera_at_its_image_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let flag = std::fs::read_to_string(scene_path("flag")).unwrap();
+    let end = flag.rfind(')').unwrap();
+    let with_camera = format!(
+        "{}    camera: (position: (0.0, 1.5, 6.0), target: (0.0, 1.5, 0.0), focal_length_mm: 50.0, image_size: (160, 90)),\n)",
+        &flag[..end]
+    );
+    let scene = dir.path().join("flag.ron");
+    std::fs::write(&scene, with_camera).unwrap();
+    let shot = dir.path().join("shot.png");
+    let run = drape(&["render", scene.to_str().unwrap(), "-o", shot.to_str().unwrap(), "--frame", "30"]);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let image = RgbaImage::decode_png(&std::fs::read(&shot).unwrap()).unwrap();
+    assert_eq!((image.width, image.height), (160, 90), "the camera's image size");
+    let view = dir.path().join("view.png");
+    let args = ["render", scene.to_str().unwrap(), "-o", view.to_str().unwrap(), "--frame", "30", "--camera", "view"];
+    let run = drape(&[&args[..], &["--size", "160x90"]].concat());
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let framed = RgbaImage::decode_png(&std::fs::read(&view).unwrap()).unwrap();
+    assert!(framed.pixels != image.pixels, "the framing view is another picture");
+    let plain = scene_path("flag");
+    let out = dir.path().join("none.png");
+    let run = drape(&["render", plain.to_str().unwrap(), "-o", out.to_str().unwrap(), "--camera", "shot"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success() && stderr.contains("the scene has no shot camera"), "{stderr}");
+}

@@ -6,8 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use drape::scene::{
-    self, Cloth, ClothTexture, Collider, Ease, Key, Layer, LoadedRig, Param, ParamKey, ParamValue, Pin, Placement,
-    Reference, RelaxSettings, Scene, SceneError, Timeline, View, WaveAxis,
+    self, Cloth, ClothTexture, Collider, Ease, Follow, Key, Layer, LoadedRig, Param, ParamKey, ParamValue, Pin,
+    Placement, Reference, RelaxSettings, Scene, SceneError, ShotCamera, Timeline, View, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -636,10 +636,20 @@ fn any_scene() -> impl Strategy<Value = Scene> {
             0..3u8,
             proptest::collection::vec(collider(), 0..3),
             proptest::collection::vec(glb_reference(), 0..3),
+            proptest::option::of(shot_camera()),
+            proptest::option::of((any::<String>(), any::<String>())),
         ),
     )
         .prop_map(
-            |(version, name, (size, grid), (fps, start, end), keys, layers, (view, texture, colliders, references))| {
+            |(
+                version,
+                name,
+                (size, grid),
+                (fps, start, end),
+                keys,
+                layers,
+                (view, texture, colliders, references, camera, follow),
+            )| {
                 Scene {
                     version,
                     name,
@@ -652,11 +662,21 @@ fn any_scene() -> impl Strategy<Value = Scene> {
                     layers,
                     colliders,
                     references,
-                    follow: None,
+                    follow: follow.map(|(reference, node)| Follow { reference, node }),
+                    camera,
                     view,
                 }
             },
         )
+}
+
+/// A shot camera with every number drawn, keyed or not.
+fn shot_camera() -> impl Strategy<Value = ShotCamera> {
+    (proptest::collection::vec(param(), 8), (any::<u32>(), any::<u32>())).prop_map(|(values, image_size)| {
+        let [px, py, pz, tx, ty, tz, focal_length_mm, sensor_width_mm] =
+            <[Param; 8]>::try_from(values).expect("eight numbers");
+        ShotCamera { position: (px, py, pz), target: (tx, ty, tz), focal_length_mm, sensor_width_mm, image_size }
+    })
 }
 
 /// A collider of any kind with every number, its name, switch and thickness drawn.

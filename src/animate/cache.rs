@@ -321,6 +321,7 @@ mod tests {
             colliders: Vec::new(),
             references: Vec::new(),
             follow: None,
+            camera: None,
         }
     }
 

@@ -101,6 +101,7 @@ pub fn new_scene() -> Scene {
         colliders: Vec::new(),
         references: Vec::new(),
         follow: None,
+        camera: None,
     }
 }
 

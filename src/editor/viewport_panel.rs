@@ -406,6 +406,7 @@ impl ViewportPanel {
             triangulation: self.toggles.triangulation || network,
             hide_colliders: true,
             hide_references: true,
+            view_camera: true,
         };
         let session = &w.session;
         let state = |grid: (u32, u32)| {

@@ -34,6 +34,9 @@ pub struct SceneOverlays {
     pub hide_colliders: bool,
     /// Leaves the scene's referenced glTF files out (`--no-references`).
     pub hide_references: bool,
+    /// Looks through the framing camera even when the scene has a shot
+    /// camera (`--camera view`).
+    pub view_camera: bool,
 }
 
 /// The overlays `show` asks for, for the key in effect at `frame`, drawn on

@@ -9,6 +9,7 @@
 //!   network, triangulation) as plain lines and markers;
 //! - [`colliders`](mod@colliders): the scene's colliders at a frame as solids to draw;
 //! - [`references`](mod@references): the scene's referenced glTF files at a frame as solids;
+//! - [`shot`]: the scene's shot camera at a frame;
 //! - [`scene_renderer`]: a scene at a frame to an image, frame after frame.
 
 pub mod colliders;
@@ -16,9 +17,11 @@ pub mod framing;
 pub mod key_overlay;
 pub mod references;
 pub mod scene_renderer;
+pub mod shot;
 
 pub use colliders::collider_solids;
 pub use framing::scene_bounds;
 pub use key_overlay::{SceneOverlays, key_overlay};
 pub use references::reference_solids;
 pub use scene_renderer::{SceneRenderer, render_scene_frame};
+pub use shot::shot_camera_at;

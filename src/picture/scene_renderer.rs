@@ -14,6 +14,7 @@ use super::colliders::collider_solids;
 use super::framing::Framing;
 use super::key_overlay::{SceneOverlays, key_overlay};
 use super::references::reference_solids;
+use super::shot::shot_camera_at;
 
 /// One picture of `scene` at `frame`, framed as [`SceneRenderer::new`] does,
 /// on `context` or on a device of its own when none is given.
@@ -81,7 +82,10 @@ impl SceneRenderer {
     /// framing) at `frame` and reads the picture back.
     pub fn render_frame(&mut self, scene: &Scene, frame: f64) -> Result<RgbaImage, RenderError> {
         self.evaluator.evaluate_frame_into(scene, frame, Default::default(), &mut self.mesh);
-        self.framing.follow(&self.mesh);
+        match scene.camera.as_ref().filter(|_| !self.overlays.view_camera) {
+            Some(shot) => self.framing.camera = shot_camera_at(shot, frame, self.target.size_px()),
+            None => self.framing.follow(&self.mesh),
+        }
         self.options.ground = Some(self.framing.ground);
         let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays, |_| PinState::Normal);
         let mut solids = Vec::new();

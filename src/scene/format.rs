@@ -183,6 +183,7 @@ mod tests {
             colliders: Vec::new(),
             references: Vec::new(),
             follow: None,
+            camera: None,
             view: Some(View {
                 target: (0.5, 1.2, -0.25),
                 yaw_deg: 30.0,

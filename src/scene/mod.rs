@@ -2,6 +2,7 @@
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
 //! - [`Collider`] and its kinds: what the cloth rests on and never enters.
+//! - [`ShotCamera`]: the camera the shot is seen through.
 //! - [`Reference`]: a glTF file of the shot (a character), read into a rig by [`read_references`].
 //! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
 //!   each parameter listed once with its unit, range, default and doc
@@ -28,6 +29,7 @@ mod read_capped;
 mod reference_files;
 mod references;
 mod schema;
+mod shot_camera;
 mod types;
 mod validate;
 
@@ -47,5 +49,6 @@ pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig};
 pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
+pub use shot_camera::{DEFAULT_FOCAL_LENGTH_MM, DEFAULT_SENSOR_WIDTH_MM, ShotCamera, horizontal_fov_deg};
 pub use types::*;
 pub use validate::*;

@@ -12,6 +12,7 @@ use super::colliders::Collider;
 use super::layers::Layer;
 use super::param::Ease;
 use super::references::{Attachment, Follow, Reference};
+use super::shot_camera::ShotCamera;
 
 /// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -39,6 +40,9 @@ pub struct Scene {
     /// the node moves (`animate::follow`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub follow: Option<Follow>,
+    /// The shot camera: what `drape render` looks through by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<ShotCamera>,
     /// Where the editor's camera looked when the scene was saved (with the
     /// playhead and Follow); absent, views frame the cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -16,6 +16,7 @@ use super::param::Ease;
 use super::param::Param;
 use super::references::{Attachment, Reference};
 use super::schema::{MAX_LAYER_VALUE, ParamRange, WaveAxis};
+use super::shot_camera::ShotCamera;
 use super::types::{Key, Pin, Scene, View};
 
 /// The only scene file version this Drape reads.
@@ -78,6 +79,10 @@ pub const MAX_FRICTION: f64 = 10.0;
 pub const MAX_THICKNESS_M: f64 = 0.1;
 /// Farthest an attached pin may sit off its surface (m).
 pub const MAX_ATTACHMENT_LIFT_M: f64 = 1.0;
+/// Longest focal length or widest sensor a shot camera may have (mm).
+pub const MAX_LENS_MM: f64 = 10_000.0;
+/// Largest side of a shot camera's picture (pixels): the largest `drape render` draws.
+pub const MAX_IMAGE_SIDE_PX: u32 = 8192;
 /// Most references (glTF files) in a scene.
 pub const MAX_REFERENCES: usize = 64;
 /// Fastest a reference's animation may play, as a multiple of its own speed.
@@ -211,8 +216,33 @@ impl Checker {
                 self.push("follow.reference", format!("the cloth follows reference {:?}, but {why}", follow.reference));
             }
         }
+        if let Some(camera) = &scene.camera {
+            self.camera(camera);
+        }
         if let Some(view) = &scene.view {
             self.view(view);
+        }
+    }
+
+    /// The shot camera: where it is and what it looks at within the world,
+    /// a lens and sensor greater than 0, a picture of sensible size.
+    fn camera(&mut self, camera: &ShotCamera) {
+        for (field, (x, y, z)) in [("position", &camera.position), ("target", &camera.target)] {
+            for (axis, param) in [x, y, z].into_iter().enumerate() {
+                let range = ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m");
+                let what = format!("camera: {field} {}", ["x", "y", "z"][axis]);
+                self.layer_param(&format!("camera.{field}[{axis}]"), &what, param, range);
+            }
+        }
+        let lens = ParamRange::Positive(MAX_LENS_MM);
+        self.layer_param("camera.focal_length_mm", "camera: focal_length_mm", &camera.focal_length_mm, lens);
+        self.layer_param("camera.sensor_width_mm", "camera: sensor_width_mm", &camera.sensor_width_mm, lens);
+        let (width, height) = camera.image_size;
+        if !(1..=MAX_IMAGE_SIDE_PX).contains(&width) || !(1..=MAX_IMAGE_SIDE_PX).contains(&height) {
+            self.push(
+                "camera.image_size",
+                format!("camera: image_size {width} × {height} must be 1 to {MAX_IMAGE_SIDE_PX} pixels a side"),
+            );
         }
     }
 
@@ -863,6 +893,7 @@ mod tests {
             colliders: Vec::new(),
             references: Vec::new(),
             follow: None,
+            camera: None,
         }
     }
 
