@@ -48,6 +48,7 @@ fn tablecloth(n: u32) -> Scene {
         colliders: Vec::new(),
         references: Vec::new(),
         follow: None,
+        camera: None,
     }
 }
 

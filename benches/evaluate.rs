@@ -94,6 +94,7 @@ fn scene(n: u32) -> Scene {
         colliders: Vec::new(),
         references: Vec::new(),
         follow: None,
+        camera: None,
     }
 }
 

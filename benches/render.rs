@@ -45,6 +45,7 @@ fn scene(n: u32) -> Scene {
         colliders: Vec::new(),
         references: Vec::new(),
         follow: None,
+        camera: None,
     }
 }
 
