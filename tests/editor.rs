@@ -1739,3 +1739,51 @@ fn the_cloth_follows_a_node_picked_in_the_cloth_panel() {
     harness.run_ok();
     assert!(harness.state().scene().follow.is_some(), "undo follows again");
 }
+
+/// Opens the View menu and clicks its shot-camera item `item`.
+fn camera_menu(harness: &mut Harness<'_, DrapeApp>, item: &str) {
+    harness.get_by_role_and_label(Role::Button, "View").click();
+    harness.run_ok();
+    harness.get_by_label(item).click();
+    harness.run_ok();
+}
+
+/// View ▸ (shot camera items): a camera is added where the viewport looks from, the
+/// viewport looks through it (its eye the camera's, at the playhead), orbiting
+/// leaves it, and keying writes keys at the playhead; each edit one undo step.
+#[test]
+fn the_viewport_looks_through_the_shot_camera_set_from_the_view() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    assert!(harness.state().scene().camera.is_none());
+    let eye = harness.state().camera().eye();
+    camera_menu(&mut harness, "Add camera from view");
+    let camera = harness.state().scene().camera.clone().expect("a camera");
+    let scene::Param::Constant(x) = camera.position.0 else { panic!("a constant position: {camera:?}") };
+    assert!((x as f32 - eye.x).abs() < 1e-5, "{x} vs {eye}");
+    assert_eq!(harness.state().document().undo_label(), Some("Camera from view"));
+
+    camera_menu(&mut harness, "Look through camera");
+    let expected = drape::picture::shot_camera_at(&camera, harness.state().frame(), camera.image_size).eye();
+    assert!(
+        harness.state().camera().eye().abs_diff_eq(expected, 1e-4),
+        "{} vs {expected}",
+        harness.state().camera().eye()
+    );
+
+    // Key it at frame 30: every position number becomes a list of keys.
+    harness.state_mut().set_frame(30.0);
+    harness.run_ok();
+    camera_menu(&mut harness, "Key camera at playhead");
+    let keyed = harness.state().scene().camera.clone().unwrap();
+    assert!(matches!(&keyed.position.0, scene::Param::Keys(keys) if keys.iter().any(|k| k.frame == 30)), "{keyed:?}");
+    assert_eq!(harness.state().document().undo_label(), Some("Key camera"));
+
+    // Scrolling in the viewport moves the view, which leaves the camera's.
+    let centre = harness.state().viewport_rect().center();
+    harness.hover_at(centre);
+    harness.event(wheel(120.0, Modifiers::NONE));
+    harness.run_ok();
+    let after = harness.state().camera().eye();
+    assert!(!after.abs_diff_eq(expected, 1e-3), "the view moved away from the camera");
+}

@@ -343,6 +343,9 @@ impl DrapeApp {
                 for stage in Stage::ALL {
                     ui.radio_value(&mut self.viewport.stage, stage, stage.label());
                 }
+                ui.separator();
+                // The shot camera's items in the menu itself: a nested menu's items missed real clicks.
+                self.viewport.shot_camera_menu_ui(ui, &mut self.work);
             });
             ui.menu_button("Help", |ui| {
                 if ui.button("Keyboard shortcuts").clicked() {

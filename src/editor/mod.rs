@@ -52,6 +52,7 @@ mod references_panel;
 pub mod selection;
 pub mod shaper;
 pub mod shortcuts;
+pub mod shot_view;
 pub mod shown;
 mod timeline;
 mod timeline_zoom;

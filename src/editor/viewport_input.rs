@@ -27,6 +27,13 @@ impl ViewportPanel {
         let delta = response.drag_delta();
         let delta = Vec2::new(delta.x, delta.y);
         let (shift, alt) = ui.input(|i| (i.modifiers.shift, i.modifiers.alt));
+        let navigates = response.dragged_by(PointerButton::Middle)
+            || (response.dragged_by(PointerButton::Primary) && alt && self.pin_drag.is_none())
+            || (response.hovered() && ui.input(|i| i.smooth_scroll_delta.y) != 0.0);
+        if navigates {
+            // Moving the view leaves the shot camera's (it stays where it was).
+            self.toggles.shot_camera = false;
+        }
         if response.dragged_by(PointerButton::Middle) {
             if shift {
                 self.camera.pan(delta, rect.height());

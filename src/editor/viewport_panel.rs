@@ -49,6 +49,8 @@ pub struct ViewToggles {
     pub colliders: SolidLook,
     /// How referenced glTF files (characters, props) are drawn.
     pub references: SolidLook,
+    /// Looks through the scene's shot camera (View ▸ Camera).
+    pub shot_camera: bool,
 }
 
 /// How the viewport draws the scene's colliders, or its references.
@@ -90,6 +92,7 @@ impl Default for ViewToggles {
             onion_spacing: 4,
             colliders: SolidLook::Shaded,
             references: SolidLook::Shaded,
+            shot_camera: false,
         }
     }
 }
@@ -252,6 +255,7 @@ impl ViewportPanel {
             (rect.height() * pixels_per_point).round().max(1.0) as u32,
         );
         self.size_px = size_px;
+        self.look_through_shot(w, rect);
         self.pointer_input(ui, w, &response, size_px);
         ViewportArea { rect, response, size_px, aspect }
     }
@@ -284,7 +288,9 @@ impl ViewportPanel {
         if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.sees_cloth(w, area.aspect)) {
             self.frame_all(w, area.aspect);
         }
-        self.follow_cloth(w);
+        if !self.toggles.shot_camera {
+            self.follow_cloth(w);
+        }
         if let Some((i, j)) = w.session.hovered
             && let Some(pointer) = area.response.hover_pos()
         {
@@ -327,6 +333,11 @@ impl ViewportPanel {
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
+        if self.toggles.shot_camera
+            && let Some(camera) = &w.doc.scene().camera
+        {
+            super::shot_view::paint_frame(ui.painter(), camera, area.rect);
+        }
     }
 
     /// The translate gizmo at the selected pins' centre: where the pins are
@@ -367,6 +378,7 @@ impl ViewportPanel {
 
     /// Frames the cloth on screen.
     pub fn frame_all(&mut self, w: &Workspace, aspect: f32) {
+        self.toggles.shot_camera = false;
         if let Some((min, max)) = bounds(&w.shown.mesh.positions) {
             self.camera.frame_bounds(min, max, aspect);
         }
@@ -632,6 +644,11 @@ impl ViewportPanel {
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
             ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
+            // Only with a shot camera in the scene (View ▸ Camera adds one).
+            if w.doc.scene().camera.is_some() {
+                ui.toggle_value(&mut self.toggles.shot_camera, "Camera")
+                    .on_hover_text("Look through the shot camera (orbiting leaves it)");
+            }
         });
         egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
             for look in SolidLook::ALL {
