@@ -64,6 +64,7 @@ mod viewport_attach_input;
 mod viewport_collider_input;
 mod viewport_input;
 pub mod viewport_panel;
+mod viewport_shot;
 pub mod workspace;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};
