@@ -28,6 +28,30 @@ impl RgbaImage {
         [self.pixels[at], self.pixels[at + 1], self.pixels[at + 2], self.pixels[at + 3]]
     }
 
+    /// Turns colours premultiplied by alpha in linear light (what a
+    /// render resolved over transparent black holds) into straight ones, as
+    /// PNG stores them; alpha 0 pixels become transparent black.
+    pub fn unpremultiply(&mut self) {
+        let to_linear = |v: u8| {
+            let v = f32::from(v) / 255.0;
+            if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+        };
+        let to_srgb = |v: f32| {
+            let v = v.clamp(0.0, 1.0);
+            let s = if v <= 0.003_130_8 { v * 12.92 } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+            (s * 255.0).round() as u8
+        };
+        for pixel in self.pixels.chunks_exact_mut(4) {
+            let alpha = f32::from(pixel[3]) / 255.0;
+            if pixel[3] == 255 {
+                continue;
+            }
+            for channel in &mut pixel[..3] {
+                *channel = if alpha > 0.0 { to_srgb(to_linear(*channel) / alpha) } else { 0 };
+            }
+        }
+    }
+
     /// Decodes a PNG of any colour type and bit depth into RGBA8.
     pub fn decode_png(bytes: &[u8]) -> Result<RgbaImage, ImageError> {
         let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
@@ -59,5 +83,29 @@ impl RgbaImage {
             }
         }
         Ok(image)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn premultiplied_edges_come_back_straight() {
+        // Half covered: linear 0.5 × (1, 0.2, 0) over transparent black, stored as sRGB.
+        let encode = |v: f32| {
+            let s = if v <= 0.003_130_8 { v * 12.92 } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+            (s * 255.0).round() as u8
+        };
+        let mut image = RgbaImage {
+            width: 3,
+            height: 1,
+            pixels: vec![encode(0.5), encode(0.1), 0, 128, 10, 20, 30, 255, 7, 7, 7, 0],
+        };
+        image.unpremultiply();
+        assert!((i32::from(image.pixels[0]) - 255).abs() <= 2, "{:?}", &image.pixels[..4]);
+        assert!((i32::from(image.pixels[1]) - i32::from(encode(0.2))).abs() <= 2, "{:?}", &image.pixels[..4]);
+        assert_eq!(&image.pixels[4..8], &[10, 20, 30, 255], "opaque pixels stay");
+        assert_eq!(&image.pixels[8..], &[0, 0, 0, 0], "nothing there: transparent black");
     }
 }

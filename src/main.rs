@@ -141,6 +141,10 @@ enum Command {
         /// image size unless --size says otherwise) or the framing view.
         #[arg(long, value_enum)]
         camera: Option<render_command::CameraChoice>,
+        /// PNGs of the cloth alone with an alpha channel (straight alpha): transparent where there
+        /// is no cloth, no ground, background, colliders or references drawn.
+        #[arg(long)]
+        alpha: bool,
         /// Write a sequence or GIF even when its estimated size is over 8 GiB or over the free space on the disk.
         #[arg(long)]
         force: bool,
@@ -213,6 +217,7 @@ fn main() -> ExitCode {
             no_colliders,
             no_references,
             camera,
+            alpha,
             force,
         } => {
             let overlays = SceneOverlays {
@@ -223,6 +228,7 @@ fn main() -> ExitCode {
                 hide_colliders: no_colliders,
                 hide_references: no_references,
                 view_camera: camera == Some(render_command::CameraChoice::View),
+                alpha,
             };
             let shot = camera == Some(render_command::CameraChoice::Shot);
             let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, shot, force };

@@ -83,6 +83,9 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         }
         (Some(other), _) => bail!("cannot render to .{other} ({}): use .png, .gif or a directory", output.display()),
     };
+    if request.overlays.alpha && kind == Output::Gif {
+        bail!("--alpha writes PNGs (a GIF has no alpha channel): name a .png, or a directory with --frames");
+    }
     if request.shot && scene.camera.is_none() {
         bail!("--camera shot: the scene has no shot camera (`camera: (position: …, target: …)`)");
     }

@@ -535,3 +535,40 @@ fn render_looks_through_the_shot_camera_at_its_image_size() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success() && stderr.contains("the scene has no shot camera"), "{stderr}");
 }
+
+/// `--alpha`: the cloth alone over transparency. Away from the cloth every
+/// pixel is alpha 0 (no ground, no background), inside it 255, its
+/// anti-aliased rim in between; a GIF with alpha is refused.
+#[test]
+fn an_alpha_render_is_transparent_off_the_cloth_and_opaque_on_it() {
+    let scene = scene::load(&scene_path("flag")).unwrap();
+    let overlays = SceneOverlays { alpha: true, ..SceneOverlays::default() };
+    let mut renderer = SceneRenderer::new(context(), &scene, GOLDEN_SIZE, overlays);
+    let image = renderer.render_frame(&scene, 30.0).unwrap();
+    let alpha = |x: u32, y: u32| image.pixel(x, y)[3];
+    // Projected cloth points: every grid point's pixel lies on the cloth.
+    let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
+    let mesh = renderer.mesh().clone();
+    let camera = *renderer.camera();
+    for j in 1..rows - 1 {
+        for i in 1..cols - 1 {
+            let at = camera.project(mesh.positions[j * cols + i], GOLDEN_SIZE).unwrap();
+            let (x, y) = (at.x as u32, at.y as u32);
+            assert_eq!(alpha(x, y), 255, "inside the cloth at grid ({i}, {j}), pixel ({x}, {y})");
+        }
+    }
+    // The ground and the background are gone: the bottom rows and the corners are clear.
+    for x in 0..GOLDEN_SIZE.0 {
+        for y in [0, GOLDEN_SIZE.1 - 1] {
+            assert_eq!(alpha(x, y), 0, "pixel ({x}, {y}) is off the cloth");
+        }
+    }
+    let rim = image.pixels.chunks_exact(4).filter(|p| p[3] > 0 && p[3] < 255).count();
+    assert!(rim > 0, "the cloth's edge is anti-aliased");
+    assert!(image.pixels.chunks_exact(4).all(|p| p[3] > 0 || p[..3] == [0, 0, 0]), "transparent is transparent black");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("flag.gif");
+    let run = drape(&["render", scene_path("flag").to_str().unwrap(), "-o", out.to_str().unwrap(), "--alpha"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success() && stderr.contains("a GIF has no alpha channel"), "{stderr}");
+}

@@ -419,6 +419,7 @@ impl ViewportPanel {
             hide_colliders: true,
             hide_references: true,
             view_camera: true,
+            alpha: false,
         };
         let session = &w.session;
         let state = |grid: (u32, u32)| {

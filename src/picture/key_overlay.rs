@@ -37,6 +37,9 @@ pub struct SceneOverlays {
     /// Looks through the framing camera even when the scene has a shot
     /// camera (`--camera view`).
     pub view_camera: bool,
+    /// The cloth alone over transparency (`--alpha`): no ground, background,
+    /// colliders or references; straight (not premultiplied) alpha, as PNG stores it.
+    pub alpha: bool,
 }
 
 /// The overlays `show` asks for, for the key in effect at `frame`, drawn on

@@ -86,13 +86,14 @@ impl SceneRenderer {
             Some(shot) => self.framing.camera = shot_camera_at(shot, frame, self.target.size_px()),
             None => self.framing.follow(&self.mesh),
         }
-        self.options.ground = Some(self.framing.ground);
+        self.options.ground = (!self.overlays.alpha).then_some(self.framing.ground);
+        self.options.transparent = self.overlays.alpha;
         let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays, |_| PinState::Normal);
         let mut solids = Vec::new();
-        if !self.overlays.hide_colliders {
+        if !self.overlays.hide_colliders && !self.overlays.alpha {
             solids.push(collider_solids(scene, frame, 1.0));
         }
-        if !self.overlays.hide_references {
+        if !self.overlays.hide_references && !self.overlays.alpha {
             solids.extend(reference_solids(scene, frame, 1.0));
         }
         let input = FrameInput {
@@ -104,6 +105,10 @@ impl SceneRenderer {
             solids: &solids,
         };
         self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
-        Ok(read_texture(&self.context.device, &self.context.queue, self.target.resolved())?)
+        let mut image = read_texture(&self.context.device, &self.context.queue, self.target.resolved())?;
+        if self.overlays.alpha {
+            image.unpremultiply();
+        }
+        Ok(image)
     }
 }

@@ -31,6 +31,10 @@ pub struct RenderOptions {
     pub wire_color: [f32; 4],
     pub ground: Option<Ground>,
     pub background: [f32; 3],
+    /// Clears to transparent black instead of `background`, for renders with
+    /// alpha: what is drawn is opaque, the rest alpha 0 (the resolved
+    /// picture's edges come premultiplied).
+    pub transparent: bool,
 }
 
 impl Default for RenderOptions {
@@ -43,6 +47,7 @@ impl Default for RenderOptions {
             wire_color: [0.02, 0.02, 0.03, 0.55],
             ground: Some(Ground::default()),
             background: [0.028, 0.031, 0.036],
+            transparent: false,
         }
     }
 }
@@ -420,7 +425,11 @@ impl Renderer {
         self.wireframe = options.wireframe;
         self.ground = options.ground.is_some();
         let [r, g, b] = options.background;
-        self.background = wgpu::Color { r: r as f64, g: g as f64, b: b as f64, a: 1.0 };
+        self.background = if options.transparent {
+            wgpu::Color::TRANSPARENT
+        } else {
+            wgpu::Color { r: r as f64, g: g as f64, b: b as f64, a: 1.0 }
+        };
         queue.write_buffer(&self.frame_uniform, 0, bytemuck::bytes_of(&frame_uniform(input.camera, options, size_px)));
 
         let mut cloth = match self.cloth.take() {
