@@ -4,7 +4,6 @@
 //! is at the playhead, editing a keyed number keys it there, and the diamond
 //! adds or removes the key at the playhead. Every change is one undo step.
 
-use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use eframe::egui;
@@ -15,7 +14,6 @@ use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
 use super::workspace::Workspace;
 use crate::scene::{
     Collider, ColliderNumber, LoadedMesh, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
-    relative_path,
 };
 
 /// Room kept beside a mesh's file name for its Choose… button, points.
@@ -127,7 +125,7 @@ impl CollidersPanel {
                 return;
             }
         };
-        let file = scene_name_of(w.doc.path(), &path);
+        let file = w.doc.name_for_file(&path);
         match target {
             None => {
                 let at = w.doc.scene().colliders.len();
@@ -225,18 +223,7 @@ fn number_row_ui(
 
 /// A dialog for a mesh file, starting in the scene's folder.
 fn mesh_dialog(w: &Workspace) -> FileDialog {
-    let folder = w.doc.path().and_then(Path::parent).filter(|d| d.is_dir()).map(Path::to_path_buf);
-    let start = folder.or_else(|| std::env::current_dir().ok()).unwrap_or_else(|| PathBuf::from("."));
-    FileDialog::new(FileDialogMode::Open, "Mesh collider (.obj, .glb, .gltf)", &start, "", "obj")
-}
-
-/// How the scene names the mesh file at `path`: relative to the scene's
-/// folder once it has been saved, else absolute (a Save As makes it relative).
-fn scene_name_of(scene_file: Option<&Path>, path: &Path) -> String {
-    match scene_file.and_then(Path::parent).and_then(|folder| std::path::absolute(folder).ok()) {
-        Some(folder) => relative_path(&folder, path).display().to_string(),
-        None => path.display().to_string(),
-    }
+    FileDialog::new(FileDialogMode::Open, "Mesh collider (.obj, .glb, .gltf)", &w.doc.folder(), "", "obj")
 }
 
 /// What each kind is, for the Add menu.

@@ -50,6 +50,27 @@ impl Document {
         self.path.as_deref()
     }
 
+    /// Where file dialogs start: the folder of the scene's file when it
+    /// exists, else the working directory (".", failing that).
+    pub fn folder(&self) -> PathBuf {
+        self.path()
+            .and_then(Path::parent)
+            .filter(|dir| dir.is_dir())
+            .map(Path::to_path_buf)
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_else(|| PathBuf::from("."))
+    }
+
+    /// How the scene names the file at `path` (a mesh, a reference):
+    /// relative to the scene's folder once it has been saved, else absolute
+    /// (a Save As then makes it relative).
+    pub fn name_for_file(&self, path: &Path) -> String {
+        match self.path().and_then(Path::parent).and_then(|folder| std::path::absolute(folder).ok()) {
+            Some(folder) => crate::scene::relative_path(&folder, path).display().to_string(),
+            None => path.display().to_string(),
+        }
+    }
+
     /// Whether the scene differs from the file (an undo back to the saved state is clean again).
     pub fn is_dirty(&self) -> bool {
         self.saved.as_ref() != Some(&self.scene)

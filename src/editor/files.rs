@@ -177,7 +177,7 @@ impl Files {
         match action {
             Pending::New => self.replace_document(w, camera, new_scene(), None),
             Pending::Open => {
-                let dialog = FileDialog::new(FileDialogMode::Open, "Open scene", &self.start_dir(w), "", "ron");
+                let dialog = FileDialog::new(FileDialogMode::Open, "Open scene", &w.doc.folder(), "", "ron");
                 self.dialog = Some((dialog, Purpose::Open));
             }
             Pending::OpenPath(path) => self.open_path(w, camera, &path),
@@ -188,17 +188,6 @@ impl Files {
                 }
             }
         }
-    }
-
-    /// The folder a file dialog starts in: the scene's, else the working directory.
-    fn start_dir(&self, w: &Workspace) -> PathBuf {
-        w.doc
-            .path()
-            .and_then(Path::parent)
-            .filter(|dir| dir.is_dir())
-            .map(Path::to_path_buf)
-            .or_else(|| std::env::current_dir().ok())
-            .unwrap_or_else(|| PathBuf::from("."))
     }
 
     /// Loads `path`; on failure the error is shown and the current work stays as it is.
@@ -250,7 +239,7 @@ impl Files {
             Some(_) => w.doc.display_name(),
             None => "untitled.ron".to_owned(),
         };
-        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &self.start_dir(w), &name, "ron");
+        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &w.doc.folder(), &name, "ron");
         self.dialog = Some((dialog, Purpose::SaveAs(then)));
     }
 

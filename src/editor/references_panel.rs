@@ -7,7 +7,7 @@
 //! undo step.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use eframe::egui;
@@ -21,7 +21,7 @@ use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::scene::{
     Attachment, LoadedRig, MAX_PIN_COORD_M, MAX_REFERENCE_SPEED, MAX_THICKNESS_M, MAX_TIMELINE_FRAME, Param, Reference,
-    Scene, read_rig, readable_number, relative_path,
+    Scene, read_rig, readable_number,
 };
 use crate::world::rig::Rig;
 
@@ -81,7 +81,7 @@ impl ReferencesPanel {
         let Some(rig) = read_or_report(w, path) else { return };
         let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         let name = unique_name(w.doc.scene(), &stem);
-        let file = scene_name_of(w.doc.path(), path);
+        let file = w.doc.name_for_file(path);
         let Some(reference) = new_reference(name, file, rig) else { return };
         let at = w.doc.scene().references.len();
         w.apply("Add reference", |s| s.references.push(reference));
@@ -96,7 +96,7 @@ impl ReferencesPanel {
     /// lacks it); one undo step. A file that cannot be read changes nothing.
     fn use_file(&mut self, w: &mut Workspace, index: usize, path: &Path) {
         let Some(rig) = read_or_report(w, path) else { return };
-        let file = scene_name_of(w.doc.path(), path);
+        let file = w.doc.name_for_file(path);
         let Some(reference) = w.doc.scene().references.get(index) else { return };
         let lost =
             reference.animation.clone().filter(|name| rig.0.as_ref().is_some_and(|r| r.clip_named(name).is_none()));
@@ -493,18 +493,7 @@ fn unique_name(scene: &Scene, stem: &str) -> String {
 
 /// A dialog for a glTF file, starting in the scene's folder.
 fn reference_dialog(w: &Workspace) -> FileDialog {
-    let folder = w.doc.path().and_then(Path::parent).filter(|d| d.is_dir()).map(Path::to_path_buf);
-    let start = folder.or_else(|| std::env::current_dir().ok()).unwrap_or_else(|| PathBuf::from("."));
-    FileDialog::new(FileDialogMode::Open, "Reference (.glb, .gltf)", &start, "", "glb")
-}
-
-/// How the scene names the file at `path`: relative to the scene's folder
-/// once it has been saved, else absolute (a Save As makes it relative).
-fn scene_name_of(scene_file: Option<&Path>, path: &Path) -> String {
-    match scene_file.and_then(Path::parent).and_then(|folder| std::path::absolute(folder).ok()) {
-        Some(folder) => relative_path(&folder, path).display().to_string(),
-        None => path.display().to_string(),
-    }
+    FileDialog::new(FileDialogMode::Open, "Reference (.glb, .gltf)", &w.doc.folder(), "", "glb")
 }
 
 #[cfg(test)]
