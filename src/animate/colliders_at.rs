@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::references_at::reference_obstacles;
-use super::track::sample;
+use super::track::{sample, sample_vec3};
 use crate::scene::{Collider, Param, ParamVec3, Scene};
 use crate::world::{ColliderShape, Obstacle};
 
@@ -40,7 +40,7 @@ pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
 pub fn shape_at(collider: &Collider, frame: f64) -> Option<ColliderShape> {
     let at = |param: &Param| sample(param, frame);
     let length = |param: &Param| sample(param, frame).max(0.0);
-    let vector = |v: &ParamVec3| DVec3::new(at(&v.0), at(&v.1), at(&v.2));
+    let vector = |v: &ParamVec3| sample_vec3(v, frame);
     let rotation = |v: &ParamVec3| ColliderShape::rotation_from_deg(at(&v.0), at(&v.1), at(&v.2));
     Some(match collider {
         Collider::Mesh(m) => ColliderShape::Mesh {

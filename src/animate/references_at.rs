@@ -5,8 +5,8 @@ use std::sync::{Arc, Mutex};
 
 use glam::{DMat4, DVec3};
 
-use super::track::sample;
-use crate::scene::{Param, ParamVec3, Reference, Scene};
+use super::track::{sample, sample_vec3};
+use crate::scene::{Reference, Scene};
 use crate::world::rig::{Pose, PosedMesh, Rig};
 use crate::world::{ColliderShape, MeshSolid, Obstacle};
 
@@ -36,12 +36,10 @@ pub fn reference_at(scene: &Scene, index: usize, frame: f64) -> Option<PosedRefe
 /// `center · rotation · scale` of `reference` at `frame`; a scale an
 /// easing takes to 0 or below reads as a micrometre, as a mesh collider's.
 pub fn scene_from_file(reference: &Reference, frame: f64) -> DMat4 {
-    let at = |param: &Param| sample(param, frame);
-    let vector = |v: &ParamVec3| DVec3::new(at(&v.0), at(&v.1), at(&v.2));
-    let (x, y, z) = &reference.rotation_deg;
-    let rotation = ColliderShape::rotation_from_deg(at(x), at(y), at(z));
-    let scale = at(&reference.scale).max(1e-6);
-    DMat4::from_translation(vector(&reference.center))
+    let turn = sample_vec3(&reference.rotation_deg, frame);
+    let rotation = ColliderShape::rotation_from_deg(turn.x, turn.y, turn.z);
+    let scale = sample(&reference.scale, frame).max(1e-6);
+    DMat4::from_translation(sample_vec3(&reference.center, frame))
         * DMat4::from_mat3(rotation)
         * DMat4::from_scale(DVec3::splat(scale))
 }

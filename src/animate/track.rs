@@ -1,7 +1,9 @@
 //! Animated parameters: the value of a [`Param`] at any (fractional) frame.
 
 use super::ease;
-use crate::scene::{Param, ParamKey};
+use glam::DVec3;
+
+use crate::scene::{Param, ParamKey, ParamVec3};
 
 /// The value of `param` at `frame` (fractional frames are in-betweens).
 ///
@@ -31,6 +33,11 @@ fn sample_keys(keys: &[ParamKey], frame: f64) -> f64 {
     let x = (frame - f64::from(from.frame)) / span;
     let e = ease::apply(to.ease, x);
     from.value + (to.value - from.value) * e
+}
+
+/// A vector of three parameters at `frame`, each component [`sample`]d.
+pub fn sample_vec3((x, y, z): &ParamVec3, frame: f64) -> DVec3 {
+    DVec3::new(sample(x, frame), sample(y, frame), sample(z, frame))
 }
 
 #[cfg(test)]

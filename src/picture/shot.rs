@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::animate::track::sample;
+use crate::animate::track::{sample, sample_vec3};
 use crate::render::OrbitCamera;
 use crate::scene::{ShotCamera, horizontal_fov_deg};
 
@@ -15,10 +15,7 @@ const MAX_PITCH_DEG: f64 = 89.9;
 /// render asks for instead: the horizontal field of view is the lens's, the
 /// vertical one follows from the picture's shape).
 pub fn shot_camera_at(camera: &ShotCamera, frame: f64, size_px: (u32, u32)) -> OrbitCamera {
-    let at = |v: &(crate::scene::Param, crate::scene::Param, crate::scene::Param)| {
-        DVec3::new(sample(&v.0, frame), sample(&v.1, frame), sample(&v.2, frame))
-    };
-    let (position, target) = (at(&camera.position), at(&camera.target));
+    let (position, target) = (sample_vec3(&camera.position, frame), sample_vec3(&camera.target, frame));
     let offset = position - target;
     // Where position and target meet, it looks along −Z from where it is.
     let (target, back, distance) = match offset.try_normalize() {

@@ -8,7 +8,7 @@
 use std::collections::HashSet;
 use std::fmt;
 
-use super::colliders::{Collider, Measure};
+use super::colliders::{Collider, Measure, ParamVec3};
 use super::display::{readable_number, readable_vec3};
 use super::layers::Layer;
 use super::layers::ParamValue;
@@ -227,13 +227,9 @@ impl Checker {
     /// The shot camera: where it is and what it looks at within the world,
     /// a lens and sensor greater than 0, a picture of sensible size.
     fn camera(&mut self, camera: &ShotCamera) {
-        for (field, (x, y, z)) in [("position", &camera.position), ("target", &camera.target)] {
-            for (axis, param) in [x, y, z].into_iter().enumerate() {
-                let range = ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m");
-                let what = format!("camera: {field} {}", ["x", "y", "z"][axis]);
-                self.layer_param(&format!("camera.{field}[{axis}]"), &what, param, range);
-            }
-        }
+        let world = ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m");
+        self.vector_param("camera.position", "camera: position", &camera.position, world);
+        self.vector_param("camera.target", "camera: target", &camera.target, world);
         let lens = ParamRange::Positive(MAX_LENS_MM);
         self.layer_param("camera.focal_length_mm", "camera: focal_length_mm", &camera.focal_length_mm, lens);
         self.layer_param("camera.sensor_width_mm", "camera: sensor_width_mm", &camera.sensor_width_mm, lens);
@@ -243,6 +239,15 @@ impl Checker {
                 "camera.image_size",
                 format!("camera: image_size {width} × {height} must be 1 to {MAX_IMAGE_SIDE_PX} pixels a side"),
             );
+        }
+    }
+
+    /// Each component of a vector of parameters at `path` (`path[0]` …),
+    /// named `what x` … in messages, within `range` at every key.
+    fn vector_param(&mut self, path: &str, what: &str, (x, y, z): &ParamVec3, range: ParamRange) {
+        for (axis, param) in [x, y, z].into_iter().enumerate() {
+            let name = ["x", "y", "z"][axis];
+            self.layer_param(&format!("{path}[{axis}]"), &format!("{what} {name}"), param, range);
         }
     }
 
@@ -279,17 +284,14 @@ impl Checker {
                 format!("{label}: start_frame {} is beyond ±{MAX_TIMELINE_FRAME}", reference.start_frame),
             );
         }
-        for (field, (x, y, z)) in [("center", &reference.center), ("rotation_deg", &reference.rotation_deg)] {
-            for (axis, param) in [x, y, z].into_iter().enumerate() {
-                let range = if field == "center" {
-                    ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m")
-                } else {
-                    ParamRange::Any
-                };
-                let what = format!("{label}: {field} {}", ["x", "y", "z"][axis]);
-                self.layer_param(&path(&format!("{field}[{axis}]")), &what, param, range);
-            }
-        }
+        let world = ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m");
+        self.vector_param(&path("center"), &format!("{label}: center"), &reference.center, world);
+        self.vector_param(
+            &path("rotation_deg"),
+            &format!("{label}: rotation_deg"),
+            &reference.rotation_deg,
+            ParamRange::Any,
+        );
         self.layer_param(
             &path("scale"),
             &format!("{label}: scale"),
