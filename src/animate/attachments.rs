@@ -26,6 +26,18 @@ pub fn attachment_at(scene: &Scene, attachment: &Attachment, frame: f64) -> Opti
     attachment_on(&reference_at(scene, index, frame)?, attachment)
 }
 
+/// Every reference of `scene` posed at `frame` (None where its file is not
+/// read): several attachments at one moment pose each reference once.
+fn posed_references(scene: &Scene, frame: f64) -> Vec<Option<PosedReference<'_>>> {
+    (0..scene.references.len()).map(|index| reference_at(scene, index, frame)).collect()
+}
+
+/// Where `attachment` is among references already posed ([`posed_references`]).
+fn attachment_among(scene: &Scene, posed: &[Option<PosedReference>], attachment: &Attachment) -> Option<DVec3> {
+    let index = scene.references.iter().position(|r| r.name == attachment.reference())?;
+    attachment_on(posed.get(index)?.as_ref()?, attachment)
+}
+
 /// Where `attachment` is on a reference already posed.
 pub fn attachment_on(posed: &PosedReference, attachment: &Attachment) -> Option<DVec3> {
     match attachment {
@@ -52,9 +64,10 @@ pub fn posed_key<'a>(scene: &Scene, key: &'a Key) -> Cow<'a, Key> {
     if key.pins.iter().all(|p| p.attach.is_none()) {
         return Cow::Borrowed(key);
     }
+    let references = posed_references(scene, f64::from(key.frame));
     let mut posed = key.clone();
     for pin in &mut posed.pins {
-        if let Some(at) = pin.attach.as_ref().and_then(|a| attachment_at(scene, a, f64::from(key.frame))) {
+        if let Some(at) = pin.attach.as_ref().and_then(|a| attachment_among(scene, &references, a)) {
             pin.pos = at.into();
         }
     }
@@ -89,13 +102,17 @@ pub fn carry_to_attachments(
     }
     let cloth = &scene.cloth;
     let cols = cloth.cols();
+    let references = posed_references(scene, frame);
     let mut corrections = Vec::new();
     for pin_a in &key_a.pins {
         let Some(pin_b) = key_b.pins.iter().find(|p| p.grid == pin_a.grid) else { continue };
         let (i, j) = (pin_a.grid.0 as usize, pin_a.grid.1 as usize);
         let index = j * cols + i;
         let place = |pin: &crate::scene::Pin| -> DVec3 {
-            pin.attach.as_ref().and_then(|att| attachment_at(scene, att, frame)).unwrap_or(DVec3::from(pin.pos))
+            pin.attach
+                .as_ref()
+                .and_then(|att| attachment_among(scene, &references, att))
+                .unwrap_or(DVec3::from(pin.pos))
         };
         let attached = pin_a.attach.is_some() || pin_b.attach.is_some();
         let offset = if attached {

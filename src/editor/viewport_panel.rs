@@ -567,13 +567,17 @@ impl ViewportPanel {
         if opacity > 0.0 {
             solids.push(collider_solids(scene, w.frame(), opacity));
         }
-        let references = reference_solids(scene, w.frame(), 1.0);
-        match self.toggles.references {
-            SolidLook::Shaded => solids.extend(references),
-            SolidLook::SeeThrough => {
-                solids.extend(references.into_iter().map(|s| Solids { opacity: s.opacity * 0.35, ..s }))
+        // Posed once: drawn shaded, see-through, or as lines below.
+        let mut reference_lines = Vec::new();
+        if self.toggles.references != SolidLook::Hidden {
+            let references = reference_solids(scene, w.frame(), 1.0);
+            match self.toggles.references {
+                SolidLook::Shaded => solids.extend(references),
+                SolidLook::SeeThrough => {
+                    solids.extend(references.into_iter().map(|s| Solids { opacity: s.opacity * 0.35, ..s }))
+                }
+                SolidLook::Wire | SolidLook::Hidden => reference_lines = references,
             }
-            SolidLook::Wire | SolidLook::Hidden => {}
         }
         let solids = Arc::new(solids);
         let mut wire = Vec::new();
@@ -601,13 +605,11 @@ impl ViewportPanel {
                 }
             }
         }
-        if self.toggles.references == SolidLook::Wire {
-            for set in reference_solids(scene, w.frame(), 1.0) {
-                let at = |i: u32| set.positions[i as usize];
-                for t in set.indices.chunks_exact(3) {
-                    for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                        wire.push(Segment { a: at(a), b: at(b), width_px: 1.0, color: REFERENCE_WIRE });
-                    }
+        for set in reference_lines {
+            let at = |i: u32| set.positions[i as usize];
+            for t in set.indices.chunks_exact(3) {
+                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    wire.push(Segment { a: at(a), b: at(b), width_px: 1.0, color: REFERENCE_WIRE });
                 }
             }
         }
