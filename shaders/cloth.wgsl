@@ -1,9 +1,10 @@
-// The cloth, lit two-sided, and its translucent onion-skin ghosts.
+// The cloth, lit two-sided or toon, and its translucent onion-skin ghosts.
 
 struct Material {
     front_tint: vec4<f32>,
     back_tint: vec4<f32>,
-    // x: 1 to multiply by the texture; y: ghost opacity; z: texture repeats across the cloth.
+    // x: 1 to multiply by the texture; y: ghost opacity; z: texture repeats across the cloth;
+    // w: the toon style's tone bands (2 or 3; 0 when lit).
     params: vec4<f32>,
 };
 
@@ -60,6 +61,34 @@ fn fs_cloth(in: ClothOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let view = normalize(frame.eye_world.xyz - in.world);
     let tint = select(material.back_tint.rgb, material.front_tint.rgb, front);
     return vec4<f32>(lit(albedo * tint, n, view), 1.0);
+}
+
+// A step from 0 to 1 where x crosses edge, about one pixel wide: hard, but not jagged.
+fn hard_step(edge: f32, x: f32, pixel: f32) -> f32 {
+    return clamp((x - edge) / pixel + 0.5, 0.0, 1.0);
+}
+
+// The toon style: the key light in flat tone bands (2 or 3, material.params.w),
+// the texture and the side's colour kept, no fill, rim or sheen.
+@fragment
+fn fs_cloth_toon(in: ClothOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let albedo = albedo_at(in.uv);
+    let n = normalize(in.normal) * select(-1.0, 1.0, front);
+    // The lit style's key light.
+    let light = dot(n, normalize(vec3<f32>(0.45, 0.8, 0.55)));
+    // Derivatives in uniform control flow, before anything branches.
+    let pixel = max(fwidth(light), 1e-4);
+    let tint = select(material.back_tint.rgb, material.front_tint.rgb, front);
+    let three = material.params.w > 2.5;
+    // Lit, half and shadow tones; two bands split at the terminator.
+    let lit_from = select(0.15, 0.4, three);
+    let to_lit = hard_step(lit_from, light, pixel);
+    let to_half = select(0.0, hard_step(-0.15, light, pixel), three);
+    let shadow = select(0.45, 0.36, three);
+    let tone = mix(mix(shadow, 0.64, to_half), 1.0, to_lit);
+    // Shade a little cooler than light, as a painted shadow is.
+    let cool = mix(vec3<f32>(0.88, 0.92, 1.06), vec3<f32>(1.0), to_lit);
+    return vec4<f32>(albedo * tint * cool * tone * 1.1, 1.0);
 }
 
 @fragment

@@ -9,6 +9,7 @@
 //! - [`target`]: the 4× MSAA offscreen target with depth, resolved to sRGB;
 //! - [`overlay`]: line segments and markers drawn over the cloth, pins among them;
 //! - [`solids`]: shapes drawn beside the cloth (colliders), opaque or see-through;
+//! - [`style`]: lit or toon; [`ink`]: the toon style's ink lines (border, silhouette, creases);
 //! - [`headless`]: one call from a mesh to an image; [`readback`]: a texture back to the CPU;
 //! - [`compose`]: copies a finished picture into another render pass (the editor's window).
 
@@ -17,11 +18,13 @@ pub mod compose;
 pub mod context;
 pub mod gpu_mesh;
 pub mod headless;
+pub mod ink;
 pub mod overlay;
 pub mod pipelines;
 pub mod readback;
 pub mod renderer;
 pub mod solids;
+pub mod style;
 pub mod target;
 pub mod textures;
 pub mod uniforms;
@@ -31,4 +34,5 @@ pub use context::{ContextError, GpuContext};
 pub use overlay::{Overlay, PinState};
 pub use renderer::{FrameInput, Ghost, Ground, RenderOptions, Renderer};
 pub use solids::{SolidTexture, Solids};
+pub use style::{Style, ToonLook};
 pub use target::OffscreenTarget;
