@@ -49,6 +49,7 @@ fn tablecloth(n: u32) -> Scene {
         references: Vec::new(),
         follow: None,
         camera: None,
+        plate: None,
     }
 }
 

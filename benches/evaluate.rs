@@ -95,6 +95,7 @@ fn scene(n: u32) -> Scene {
         references: Vec::new(),
         follow: None,
         camera: None,
+        plate: None,
     }
 }
 

@@ -65,3 +65,12 @@ fn fs_ground(in: GroundOut) -> @location(0) vec4<f32> {
     color = color * (1.0 - shadow_at(in.world) * frame.shadow.z);
     return vec4<f32>(mix(frame.background.rgb, color, fade), 1.0);
 }
+
+// The shadow pass for compositing: black where the cloth's shadow falls,
+// its strength as (premultiplied) alpha, transparent elsewhere.
+@fragment
+fn fs_ground_shadow(in: GroundOut) -> @location(0) vec4<f32> {
+    let radius = length(in.world.xz - frame.ground_center.xz) / frame.ground.z;
+    let fade = 1.0 - smoothstep(0.55, 1.0, radius);
+    return vec4<f32>(0.0, 0.0, 0.0, shadow_at(in.world) * frame.shadow.z * fade);
+}

@@ -52,6 +52,29 @@ impl RgbaImage {
         }
     }
 
+    /// Decodes PNG or JPEG bytes (told by their first bytes, else by
+    /// `mime_type`) into RGBA8; the error says what the bytes are not.
+    pub fn decode(bytes: &[u8], mime_type: Option<&str>) -> Result<RgbaImage, String> {
+        let is_png =
+            bytes.starts_with(b"\x89PNG") || (mime_type == Some("image/png") && !bytes.starts_with(&[0xFF, 0xD8]));
+        let is_jpeg = bytes.starts_with(&[0xFF, 0xD8]) || mime_type == Some("image/jpeg");
+        if is_png {
+            return RgbaImage::decode_png(bytes).map_err(|error| format!("not a readable PNG ({error})"));
+        }
+        if is_jpeg {
+            use zune_core::bytestream::ZCursor;
+            use zune_core::colorspace::ColorSpace;
+            use zune_core::options::DecoderOptions;
+            let options = DecoderOptions::default().jpeg_set_out_colorspace(ColorSpace::RGBA);
+            let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
+            let rgba = decoder.decode().map_err(|error| format!("not a readable JPEG ({error:?})"))?;
+            let info = decoder.info().ok_or("not a readable JPEG (no size)")?;
+            let (width, height) = (u32::from(info.width), u32::from(info.height));
+            return Ok(RgbaImage { width, height, pixels: rgba });
+        }
+        Err("only PNG and JPEG images are read".to_owned())
+    }
+
     /// Decodes a PNG of any colour type and bit depth into RGBA8.
     pub fn decode_png(bytes: &[u8]) -> Result<RgbaImage, ImageError> {
         let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));

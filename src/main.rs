@@ -145,6 +145,21 @@ enum Command {
         /// is no cloth, no ground, background, colliders or references drawn.
         #[arg(long)]
         alpha: bool,
+        /// Lay the pictures over the scene's background plate (`plate`). It is used by default
+        /// when the scene has one and the render looks through the shot camera.
+        #[arg(long, conflicts_with = "no_plate")]
+        plate: bool,
+        /// Leave the background plate out: the ground and background as without one.
+        #[arg(long)]
+        no_plate: bool,
+        /// Which pass to draw: the cloth as usual, or its shadow on the ground alone
+        /// (black with straight alpha in PNGs, for laying on a drawn floor).
+        #[arg(long, value_enum, default_value = "cloth")]
+        pass: render_command::Pass,
+        /// How the cloth is drawn: lit, or toon (flat tone bands and ink lines, as the scene's
+        /// `cloth.toon` says).
+        #[arg(long, value_enum, default_value = "lit")]
+        style: render_command::StyleChoice,
         /// Write a sequence or GIF even when its estimated size is over 8 GiB or over the free space on the disk.
         #[arg(long)]
         force: bool,
@@ -218,6 +233,10 @@ fn main() -> ExitCode {
             no_references,
             camera,
             alpha,
+            plate,
+            no_plate,
+            pass,
+            style,
             force,
         } => {
             let overlays = SceneOverlays {
@@ -229,9 +248,16 @@ fn main() -> ExitCode {
                 hide_references: no_references,
                 view_camera: camera == Some(render_command::CameraChoice::View),
                 alpha,
+                shadow_pass: pass == render_command::Pass::Shadow,
+                toon: style == render_command::StyleChoice::Toon,
             };
             let shot = camera == Some(render_command::CameraChoice::Shot);
-            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, shot, force };
+            let plate = match (plate, no_plate) {
+                (true, _) => Some(true),
+                (_, true) => Some(false),
+                _ => None,
+            };
+            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, shot, plate, force };
             render_command::render(&scene, &output, request)
         }
     };
@@ -392,6 +418,11 @@ fn check(path: &Path) -> Result<()> {
     if let Some(camera) = &scene.camera {
         say!("  camera    {}", camera_summary(camera));
     }
+    if let Some(plate) = &scene.plate {
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let files = scene::PlateFiles::scan(plate, folder).map_err(|why| anyhow!("{}: {why}", path.display()))?;
+        say!("  plate     {}", plate_summary(plate, &files, &scene.timeline));
+    }
     if let Some(follow) = &scene.follow {
         say!(
             "  follows   node {:?} of reference {:?}: the keys are carried as it moves",
@@ -400,6 +431,33 @@ fn check(path: &Path) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The plate in a line: its files, which frames have their own, how it shows.
+fn plate_summary(plate: &scene::Plate, files: &scene::PlateFiles, timeline: &scene::Timeline) -> String {
+    let mut parts = vec![format!("{:?}", plate.file)];
+    if let Some((first, last)) = files.number_range() {
+        parts.push(format!("{} files numbered {first}..{last}", scene::group_thousands(files.count() as u64)));
+        if plate.frame_offset != 0 {
+            parts.push(format!("frame F shows file F {:+}", plate.frame_offset));
+        }
+        let missing = files.missing(timeline.start, timeline.end);
+        if !missing.is_empty() {
+            parts.push(format!(
+                "frame{} {} without a file show the nearest",
+                if missing.len() == 1 { "" } else { "s" },
+                scene::frame_list(&missing)
+            ));
+        }
+    } else {
+        parts.push("one picture".to_owned());
+    }
+    match &plate.opacity {
+        Param::Constant(v) if *v >= 1.0 => {}
+        Param::Constant(v) => parts.push(format!("opacity {}", readable_number(*v))),
+        Param::Keys(_) => parts.push("animated opacity".to_owned()),
+    }
+    parts.join(", ")
 }
 
 /// The shot camera in a line: where it is and looks, its lens, its picture.

@@ -14,7 +14,7 @@ use drape::export::{
 use drape::image::RgbaImage;
 use drape::picture::{SceneOverlays, SceneRenderer};
 use drape::render::GpuContext;
-use drape::scene::{self, Scene, group_thousands, readable_bytes};
+use drape::scene::{self, PlateFiles, Scene, frame_list, group_thousands, readable_bytes};
 
 use crate::terminal_progress;
 use crate::{FrameRange, frame_number_width, padded_frame};
@@ -34,8 +34,20 @@ pub struct RenderRequest {
     pub overlays: SceneOverlays,
     /// `--camera shot`: the scene must have a shot camera.
     pub shot: bool,
+    /// `--plate` (`Some(true)`: the scene must have a plate), `--no-plate`
+    /// (`Some(false)`), or neither: the plate when looking through the shot camera.
+    pub plate: Option<bool>,
     /// Write a sequence or GIF even when its size estimate is over the limit or the free space.
     pub force: bool,
+}
+
+/// How a render draws the cloth (`--style`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StyleChoice {
+    /// Lit: key, fill, sky and rim lights.
+    Lit,
+    /// Flat tone bands and ink lines, in the scene's toon settings.
+    Toon,
 }
 
 /// Which camera a render looks through (`--camera`).
@@ -45,6 +57,15 @@ pub enum CameraChoice {
     View,
     /// The scene's shot camera.
     Shot,
+}
+
+/// What a render draws (`--pass`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Pass {
+    /// The cloth, its surroundings and the plate, as the options say.
+    Cloth,
+    /// The cloth's shadow on the ground alone, black with alpha.
+    Shadow,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,6 +106,20 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
     };
     if request.overlays.alpha && kind == Output::Gif {
         bail!("--alpha writes PNGs (a GIF has no alpha channel): name a .png, or a directory with --frames");
+    }
+    if request.overlays.shadow_pass && kind == Output::Gif {
+        bail!("--pass shadow writes PNGs with alpha (a GIF has none): name a .png, or a directory with --frames");
+    }
+    if request.plate == Some(true) {
+        if scene.plate.is_none() {
+            bail!("--plate: the scene has no background plate (`plate: (file: …)`)");
+        }
+        if request.overlays.alpha || request.overlays.shadow_pass {
+            bail!(
+                "--plate with --alpha or --pass shadow: those are the cloth or its shadow alone, to composite \
+                 over the plate; leave out --plate"
+            );
+        }
     }
     if request.shot && scene.camera.is_none() {
         bail!("--camera shot: the scene has no shot camera (`camera: (position: …, target: …)`)");
@@ -132,9 +167,18 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         crate::check_size(&estimate, output, request.force)?;
     }
 
+    let through_shot = scene.camera.is_some() && !request.overlays.view_camera;
+    let separate_pass = request.overlays.alpha || request.overlays.shadow_pass;
+    let use_plate = scene.plate.is_some() && !separate_pass && request.plate.unwrap_or(through_shot);
+    let plate = match (&scene.plate, use_plate) {
+        (Some(plate), true) => Some(plate_files(plate, path, range)?),
+        _ => None,
+    };
+
     let context = GpuContext::headless()?;
     let adapter = context.describe();
     let mut renderer = SceneRenderer::new(context, &scene, size_px, request.overlays);
+    renderer.set_plate(plate.zip(scene.plate.as_ref().map(|p| p.opacity.clone())));
     let started = Instant::now();
     match kind {
         Output::Png => {
@@ -254,6 +298,26 @@ fn render_staged(
     let staged = rendered.and(written).context("rendering the sequence stopped")?;
     staged.commit().map_err(|e| anyhow!("cannot move the frames into {}: {}", dir.display(), io_reason(&e)))?;
     Ok(())
+}
+
+/// The plate's files beside the scene at `path`, refused when there are none;
+/// frames of `range` without their own file are named in one warning.
+fn plate_files(plate: &scene::Plate, path: &Path, range: FrameRange) -> Result<PlateFiles> {
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let files = PlateFiles::scan(plate, folder).map_err(|why| anyhow!("{}: {why}", path.display()))?;
+    let missing = files.missing(range.first, range.last);
+    if !missing.is_empty() {
+        eprintln!(
+            "warning: the plate {:?} has no file for frame{} {} (of {}..{}): {} the nearest file's picture",
+            plate.file,
+            if missing.len() == 1 { "" } else { "s" },
+            frame_list(&missing),
+            range.first,
+            range.last,
+            if missing.len() == 1 { "it shows" } else { "each shows" },
+        );
+    }
+    Ok(files)
 }
 
 fn report(output: &Path, range: FrameRange, size_px: (u32, u32), started: Instant, adapter: &str, what: &str) {

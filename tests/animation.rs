@@ -59,6 +59,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
         references: Vec::new(),
         follow: None,
         camera: None,
+        plate: None,
     }
 }
 

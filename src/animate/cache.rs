@@ -322,6 +322,7 @@ mod tests {
             references: Vec::new(),
             follow: None,
             camera: None,
+            plate: None,
         }
     }
 

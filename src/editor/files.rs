@@ -102,6 +102,7 @@ pub fn new_scene() -> Scene {
         references: Vec::new(),
         follow: None,
         camera: None,
+        plate: None,
     }
 }
 

@@ -51,6 +51,8 @@ pub struct ViewToggles {
     pub references: SolidLook,
     /// Looks through the scene's shot camera (View ▸ Camera).
     pub shot_camera: bool,
+    /// Draws in the toon style instead of lit (View ▸ Style).
+    pub toon: bool,
 }
 
 /// How the viewport draws the scene's colliders, or its references.
@@ -93,6 +95,7 @@ impl Default for ViewToggles {
             colliders: SolidLook::Shaded,
             references: SolidLook::Shaded,
             shot_camera: false,
+            toon: false,
         }
     }
 }
@@ -419,7 +422,7 @@ impl ViewportPanel {
             hide_colliders: true,
             hide_references: true,
             view_camera: true,
-            alpha: false,
+            ..SceneOverlays::default()
         };
         let session = &w.session;
         let state = |grid: (u32, u32)| {
@@ -623,6 +626,7 @@ impl ViewportPanel {
         RenderOptions {
             wireframe: self.toggles.wireframe || self.stage == Stage::Catenaries,
             ground: self.toggles.ground.then_some(self.ground),
+            style: self.style(w),
             ..RenderOptions::default()
         }
         .with_texture(texture)
@@ -653,6 +657,7 @@ impl ViewportPanel {
                     .on_hover_text("Look through the shot camera (orbiting leaves it)");
             }
         });
+        self.style_ui(ui);
         egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
             for look in SolidLook::ALL {
                 ui.selectable_value(&mut self.toggles.colliders, look, look.label());

@@ -40,6 +40,12 @@ pub struct SceneOverlays {
     /// The cloth alone over transparency (`--alpha`): no ground, background,
     /// colliders or references; straight (not premultiplied) alpha, as PNG stores it.
     pub alpha: bool,
+    /// The cloth's shadow on the ground alone (`--pass shadow`): black with
+    /// straight alpha over transparency, for laying on a drawn floor.
+    pub shadow_pass: bool,
+    /// Draws in the toon style with the scene's `cloth.toon` settings
+    /// (`--style toon`) instead of lit.
+    pub toon: bool,
 }
 
 /// The overlays `show` asks for, for the key in effect at `frame`, drawn on

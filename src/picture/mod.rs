@@ -10,11 +10,13 @@
 //! - [`colliders`](mod@colliders): the scene's colliders at a frame as solids to draw;
 //! - [`references`](mod@references): the scene's referenced glTF files at a frame as solids;
 //! - [`shot`]: the scene's shot camera at a frame;
+//! - [`plate`](mod@plate): a render laid over the background plate;
 //! - [`scene_renderer`]: a scene at a frame to an image, frame after frame.
 
 pub mod colliders;
 pub mod framing;
 pub mod key_overlay;
+pub mod plate;
 pub mod references;
 pub mod scene_renderer;
 pub mod shot;

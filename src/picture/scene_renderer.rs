@@ -2,17 +2,19 @@
 //! golden-image tests.
 
 use crate::animate::Evaluator;
+use crate::animate::track::sample;
 use crate::image::RgbaImage;
 use crate::mesh::Mesh;
 use crate::render::headless::RenderError;
 use crate::render::overlay::PinState;
 use crate::render::readback::read_texture;
-use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer};
-use crate::scene::Scene;
+use crate::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, RenderOptions, Renderer, Style, ToonLook};
+use crate::scene::{Param, PlateFiles, Scene};
 
 use super::colliders::collider_solids;
 use super::framing::Framing;
 use super::key_overlay::{SceneOverlays, key_overlay};
+use super::plate::{over_plate, plate_fitted};
 use super::references::reference_solids;
 use super::shot::shot_camera_at;
 
@@ -44,6 +46,15 @@ pub struct SceneRenderer {
     options: RenderOptions,
     overlays: SceneOverlays,
     mesh: Mesh,
+    plate: Option<PlateBackdrop>,
+}
+
+/// The plate a render is laid over, and the picture last read from it.
+struct PlateBackdrop {
+    files: PlateFiles,
+    opacity: Param,
+    /// The number of the file last read, fitted to the picture.
+    last: Option<(i64, RgbaImage)>,
 }
 
 impl SceneRenderer {
@@ -58,7 +69,14 @@ impl SceneRenderer {
         let renderer = Renderer::new(&context.device, &context.queue);
         let target = OffscreenTarget::new(&context.device, size_px);
         let mesh = evaluator.evaluate_frame(scene, scene.timeline.start as f64);
-        SceneRenderer { framing, context, renderer, target, evaluator, options, overlays, mesh }
+        SceneRenderer { framing, context, renderer, target, evaluator, options, overlays, mesh, plate: None }
+    }
+
+    /// Lays every picture from now on over the plate `files` at `opacity`
+    /// (`None`: over the ground and background as usual). The cloth, its
+    /// overlays, colliders and references are drawn; the ground is not.
+    pub fn set_plate(&mut self, plate: Option<(PlateFiles, Param)>) {
+        self.plate = plate.map(|(files, opacity)| PlateBackdrop { files, opacity, last: None });
     }
 
     pub fn context(&self) -> &GpuContext {
@@ -86,14 +104,18 @@ impl SceneRenderer {
             Some(shot) => self.framing.camera = shot_camera_at(shot, frame, self.target.size_px()),
             None => self.framing.follow(&self.mesh),
         }
-        self.options.ground = (!self.overlays.alpha).then_some(self.framing.ground);
-        self.options.transparent = self.overlays.alpha;
+        let shadow_pass = self.overlays.shadow_pass;
+        let plate = self.plate.is_some() && !self.overlays.alpha && !shadow_pass;
+        self.options.ground = (shadow_pass || !(self.overlays.alpha || plate)).then_some(self.framing.ground);
+        self.options.transparent = self.overlays.alpha || plate || shadow_pass;
+        self.options.shadow_only = shadow_pass;
+        self.options.style = scene_style(scene, self.overlays);
         let overlay = key_overlay(&mut self.evaluator, scene, frame, &self.mesh, self.overlays, |_| PinState::Normal);
         let mut solids = Vec::new();
-        if !self.overlays.hide_colliders && !self.overlays.alpha {
+        if !self.overlays.hide_colliders && !self.overlays.alpha && !shadow_pass {
             solids.push(collider_solids(scene, frame, 1.0));
         }
-        if !self.overlays.hide_references && !self.overlays.alpha {
+        if !self.overlays.hide_references && !self.overlays.alpha && !shadow_pass {
             solids.extend(reference_solids(scene, frame, 1.0));
         }
         let input = FrameInput {
@@ -106,9 +128,24 @@ impl SceneRenderer {
         };
         self.renderer.render(&self.context.device, &self.context.queue, &self.target, input);
         let mut image = read_texture(&self.context.device, &self.context.queue, self.target.resolved())?;
-        if self.overlays.alpha {
+        if self.overlays.alpha || shadow_pass {
             image.unpremultiply();
+        } else if let Some(backdrop) = &mut self.plate {
+            let shown = backdrop.files.frame(frame.round() as i32);
+            if backdrop.last.as_ref().is_none_or(|(number, _)| *number != shown.number) {
+                let picture = crate::scene::load_plate_image(&shown.path).map_err(RenderError::Input)?;
+                backdrop.last = Some((shown.number, plate_fitted(&picture, image.width, image.height)));
+            }
+            if let Some((_, fitted)) = &backdrop.last {
+                let opacity = sample(&backdrop.opacity, frame) as f32;
+                image = over_plate(&image, fitted, opacity, self.options.background);
+            }
         }
         Ok(image)
     }
+}
+
+/// The style `overlays` asks for: toon in the scene's toon settings, or lit.
+fn scene_style(scene: &Scene, overlays: SceneOverlays) -> Style {
+    if overlays.toon { Style::Toon(ToonLook::from_settings(&scene.cloth.toon)) } else { Style::Lit }
 }

@@ -12,6 +12,9 @@ pub enum RenderError {
     Context(#[from] ContextError),
     #[error(transparent)]
     Readback(#[from] ReadbackError),
+    /// A file the picture is drawn over (a plate) could not be read: what and where.
+    #[error("{0}")]
+    Input(String),
 }
 
 /// Renders one picture of `input` at `size_px` on `context`, or on a device of

@@ -29,9 +29,13 @@ pub struct Pipelines {
     pub material_layout: wgpu::BindGroupLayout,
     pub shadow_map_layout: wgpu::BindGroupLayout,
     pub cloth: wgpu::RenderPipeline,
+    /// The cloth (and opaque solids) in the toon style's flat bands.
+    pub cloth_toon: wgpu::RenderPipeline,
     pub ghost: wgpu::RenderPipeline,
     pub wire: wgpu::RenderPipeline,
     pub ground: wgpu::RenderPipeline,
+    /// The ground's contact shadow alone, as black with alpha (`--pass shadow`).
+    pub ground_shadow: wgpu::RenderPipeline,
     pub shadow: wgpu::RenderPipeline,
     pub segment: wgpu::RenderPipeline,
     pub marker: wgpu::RenderPipeline,
@@ -167,6 +171,11 @@ impl Pipelines {
         let triangles = wgpu::PrimitiveTopology::TriangleList;
         let build = |spec: PipelineSpec| build_pipeline(device, spec);
         let cloth = build(cloth_spec(cloth_module, &mesh_buffers, &with_material));
+        let cloth_toon = build(PipelineSpec {
+            label: "cloth, toon",
+            fragment: "fs_cloth_toon",
+            ..cloth_spec(cloth_module, &mesh_buffers, &with_material)
+        });
         let ghost = build(PipelineSpec {
             label: "ghost",
             fragment: "fs_ghost",
@@ -190,6 +199,17 @@ impl Pipelines {
             module: ground_module,
             vertex: "vs_ground",
             fragment: "fs_ground",
+            buffers: &[],
+            layout: &with_shadow,
+            topology: triangles,
+            blend: None,
+            depth: Depth::Write,
+        });
+        let ground_shadow = build(PipelineSpec {
+            label: "ground shadow pass",
+            module: ground_module,
+            vertex: "vs_ground",
+            fragment: "fs_ground_shadow",
             buffers: &[],
             layout: &with_shadow,
             topology: triangles,
@@ -267,9 +287,11 @@ impl Pipelines {
             material_layout,
             shadow_map_layout,
             cloth,
+            cloth_toon,
             ghost,
             wire,
             ground,
+            ground_shadow,
             shadow,
             segment,
             marker,

@@ -11,9 +11,11 @@ use glam::{Vec2, Vec3};
 
 use super::camera::OrbitCamera;
 use super::gpu_mesh::GpuMesh;
+use super::ink::{InkEdges, InkLine};
 use super::overlay::Overlay;
 use super::pipelines::{Pipelines, SHADOW_FORMAT};
 use super::solids::{SolidTexture, Solids};
+use super::style::Style;
 use super::target::OffscreenTarget;
 use super::textures;
 use super::uniforms::{FrameUniform, MaterialUniform, SHADOW_MAP_PX, shadow_clip_from_world};
@@ -35,6 +37,12 @@ pub struct RenderOptions {
     /// alpha: what is drawn is opaque, the rest alpha 0 (the resolved
     /// picture's edges come premultiplied).
     pub transparent: bool,
+    /// Lit, or toon with its bands, ink and colours (which replace the tints where given).
+    pub style: Style,
+    /// Draws only the cloth's shadow on the ground, as black with alpha over
+    /// transparency (a compositing pass): no cloth, grid, solids or overlays.
+    /// Needs `ground` and `transparent`.
+    pub shadow_only: bool,
 }
 
 impl Default for RenderOptions {
@@ -48,6 +56,8 @@ impl Default for RenderOptions {
             ground: Some(Ground::default()),
             background: [0.028, 0.031, 0.036],
             transparent: false,
+            style: Style::Lit,
+            shadow_only: false,
         }
     }
 }
@@ -199,6 +209,8 @@ struct SolidBuffers {
     indices: GrowingBuffer,
     index_count: u32,
     opaque: bool,
+    /// The toon bands the material holds (0: lit).
+    bands: u32,
     material: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     /// The texture `bind_group` samples (none: the plain white one).
@@ -223,6 +235,7 @@ impl SolidBuffers {
             indices: GrowingBuffer::new(device, "solid indices", wgpu::BufferUsages::INDEX, 4096),
             index_count: 0,
             opaque: true,
+            bands: 0,
             material,
             bind_group,
             texture: None,
@@ -234,8 +247,9 @@ impl SolidBuffers {
         self.index_count > 0 && self.opaque
     }
 
-    /// Writes `solids` unless they are what the buffers hold already.
-    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, solids: &Solids) {
+    /// Writes `solids` unless they are what the buffers hold already, in
+    /// the toon style's `bands` (0: lit).
+    fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, solids: &Solids, bands: u32) {
         let valid = solids.normals.len() == solids.positions.len()
             && solids.indices.iter().all(|&i| (i as usize) < solids.positions.len());
         if !valid || solids.is_empty() || !(solids.opacity > 0.0) {
@@ -244,10 +258,11 @@ impl SolidBuffers {
             return;
         }
         // A viewport repaints the same colliders many times (orbiting, hovering).
-        if self.written.as_ref() == Some(solids) {
+        if self.written.as_ref() == Some(solids) && self.bands == bands {
             return;
         }
         self.written = Some(solids.clone());
+        self.bands = bands;
         self.positions.write(device, queue, bytemuck::cast_slice(&solids.positions));
         self.normals.write(device, queue, bytemuck::cast_slice(&solids.normals));
         let textured = solids.texture.is_some() && solids.uvs.len() == solids.positions.len();
@@ -263,6 +278,7 @@ impl SolidBuffers {
         if textured {
             material.params[0] = 1.0;
         }
+        material.params[3] = bands as f32;
         queue.write_buffer(&self.material, 0, bytemuck::bytes_of(&material));
     }
 
@@ -295,11 +311,18 @@ pub struct Renderer {
     segment_count: u32,
     markers: GrowingBuffer,
     marker_count: u32,
+    /// The toon style's ink: the cloth's edges, this frame's lines and their segments.
+    ink_edges: InkEdges,
+    ink_lines: Vec<InkLine>,
+    ink: GrowingBuffer,
+    ink_count: u32,
+    toon: bool,
     /// Grown to the most sets of solids asked for; the first `solid_count` drawn.
     solids: Vec<SolidBuffers>,
     solid_count: usize,
     wireframe: bool,
     ground: bool,
+    shadow_only: bool,
     background: wgpu::Color,
 }
 
@@ -372,8 +395,14 @@ impl Renderer {
             segment_count: 0,
             markers: GrowingBuffer::new(device, "overlay markers", wgpu::BufferUsages::VERTEX, 1024),
             marker_count: 0,
+            ink_edges: InkEdges::default(),
+            ink_lines: Vec::new(),
+            ink: GrowingBuffer::new(device, "ink segments", wgpu::BufferUsages::VERTEX, 4096),
+            ink_count: 0,
+            toon: false,
             wireframe: false,
             ground: true,
+            shadow_only: false,
             background: wgpu::Color::BLACK,
             pipelines,
         }
@@ -424,6 +453,7 @@ impl Renderer {
         let options = input.options;
         self.wireframe = options.wireframe;
         self.ground = options.ground.is_some();
+        self.shadow_only = options.shadow_only;
         let [r, g, b] = options.background;
         self.background = if options.transparent {
             wgpu::Color::TRANSPARENT
@@ -438,10 +468,13 @@ impl Renderer {
         };
         self.update_slot(device, queue, &mut cloth, input.mesh, options.texture);
         let textured = if options.texture == ClothTexture::Plain { 0.0 } else { 1.0 };
+        let toon = options.style.toon();
+        let front = toon.and_then(|look| look.front).unwrap_or(options.front_tint);
+        let back = toon.and_then(|look| look.back).unwrap_or(options.back_tint);
         let material = MaterialUniform {
-            front_tint: [options.front_tint[0], options.front_tint[1], options.front_tint[2], 1.0],
-            back_tint: [options.back_tint[0], options.back_tint[1], options.back_tint[2], 1.0],
-            params: [textured, 1.0, 1.0, 0.0],
+            front_tint: [front[0], front[1], front[2], 1.0],
+            back_tint: [back[0], back[1], back[2], 1.0],
+            params: [textured, 1.0, 1.0, options.style.bands() as f32],
         };
         queue.write_buffer(&cloth.material, 0, bytemuck::bytes_of(&material));
         self.cloth = Some(cloth);
@@ -475,10 +508,34 @@ impl Renderer {
             .collect();
         self.markers.write(device, queue, bytemuck::cast_slice(&markers));
         self.marker_count = markers.len() as u32;
-        self.prepare_solids(device, queue, input.solids);
+        self.prepare_solids(device, queue, input.solids, options.style.bands());
+        self.prepare_ink(device, queue, input);
     }
 
-    fn prepare_solids(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, sets: &[Solids]) {
+    /// The toon style's ink lines on this frame's cloth, seen from the camera.
+    fn prepare_ink(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, input: FrameInput) {
+        self.toon = input.options.style.toon().is_some();
+        self.ink_count = 0;
+        let Some(look) = input.options.style.toon().filter(|look| look.ink_width_px > 0.0) else {
+            return;
+        };
+        let mesh = input.mesh;
+        if !self.ink_edges.is_for(&mesh.indices, mesh.positions.len()) {
+            self.ink_edges = InkEdges::new(&mesh.indices, mesh.positions.len());
+        }
+        self.ink_edges.lines(&mesh.positions, input.camera.eye(), look.crease_deg, &mut self.ink_lines);
+        let [r, g, b] = look.ink_color;
+        let width_px = look.ink_width_px;
+        let segments: Vec<SegmentInstance> = self
+            .ink_lines
+            .iter()
+            .map(|l| SegmentInstance { a: l.a.to_array(), width_px, b: l.b.to_array(), color: [r, g, b, 1.0] })
+            .collect();
+        self.ink.write(device, queue, bytemuck::cast_slice(&segments));
+        self.ink_count = segments.len() as u32;
+    }
+
+    fn prepare_solids(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, sets: &[Solids], bands: u32) {
         while self.solids.len() < sets.len() {
             let buffers = SolidBuffers::new(device, self);
             self.solids.push(buffers);
@@ -504,7 +561,7 @@ impl Renderer {
                 self.solids[index].bind_group = bind_group;
                 self.solids[index].texture = set.texture.clone();
             }
-            self.solids[index].write(device, queue, set);
+            self.solids[index].write(device, queue, set, bands);
         }
         self.solid_count = sets.len();
     }
@@ -578,6 +635,14 @@ impl Renderer {
             multiview_mask: None,
         });
         pass.set_bind_group(0, &self.frame_bind_group, &[]);
+        if self.shadow_only {
+            if self.ground {
+                pass.set_pipeline(&self.pipelines.ground_shadow);
+                pass.set_bind_group(1, &self.shadow_bind_group, &[]);
+                pass.draw(0..6, 0..1);
+            }
+            return;
+        }
         if self.ground {
             pass.set_pipeline(&self.pipelines.ground);
             pass.set_bind_group(1, &self.shadow_bind_group, &[]);
@@ -588,7 +653,7 @@ impl Renderer {
             draw_lit(pass, &slot.bind_group, [&m.positions, &m.normals, &m.uvs], &m.indices, m.index_count);
         };
         let solids = &self.solids[..self.solid_count];
-        pass.set_pipeline(&self.pipelines.cloth);
+        pass.set_pipeline(if self.toon { &self.pipelines.cloth_toon } else { &self.pipelines.cloth });
         for set in solids.iter().filter(|s| s.draws_opaque()) {
             set.draw(&mut pass);
         }
@@ -598,6 +663,12 @@ impl Renderer {
             pass.set_vertex_buffer(0, cloth.mesh.positions.slice(..));
             pass.set_index_buffer(cloth.mesh.wire_indices.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..cloth.mesh.wire_index_count, 0, 0..1);
+        }
+        // Ink over the cloth it outlines, tested against its depth (hidden behind it), under the ghosts.
+        if self.ink_count > 0 {
+            pass.set_pipeline(&self.pipelines.segment);
+            pass.set_vertex_buffer(0, self.ink.buffer.slice(..));
+            pass.draw(0..6, 0..self.ink_count);
         }
         // Ghosts after the opaque cloth: they are hidden behind it, and blend over what is behind them.
         pass.set_pipeline(&self.pipelines.ghost);

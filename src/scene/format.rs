@@ -184,6 +184,7 @@ mod tests {
             references: Vec::new(),
             follow: None,
             camera: None,
+            plate: None,
             view: Some(View {
                 target: (0.5, 1.2, -0.25),
                 yaw_deg: 30.0,

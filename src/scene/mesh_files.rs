@@ -73,7 +73,7 @@ pub fn relative_path(scene_folder: &Path, file: &Path) -> PathBuf {
     relative
 }
 
-/// Renames every file `scene` names (mesh colliders' and references') for a
+/// Renames every file `scene` names (mesh colliders', references', the plate's) for a
 /// scene file moving from the folder `from` to the folder `to` (a Save As
 /// elsewhere), so each still names the same file: relative to `to` where it
 /// can be, else absolute.
@@ -85,6 +85,9 @@ pub fn move_referenced_files(scene: &mut Scene, from: &Path, to: &Path) {
         }
     }
     scene.references.iter_mut().for_each(|reference| moved(&mut reference.file));
+    if let Some(plate) = &mut scene.plate {
+        moved(&mut plate.file);
+    }
 }
 
 /// The solid in the mesh file at `path`, or why not, in a user's words.

@@ -2,7 +2,8 @@
 //!
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
 //! - [`Collider`] and its kinds: what the cloth rests on and never enters.
-//! - [`ShotCamera`]: the camera the shot is seen through.
+//! - [`ShotCamera`]: the camera the shot is seen through; [`Plate`] the picture behind
+//!   the cloth in it, its files found by [`PlateFiles`].
 //! - [`Reference`]: a glTF file of the shot (a character), read into a rig by [`read_references`].
 //! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
 //!   each parameter listed once with its unit, range, default and doc
@@ -25,11 +26,14 @@ mod layers;
 mod locate;
 mod mesh_files;
 mod param;
+mod plate;
+mod plate_files;
 mod read_capped;
 mod reference_files;
 mod references;
 mod schema;
 mod shot_camera;
+mod toon;
 mod types;
 mod validate;
 
@@ -45,10 +49,16 @@ pub use layers::*;
 pub use locate::{TextPosition, locate};
 pub use mesh_files::{MAX_MESH_FILE_BYTES, move_referenced_files, read_mesh, read_meshes, relative_path};
 pub use param::{Ease, Param, ParamKey};
+pub use plate::{MAX_PLATE_DIGITS, MAX_PLATE_FRAME_OFFSET, Plate, PlatePattern};
+pub use plate_files::{PlateFiles, PlateFrame, frame_list, load_plate_image};
 pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig};
 pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use shot_camera::{DEFAULT_FOCAL_LENGTH_MM, DEFAULT_SENSOR_WIDTH_MM, ShotCamera, horizontal_fov_deg};
+pub use toon::{
+    MAX_CREASE_DEG, MAX_INK_WIDTH_PX, MAX_TOON_BANDS, MIN_TOON_BANDS, SrgbColor, ToonSettings, linear_rgb,
+    linear_to_srgb, srgb_to_linear,
+};
 pub use types::*;
 pub use validate::*;

@@ -312,26 +312,10 @@ fn read_images(document: &gltf::Document, buffers: &[Vec<u8>], folder: &Path) ->
     Ok(images)
 }
 
-/// PNG or JPEG bytes (told by their first bytes, else `mime_type`) as sRGB RGBA.
+/// PNG or JPEG bytes as sRGB RGBA, as a rig's texture.
 fn decode_image(bytes: &[u8], mime_type: Option<&str>) -> Result<RigTexture, String> {
-    let is_png = bytes.starts_with(b"\x89PNG") || mime_type == Some("image/png");
-    let is_jpeg = bytes.starts_with(&[0xFF, 0xD8]) || mime_type == Some("image/jpeg");
-    if is_png {
-        let image = RgbaImage::decode_png(bytes).map_err(|error| format!("not a readable PNG ({error})"))?;
-        return Ok(RigTexture { width: image.width, height: image.height, rgba: image.pixels });
-    }
-    if is_jpeg {
-        use zune_core::bytestream::ZCursor;
-        use zune_core::colorspace::ColorSpace;
-        use zune_core::options::DecoderOptions;
-        let options = DecoderOptions::default().jpeg_set_out_colorspace(ColorSpace::RGBA);
-        let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
-        let rgba = decoder.decode().map_err(|error| format!("not a readable JPEG ({error:?})"))?;
-        let info = decoder.info().ok_or("not a readable JPEG (no size)")?;
-        let (width, height) = (u32::from(info.width), u32::from(info.height));
-        return Ok(RigTexture { width, height, rgba });
-    }
-    Err("only PNG and JPEG images are read".to_owned())
+    let image = RgbaImage::decode(bytes, mime_type)?;
+    Ok(RigTexture { width: image.width, height: image.height, rgba: image.pixels })
 }
 
 /// Every animation, its channels' samplers read out in full.

@@ -11,8 +11,10 @@ use serde::{Deserialize, Serialize};
 use super::colliders::Collider;
 use super::layers::Layer;
 use super::param::Ease;
+use super::plate::Plate;
 use super::references::{Attachment, Follow, Reference};
 use super::shot_camera::ShotCamera;
+use super::toon::ToonSettings;
 
 /// The whole document: one cloth, its timeline, its rest-shape keys and its layer stack.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,6 +45,10 @@ pub struct Scene {
     /// The shot camera: what `drape render` looks through by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<ShotCamera>,
+    /// The background plate: a picture or a sequence behind the cloth,
+    /// through the shot camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plate: Option<Plate>,
     /// Where the editor's camera looked when the scene was saved (with the
     /// playhead and Follow); absent, views frame the cloth.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -74,6 +80,10 @@ pub struct Cloth {
     /// off. See `animate::stretch_limit`.
     #[serde(default = "default_stretch_limit")]
     pub stretch_limit: f64,
+    /// How the toon style draws this cloth (the style is chosen where the
+    /// picture is made); left out of the file while it is the default.
+    #[serde(default, skip_serializing_if = "ToonSettings::is_default")]
+    pub toon: ToonSettings,
 }
 
 /// The stretch limit a cloth gets when its file names none: 10 %.
@@ -86,7 +96,13 @@ fn default_stretch_limit() -> f64 {
 impl Cloth {
     /// A plain cloth of `size` (width, height) metres on a `grid` of (cols, rows) points.
     pub fn new(size: (f64, f64), grid: (u32, u32)) -> Cloth {
-        Cloth { size, grid, texture: ClothTexture::Plain, stretch_limit: DEFAULT_STRETCH_LIMIT }
+        Cloth {
+            size,
+            grid,
+            texture: ClothTexture::Plain,
+            stretch_limit: DEFAULT_STRETCH_LIMIT,
+            toon: ToonSettings::default(),
+        }
     }
 
     pub fn cols(&self) -> usize {

@@ -14,9 +14,11 @@ use super::layers::Layer;
 use super::layers::ParamValue;
 use super::param::Ease;
 use super::param::Param;
+use super::plate::{MAX_PLATE_FRAME_OFFSET, Plate, PlatePattern};
 use super::references::{Attachment, Reference};
 use super::schema::{MAX_LAYER_VALUE, ParamRange, WaveAxis};
 use super::shot_camera::ShotCamera;
+use super::toon::{MAX_CREASE_DEG, MAX_INK_WIDTH_PX, MAX_TOON_BANDS, MIN_TOON_BANDS, SrgbColor, ToonSettings};
 use super::types::{Key, Pin, Scene, View};
 
 /// The only scene file version this Drape reads.
@@ -219,9 +221,35 @@ impl Checker {
         if let Some(camera) = &scene.camera {
             self.camera(camera);
         }
+        if let Some(plate) = &scene.plate {
+            self.plate(plate);
+        }
         if let Some(view) = &scene.view {
             self.view(view);
         }
+    }
+
+    /// The plate names a PNG or JPEG (or a sequence of them), shifted by a
+    /// sane offset, at an opacity of 0 to 1.
+    fn plate(&mut self, plate: &Plate) {
+        match PlatePattern::parse(&plate.file) {
+            Err(why) => self.push("plate.file", format!("plate: {why}")),
+            Ok(pattern) => {
+                let name = pattern.file_name(0);
+                let extension =
+                    std::path::Path::new(&name).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+                if !matches!(extension.as_deref(), Some("png" | "jpg" | "jpeg")) {
+                    self.push("plate.file", format!("plate: {:?} is not a .png, .jpg or .jpeg file", plate.file));
+                }
+            }
+        }
+        if plate.frame_offset.abs() > MAX_PLATE_FRAME_OFFSET {
+            self.push(
+                "plate.frame_offset",
+                format!("plate: frame_offset {} is beyond ±{MAX_PLATE_FRAME_OFFSET} frames", plate.frame_offset),
+            );
+        }
+        self.layer_param("plate.opacity", "plate: opacity", &plate.opacity, ParamRange::Within(0.0, 1.0, ""));
     }
 
     /// The shot camera: where it is and what it looks at within the world,
@@ -428,6 +456,58 @@ impl Checker {
                     1.0 + MAX_STRETCH_LIMIT
                 ),
             );
+        }
+        self.toon(&scene.cloth.toon);
+    }
+
+    /// The toon settings: 2 or 3 bands, an ink width of 0 to
+    /// [`MAX_INK_WIDTH_PX`] pixels, a crease angle of 0 to 180°, colours in 0..1.
+    fn toon(&mut self, toon: &ToonSettings) {
+        if !(MIN_TOON_BANDS..=MAX_TOON_BANDS).contains(&toon.bands) {
+            self.push(
+                "cloth.toon.bands",
+                format!("toon: bands {} must be {MIN_TOON_BANDS} or {MAX_TOON_BANDS} (flat tones)", toon.bands),
+            );
+        }
+        let width = toon.ink_width_px;
+        if self.finite("cloth.toon.ink_width_px", "toon: ink_width_px", width)
+            && !(0.0..=MAX_INK_WIDTH_PX).contains(&width)
+        {
+            self.push(
+                "cloth.toon.ink_width_px",
+                format!(
+                    "toon: ink_width_px {} must be between 0 (no ink) and {MAX_INK_WIDTH_PX} pixels",
+                    readable_number(width)
+                ),
+            );
+        }
+        self.srgb_color("ink_color", toon.ink_color);
+        let crease = toon.crease_deg;
+        if self.finite("cloth.toon.crease_deg", "toon: crease_deg", crease) && !(0.0..=MAX_CREASE_DEG).contains(&crease)
+        {
+            self.push(
+                "cloth.toon.crease_deg",
+                format!(
+                    "toon: crease_deg {}° must be between 0 (ink every bend) and {MAX_CREASE_DEG}° (no creases)",
+                    readable_number(crease)
+                ),
+            );
+        }
+        for (name, color) in [("front", toon.front), ("back", toon.back)] {
+            if let Some(color) = color {
+                self.srgb_color(name, color);
+            }
+        }
+    }
+
+    /// A toon colour `cloth.toon.<name>`: each sRGB component finite and in 0..1.
+    fn srgb_color(&mut self, name: &str, (r, g, b): SrgbColor) {
+        for (index, v) in [r, g, b].into_iter().enumerate() {
+            let path = format!("cloth.toon.{name}[{index}]");
+            let what = format!("toon: {name} {}", ["red", "green", "blue"][index]);
+            if self.finite(&path, &what, v) && !(0.0..=1.0).contains(&v) {
+                self.push(path, format!("{what} {} must be between 0 and 1 (sRGB)", readable_number(v)));
+            }
         }
     }
 
@@ -896,6 +976,7 @@ mod tests {
             references: Vec::new(),
             follow: None,
             camera: None,
+            plate: None,
         }
     }
 
@@ -971,6 +1052,38 @@ mod tests {
             messages(&s),
             ["layers[0].lag[1].frame: FollowThrough layer \"lag\": lag key frame 100 001 is out of range: \
                  it must be within ±100 000 frames"]
+        );
+    }
+
+    #[test]
+    fn absurd_toon_settings_are_refused_by_name() {
+        let mut s = scene();
+        s.cloth.toon = crate::scene::ToonSettings {
+            bands: 5,
+            ink_width_px: -1.0,
+            ink_color: (0.0, f64::NAN, 0.0),
+            crease_deg: 200.0,
+            front: Some((1.5, 0.0, 0.0)),
+            back: None,
+        };
+        assert_eq!(
+            messages(&s),
+            [
+                "cloth.toon.bands: toon: bands 5 must be 2 or 3 (flat tones)",
+                "cloth.toon.ink_width_px: toon: ink_width_px -1 must be between 0 (no ink) and 32 pixels",
+                "cloth.toon.ink_color[1]: toon: ink_color green must be a finite number, not NaN",
+                "cloth.toon.crease_deg: toon: crease_deg 200° must be between 0 (ink every bend) and 180° (no creases)",
+                "cloth.toon.front[0]: toon: front red 1.5 must be between 0 and 1 (sRGB)",
+            ]
+        );
+        s.cloth.toon.ink_width_px = 33.0;
+        s.cloth.toon.bands = 2;
+        s.cloth.toon.crease_deg = 180.0;
+        s.cloth.toon.ink_color = (0.0, 0.0, 0.0);
+        s.cloth.toon.front = None;
+        assert_eq!(
+            messages(&s),
+            ["cloth.toon.ink_width_px: toon: ink_width_px 33 must be between 0 (no ink) and 32 pixels"]
         );
     }
 
