@@ -572,3 +572,90 @@ fn an_alpha_render_is_transparent_off_the_cloth_and_opaque_on_it() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success() && stderr.contains("a GIF has no alpha channel"), "{stderr}");
 }
+
+/// The toon style on the scenes issue 20 names, at the frames the other
+/// goldens use: flat tone bands, the texture kept, ink on the border,
+/// silhouette and creases, in the scenes' default toon settings.
+#[test]
+fn the_toon_style_matches_its_golden_images() {
+    let overlays = SceneOverlays { toon: true, ..SceneOverlays::default() };
+    for (name, frame) in [("magic_carpet", 36), ("flag", 60)] {
+        let image = render_scene(name, &[frame], overlays).remove(0);
+        assert_matches_golden(&format!("{name}_toon_f{frame:04}"), &image);
+    }
+}
+
+/// A sheet folded back on itself (a taco seen from the front): the ink of
+/// the border hidden behind the front half is hidden, the front half's own
+/// border and the fold (a silhouette) are drawn on the visible surface.
+#[test]
+fn toon_ink_behind_the_cloth_is_hidden_and_on_it_is_drawn() {
+    let (cols, rows) = (9, 9);
+    let positions: Vec<glam::DVec3> = (0..rows)
+        .flat_map(|j| (0..cols).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let x = i as f64 / 8.0 - 0.5;
+            // Down the front to the fold at row 4, then back up behind it.
+            if j <= 4 {
+                glam::DVec3::new(x, 1.0 - j as f64 * 0.125, 0.0)
+            } else {
+                glam::DVec3::new(x, 0.5 + (j - 4) as f64 * 0.1, -0.15)
+            }
+        })
+        .collect();
+    let mesh = Mesh::from_grid(cols, rows, &positions);
+    let camera =
+        OrbitCamera { target: glam::Vec3::new(0.0, 0.75, 0.0), yaw_deg: 0.0, pitch_deg: 0.0, ..OrbitCamera::default() };
+    let options = RenderOptions {
+        style: drape::render::Style::Toon(drape::render::ToonLook::default()),
+        ground: None,
+        ..RenderOptions::default()
+    };
+    let size = (400, 300);
+    let overlay = Overlay::default();
+    let input =
+        FrameInput { mesh: &mesh, camera: &camera, options: &options, ghosts: &[], overlay: &overlay, solids: &[] };
+    let image = render_mesh(Some(&context()), input, size).unwrap();
+    let brightness = |world: glam::Vec3| {
+        let at = camera.project(world, size).unwrap();
+        let [r, g, b, _] = image.pixel(at.x as u32, at.y as u32);
+        (r as u32 + g as u32 + b as u32) / 3
+    };
+    let behind = brightness(glam::Vec3::new(0.0, 0.9, -0.15));
+    assert!(behind > 80, "the hidden border shows through: brightness {behind}");
+    let top = brightness(glam::Vec3::new(0.0, 1.0, 0.0));
+    assert!(top < 40, "the front's top border is inked: brightness {top}");
+    let fold = brightness(glam::Vec3::new(0.1, 0.5, 0.0));
+    assert!(fold < 40, "the fold is inked: brightness {fold}");
+    let side = brightness(glam::Vec3::new(-0.5, 0.75, 0.0));
+    assert!(side < 40, "the front's side border is inked: brightness {side}");
+}
+
+/// `drape render --style toon` draws otherwise than lit, with `--alpha`
+/// too (ink opaque, transparent off the cloth); an unknown style is refused.
+#[test]
+fn render_draws_the_toon_style_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_path("flag");
+    let render = |extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let args =
+            ["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--frame", "60", "--size", "160x90"];
+        let run = drape(&[&args[..], extra].concat());
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        RgbaImage::decode_png(&std::fs::read(&out).unwrap()).unwrap()
+    };
+    let lit = render(&["--style", "lit"], "lit.png");
+    let toon = render(&["--style", "toon"], "toon.png");
+    assert_eq!(lit, render(&[], "default.png"), "lit is the default");
+    let differing = lit.pixels.chunks_exact(4).zip(toon.pixels.chunks_exact(4)).filter(|(a, b)| a != b).count();
+    assert!(differing > 1000, "only {differing} pixels differ");
+    let alpha = render(&["--style", "toon", "--alpha"], "alpha.png");
+    assert_eq!(alpha.pixel(0, 0)[3], 0, "off the cloth is transparent");
+    let ink = alpha.pixels.chunks_exact(4).filter(|p| p[3] == 255 && p[0] < 40 && p[1] < 40 && p[2] < 40).count();
+    assert!(ink > 100, "opaque ink round the flag: {ink} pixels");
+    let out = dir.path().join("x.png");
+    let run = drape(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--style", "sketch"]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success() && stderr.contains("sketch"), "{stderr}");
+}

@@ -346,6 +346,8 @@ impl DrapeApp {
                 ui.separator();
                 // The shot camera's items in the menu itself: a nested menu's items missed real clicks.
                 self.viewport.shot_camera_menu_ui(ui, &mut self.work);
+                ui.separator();
+                self.viewport.style_menu_ui(ui);
             });
             ui.menu_button("Help", |ui| {
                 if ui.button("Keyboard shortcuts").clicked() {

@@ -1,4 +1,5 @@
-//! The Cloth panel: the cloth's size, grid, texture and stretch limit, the fabric of the key
+//! The Cloth panel: the cloth's size, grid, texture and stretch limit (its toon
+//! style's look in `cloth_toon_rows`), the fabric of the key
 //! being edited, its pins in the 2D grid editor, exact pin positions, and what
 //! holds the selected pins to a reference (`pin_attach_rows`).
 //! Every change goes through the document, so it is undoable and validated.
@@ -8,6 +9,7 @@ use glam::DVec3;
 
 use super::number_field::{number_field, number_slider};
 
+use super::cloth_toon_rows::toon_section_ui;
 use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
 use super::node_picker::NodePicker;
@@ -37,6 +39,7 @@ impl ClothPanel {
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.heading("Cloth");
             cloth_section(ui, w);
+            toon_section_ui(ui, w);
             self.follow_ui(ui, w);
             ui.separator();
             fabric_section(ui, w);
