@@ -188,6 +188,7 @@ fn user_name(type_name: &str) -> String {
         "Layer" => "layer",
         "WaveAxis" => "wave axis",
         "ClothTexture" => "cloth texture",
+        "ToonSettings" => "toon",
         "View" => "view",
         "Collider" => "collider",
         other => other,
