@@ -97,6 +97,20 @@ mod tests {
     }
 
     #[test]
+    fn a_scene_keeps_its_toon_settings_through_a_save_and_leaves_the_defaults_out() {
+        let text = "(version: 1, cloth: (size: (1.0, 1.0), grid: (3, 3), toon: (bands: 2, front: (0.9, 0.8, 0.7))), \
+                    keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 1.0, 0.0))])])";
+        let mut scene = crate::scene::parse(text, "toon.ron").unwrap();
+        let expected = ToonSettings { bands: 2, front: Some((0.9, 0.8, 0.7)), ..ToonSettings::default() };
+        assert_eq!(scene.cloth.toon, expected);
+        let saved = crate::scene::to_ron_string(&scene);
+        assert_eq!(crate::scene::parse(&saved, "saved.ron").unwrap(), scene);
+        assert!(!saved.contains("back"), "an absent colour stays absent:\n{saved}");
+        scene.cloth.toon = ToonSettings::default();
+        assert!(!crate::scene::to_ron_string(&scene).contains("toon"), "defaults are left out");
+    }
+
+    #[test]
     fn a_partial_setting_takes_the_defaults_and_an_unknown_field_is_refused() {
         let toon: ToonSettings = ron::from_str("(bands: 2)").unwrap();
         assert_eq!(toon, ToonSettings { bands: 2, ..ToonSettings::default() });
