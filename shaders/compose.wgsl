@@ -1,5 +1,7 @@
 // Copies the viewport's finished picture into the window's render pass: one
-// triangle covering the viewport rectangle, sampled 1:1.
+// triangle covering the viewport rectangle, sampled 1:1. The picture is
+// premultiplied: opaque it replaces what is there, transparent (over a plate)
+// it lets what egui painted behind show.
 
 @group(0) @binding(0) var picture: texture_2d<f32>;
 @group(0) @binding(1) var picture_sampler: sampler;
@@ -31,9 +33,13 @@ fn srgb_from_linear(c: vec3<f32>) -> vec3<f32> {
     return select(high, low, c <= vec3<f32>(0.0031308));
 }
 
-// For a linear target holding sRGB bytes (egui's usual surface): encode here.
+// For a linear target holding sRGB bytes (egui's usual surface): encode here,
+// the straight colour, premultiplied again after, as egui blends its own.
 @fragment
 fn fs_compose_encoded(in: ComposeOut) -> @location(0) vec4<f32> {
     let c = textureSampleLevel(picture, picture_sampler, in.uv, 0.0);
-    return vec4<f32>(srgb_from_linear(c.rgb), c.a);
+    if c.a <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(srgb_from_linear(c.rgb / c.a) * c.a, c.a);
 }

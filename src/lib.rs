@@ -46,7 +46,7 @@
 //! | `render` | `scene`, `mesh`, `image`, `look`, `world` |
 //! | `picture` | `scene`, `shape`, `animate`, `mesh`, `image`, `render`, `world` |
 //! | `export` | `scene`, `animate`, `mesh`, `image`, `look`, `atomic_file` |
-//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `picture`, `render`, `export`, `atomic_file`, `world` |
+//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `image`, `picture`, `render`, `export`, `atomic_file`, `world` |
 //!
 //! Only [`render`] and [`editor`] touch wgpu, only [`editor`] egui; the
 //! command line (`main.rs`) may use everything.

@@ -1754,6 +1754,11 @@ fn camera_menu(harness: &mut Harness<'_, DrapeApp>, item: &str) {
 #[test]
 fn the_viewport_looks_through_the_shot_camera_set_from_the_view() {
     let workspace = Workspace::new();
+    // The carpet without its shot camera and plate.
+    let path = workspace.path("carpet.ron");
+    let mut carpet = scene::load(&path).unwrap();
+    (carpet.camera, carpet.plate) = (None, None);
+    scene::save(&carpet, &path).unwrap();
     let mut harness = open_carpet(&workspace);
     assert!(harness.state().scene().camera.is_none());
     let eye = harness.state().camera().eye();
@@ -1786,4 +1791,39 @@ fn the_viewport_looks_through_the_shot_camera_set_from_the_view() {
     harness.run_ok();
     let after = harness.state().camera().eye();
     assert!(!after.abs_diff_eq(expected, 1e-3), "the view moved away from the camera");
+}
+
+/// View ▸ Camera on the magic carpet: the painted plate fills the shot
+/// camera's frame behind the cloth (loaded off the UI thread), the Plate
+/// toggle takes it away, and a plate that is not there is a message in the
+/// frame, not a crash.
+#[test]
+fn looking_through_the_camera_shows_the_plate_behind_the_cloth() {
+    let workspace = Workspace::new();
+    let path = workspace.path("carpet.ron");
+    let mut carpet = scene::load(&path).unwrap();
+    let plate_file = std::fs::canonicalize("assets/magic_carpet_plate.png").unwrap();
+    carpet.plate.as_mut().expect("the carpet has a plate").file = plate_file.display().to_string();
+    scene::save(&carpet, &path).unwrap();
+    let mut harness = open_carpet(&workspace);
+    harness.get_by_role_and_label(Role::Button, "Camera").click();
+    // The worker decodes the plate while frames run.
+    for _ in 0..100 {
+        harness.run_ok();
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    snapshot(&mut harness, "editor_plate");
+    harness.get_by_role_and_label(Role::Button, "Plate").click();
+    harness.run_ok();
+    snapshot(&mut harness, "editor_plate_off");
+    drop(harness);
+
+    // The workspace's copy names the plate relative to the bundled scene's folder: not there.
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    harness.get_by_role_and_label(Role::Button, "Camera").click();
+    harness.run_ok();
+    harness.run_ok();
+    // Found, or it panics.
+    harness.get_by_label_contains("plate: there is no image \"../assets/magic_carpet_plate.png\"");
 }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use drape::scene::{
     self, Cloth, ClothTexture, Collider, Ease, Follow, Key, Layer, LoadedRig, Param, ParamKey, ParamValue, Pin,
-    Placement, Reference, RelaxSettings, Scene, SceneError, ShotCamera, Timeline, View, WaveAxis,
+    Placement, Plate, Reference, RelaxSettings, Scene, SceneError, ShotCamera, Timeline, View, WaveAxis,
 };
 use proptest::prelude::*;
 
@@ -16,6 +16,15 @@ const VALID_FULL: &str = "tests/data/valid_full.ron";
 
 /// Every malformed fixture and the exact message `scene::load` gives for it.
 const MALFORMED: &[(&str, &str)] = &[
+    (
+        "plate_pattern.ron",
+        "tests/data/malformed/plate_pattern.ron:14:19: plate: \"plates/shot_##_bg_####.png\" has two runs of #: \
+         one run stands for the frame number",
+    ),
+    (
+        "plate_opacity.ron",
+        "tests/data/malformed/plate_opacity.ron:14:50: plate: opacity is 1.5: it must be between 0 and 1",
+    ),
     (
         "collider_field.ron",
         "tests/data/malformed/collider_field.ron:12:69: unknown field `radious` in Sphere collider \
@@ -638,6 +647,7 @@ fn any_scene() -> impl Strategy<Value = Scene> {
             proptest::collection::vec(glb_reference(), 0..3),
             proptest::option::of(shot_camera()),
             proptest::option::of((any::<String>(), any::<String>())),
+            proptest::option::of((any::<String>(), any::<i32>(), param())),
         ),
     )
         .prop_map(
@@ -648,7 +658,7 @@ fn any_scene() -> impl Strategy<Value = Scene> {
                 (fps, start, end),
                 keys,
                 layers,
-                (view, texture, colliders, references, camera, follow),
+                (view, texture, colliders, references, camera, follow, plate),
             )| {
                 Scene {
                     version,
@@ -664,6 +674,7 @@ fn any_scene() -> impl Strategy<Value = Scene> {
                     references,
                     follow: follow.map(|(reference, node)| Follow { reference, node }),
                     camera,
+                    plate: plate.map(|(file, frame_offset, opacity)| Plate { file, frame_offset, opacity }),
                     view,
                 }
             },

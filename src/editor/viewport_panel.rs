@@ -13,6 +13,7 @@ use super::gizmo::Gizmo;
 use super::number_field::number_field;
 use super::picking;
 use super::pin_drag::{AxisLock, PinDrag};
+use super::plate_view::PlateView;
 use super::shown::OnionSkin;
 use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
@@ -51,6 +52,8 @@ pub struct ViewToggles {
     pub references: SolidLook,
     /// Looks through the scene's shot camera (View ▸ Camera).
     pub shot_camera: bool,
+    /// Shows the scene's background plate behind the cloth while looking through the shot camera.
+    pub plate: bool,
     /// Draws in the toon style instead of lit (View ▸ Style).
     pub toon: bool,
 }
@@ -95,6 +98,7 @@ impl Default for ViewToggles {
             colliders: SolidLook::Shaded,
             references: SolidLook::Shaded,
             shot_camera: false,
+            plate: true,
             toon: false,
         }
     }
@@ -141,6 +145,10 @@ pub struct ViewportPanel {
     pub camera: OrbitCamera,
     pub ground: Ground,
     pub toggles: ViewToggles,
+    /// The plate's pictures, loaded off the UI thread.
+    pub(super) plate_view: PlateView,
+    /// Said in the camera's frame where the plate's picture should be (loading, or why not).
+    pub(super) plate_note: Option<(String, egui::Color32)>,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
     pub collider_drag: Option<ColliderDrag>,
@@ -211,6 +219,8 @@ impl ViewportPanel {
             camera: saved.unwrap_or_else(|| OrbitCamera::framing(min, max, 16.0 / 9.0)),
             ground: Ground::under(min, max),
             toggles: ViewToggles::default(),
+            plate_view: PlateView::default(),
+            plate_note: None,
             stage: Stage::default(),
             pin_drag: None,
             collider_drag: None,
@@ -326,10 +336,16 @@ impl ViewportPanel {
         let (solids, wire) = self.solids_drawn(w);
         let mut overlay = self.overlay(w);
         overlay.segments.extend(wire.iter().cloned());
+        let mut options = self.render_options(w);
+        if self.plate_backdrop_ui(ui, w, area.rect) {
+            // The plate is painted behind: the cloth comes over it with alpha.
+            options.ground = None;
+            options.transparent = true;
+        }
         let frame = ViewportFrame {
             mesh: w.shown.mesh.clone(),
             camera: self.camera,
-            options: self.render_options(w),
+            options,
             overlay: Arc::new(overlay),
             ghosts: w.shown.ghosts.clone(),
             solids,
@@ -341,6 +357,7 @@ impl ViewportPanel {
         {
             super::shot_view::paint_frame(ui.painter(), camera, area.rect);
         }
+        self.plate_note_ui(ui, w, area.rect);
     }
 
     /// The translate gizmo at the selected pins' centre: where the pins are
@@ -656,6 +673,10 @@ impl ViewportPanel {
                 ui.toggle_value(&mut self.toggles.shot_camera, "Camera")
                     .on_hover_text("Look through the shot camera (orbiting leaves it)");
             }
+            if w.doc.scene().plate.is_some() {
+                ui.toggle_value(&mut self.toggles.plate, "Plate")
+                    .on_hover_text("The background plate behind the cloth, through the shot camera");
+            }
         });
         self.style_ui(ui);
         egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
@@ -669,6 +690,17 @@ impl ViewportPanel {
                 for look in SolidLook::ALL {
                     ui.selectable_value(&mut self.toggles.references, look, look.label());
                 }
+            });
+        }
+        if w.doc.scene().plate.is_some() {
+            ui.add_enabled_ui(self.toggles.plate, |ui| {
+                ui.horizontal(|ui| {
+                    let label = ui.label("Plate").id;
+                    let slider = egui::Slider::new(&mut self.plate_view.opacity, 0.0..=1.0).fixed_decimals(2);
+                    ui.add(slider).labelled_by(label).on_hover_text(
+                        "How much of the plate the viewport shows (renders use the scene's plate opacity)",
+                    );
+                });
             });
         }
         // Always there (greyed out with onion skin off), so the panels below hold still.
