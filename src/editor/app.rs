@@ -27,6 +27,7 @@ use super::shortcuts::{
     SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_REDO, SHORTCUT_REDO_ALT, SHORTCUT_SAVE, SHORTCUT_SAVE_AS, SHORTCUT_UNDO,
     SHORTCUTS,
 };
+use super::shot_panel::ShotPanel;
 use super::timeline::TimelinePanel;
 use super::typing_pace::TypingPace;
 use super::viewport;
@@ -46,6 +47,7 @@ pub struct DrapeApp {
     layers: LayersPanel,
     colliders: CollidersPanel,
     references: ReferencesPanel,
+    shot: ShotPanel,
     cloth: ClothPanel,
     files: Files,
     export: ExportWindow,
@@ -82,6 +84,7 @@ impl DrapeApp {
             layers: LayersPanel::default(),
             colliders: CollidersPanel::default(),
             references: ReferencesPanel::default(),
+            shot: ShotPanel::default(),
             cloth: ClothPanel::default(),
             files: Files::new(default_config_dir(), default_state_dir()),
             export: ExportWindow::default(),
@@ -289,6 +292,7 @@ impl DrapeApp {
                     self.layers = LayersPanel::default();
                     self.colliders = CollidersPanel::default();
                     self.references = ReferencesPanel::default();
+                    self.shot = ShotPanel::default();
                 }
                 FileEvent::OpenExport => self.export.open_for(&self.work.doc),
             }
@@ -583,6 +587,8 @@ impl eframe::App for DrapeApp {
                 self.colliders.ui(ui, &mut self.work);
                 ui.separator();
                 self.references.ui(ui, &mut self.work);
+                ui.separator();
+                self.shot.ui(ui, &mut self.work);
             });
         });
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));

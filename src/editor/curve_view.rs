@@ -11,6 +11,7 @@ use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 use super::bezier_handles;
 use super::document::Document;
 use super::param_edit::{key_at, param_mut, param_names, toggle_key};
+pub use super::shot_number::ShotNumber;
 use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::scene::{Collider, ColliderNumber, Ease, Layer, Param, ParamKey, Reference, Scene, Timeline};
@@ -31,6 +32,7 @@ pub enum Curve {
     Layer(usize, &'static str),
     Collider(usize, ColliderNumber),
     Reference(usize, ReferenceNumber),
+    Shot(ShotNumber),
 }
 
 /// An animatable number of a reference: its centre or rotation along an
@@ -101,6 +103,7 @@ impl Curve {
             Curve::Layer(index, name) => scene.layers.get(index)?.param(name).cloned(),
             Curve::Collider(index, number) => scene.colliders.get(index)?.param(number).cloned(),
             Curve::Reference(index, number) => number.param(scene.references.get(index)?).cloned(),
+            Curve::Shot(number) => number.param(scene).cloned(),
         }
     }
 
@@ -109,6 +112,7 @@ impl Curve {
             Curve::Layer(index, name) => param_mut(scene.layers.get_mut(index)?, name),
             Curve::Collider(index, number) => scene.colliders.get_mut(index)?.param_mut(number),
             Curve::Reference(index, number) => number.param_mut(scene.references.get_mut(index)?),
+            Curve::Shot(number) => number.param_mut(scene),
         }
     }
 
@@ -118,6 +122,7 @@ impl Curve {
             Curve::Layer(_, name) => name.replace('_', " "),
             Curve::Collider(_, number) => number.label(),
             Curve::Reference(_, number) => number.label(),
+            Curve::Shot(number) => number.label(),
         }
     }
 }
@@ -326,6 +331,20 @@ impl CurveView {
         let keyed = ReferenceNumber::ALL.into_iter().find(|n| matches!(n.param(reference), Some(Param::Keys(_))));
         Curve::Reference(index, keyed.unwrap_or(ReferenceNumber::ALL[0]))
     }
+
+    /// The shot number shown: the chosen one, else the camera's first keyed
+    /// number (the plate's opacity counted last), else its position x.
+    pub(super) fn shown_for_shot(&self, scene: &Scene) -> Curve {
+        if let Some(Curve::Shot(number)) = self.chosen
+            && number.param(scene).is_some()
+        {
+            return Curve::Shot(number);
+        }
+        let numbers = ShotNumber::CAMERA.into_iter().chain([ShotNumber::PlateOpacity]);
+        let keyed = numbers.clone().find(|n| matches!(n.param(scene), Some(Param::Keys(_))));
+        let first = numbers.clone().find(|n| n.param(scene).is_some()).unwrap_or(ShotNumber::CAMERA[0]);
+        Curve::Shot(keyed.unwrap_or(first))
+    }
 }
 
 impl CurveView {
@@ -334,7 +353,7 @@ impl CurveView {
     pub(super) fn button_ui(&mut self, ui: &mut egui::Ui, curve: Curve, shown: bool) {
         let name = match curve {
             Curve::Layer(_, name) => name.to_owned(),
-            Curve::Collider(..) | Curve::Reference(..) => curve.name(),
+            Curve::Collider(..) | Curve::Reference(..) | Curve::Shot(..) => curve.name(),
         };
         let (rect, response) = ui.allocate_exact_size(Vec2::splat(16.0), Sense::click());
         response.widget_info(|| {
@@ -364,7 +383,7 @@ impl CurveView {
         let Some(param) = curve.param(w.doc.scene()) else { return };
         let name = match curve {
             Curve::Layer(_, name) => name.to_owned(),
-            Curve::Collider(..) | Curve::Reference(..) => curve.name(),
+            Curve::Collider(..) | Curve::Reference(..) | Curve::Shot(..) => curve.name(),
         };
         let keys = keys_of(&param).to_vec();
         let timeline = w.doc.scene().timeline.clone();

@@ -54,6 +54,8 @@ mod references_panel;
 pub mod selection;
 pub mod shaper;
 pub mod shortcuts;
+mod shot_number;
+mod shot_panel;
 pub mod shot_view;
 pub mod shown;
 mod timeline;
