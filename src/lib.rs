@@ -20,8 +20,10 @@
 //!   ├─► export/    OBJ, PC2/MDD, glTF, USD, PNG/GIF files of the meshes
 //!   └─► picture/   framing and key overlays ─► render/ (wgpu): meshes, overlays, camera → texture
 //!
+//! render_job/  picture/ and export/ together: a scene to a PNG, a PNG sequence or a GIF,
+//!              with progress and cancel (`drape render`, the editor's File ▸ Render…)
 //! editor/    the desktop editor (egui): changes the scene through undoable edits,
-//!              shows it through picture/, writes it through export/
+//!              shows it through picture/, writes it through export/ and render_job/
 //! main.rs    the command line: `drape check | export | render`, or the editor
 //! ```
 //!
@@ -46,7 +48,8 @@
 //! | `render` | `scene`, `mesh`, `image`, `look`, `world` |
 //! | `picture` | `scene`, `shape`, `animate`, `mesh`, `image`, `render`, `world` |
 //! | `export` | `scene`, `animate`, `mesh`, `image`, `look`, `atomic_file` |
-//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `image`, `picture`, `render`, `export`, `atomic_file`, `world` |
+//! | `render_job` | `scene`, `image`, `picture`, `render`, `export`, `atomic_file` |
+//! | `editor` | `scene`, `shape`, `animate`, `mesh`, `image`, `picture`, `render`, `export`, `render_job`, `atomic_file`, `world` |
 //!
 //! Only [`render`] and [`editor`] touch wgpu, only [`editor`] egui; the
 //! command line (`main.rs`) may use everything.
@@ -64,6 +67,7 @@ pub mod look;
 pub mod mesh;
 pub mod picture;
 pub mod render;
+pub mod render_job;
 pub mod scene;
 pub mod shape;
 pub mod world;

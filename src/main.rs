@@ -7,7 +7,6 @@ use anyhow::{Result, anyhow};
 use clap::{Parser, Subcommand};
 use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
-use drape::export::sequence::padded_frame;
 use drape::picture::SceneOverlays;
 use drape::scene::{
     self, Collider, ColliderNumber, Key, Layer, Measure, Param, ParamSpec, ParamValue, Scene, WaveAxis,
@@ -667,13 +666,12 @@ fn check_size(estimate: &drape::export::SizeEstimate, output: &Path, force: bool
         return Ok(());
     }
     drape::export::check_export_size(estimate, output, drape::export::MAX_EXPORT_BYTES)
-        .map_err(|error| anyhow!("{error}, or pass --force to write it anyway"))
+        .map_err(force_hint)
 }
 
-/// Digits for the frame numbers of a sequence: at least 4, more when needed,
-/// so files sort in frame order (the export's naming, shared by `drape render`).
-fn frame_number_width(range: FrameRange) -> usize {
-    drape::export::sequence::frame_number_width(range.first, range.last)
+/// A refusal of an output's size, saying how to write it anyway.
+fn force_hint(error: impl std::fmt::Display) -> anyhow::Error {
+    anyhow!("{error}, or pass --force to write it anyway")
 }
 
 #[cfg(test)]
@@ -691,15 +689,5 @@ mod tests {
             parse_frame_range("9..3"),
             Err("the range 9..3 ends before it starts: write the smaller frame first".into())
         );
-    }
-
-    #[test]
-    fn sequence_numbers_are_padded_to_sort() {
-        let range = FrameRange { first: 0, last: 120 };
-        assert_eq!(padded_frame(1, frame_number_width(range)), "0001");
-        assert_eq!(padded_frame(120, frame_number_width(range)), "0120");
-        let long = FrameRange { first: -5, last: 123_456 };
-        assert_eq!(padded_frame(-5, frame_number_width(long)), "-000005");
-        assert_eq!(padded_frame(123_456, frame_number_width(long)), "123456");
     }
 }
