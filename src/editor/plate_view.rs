@@ -89,8 +89,8 @@ impl PlateView {
             Some(Err(why)) => return PlateShown::Error(why.clone()),
             None => return PlateShown::Loading,
         };
-        let wanted = files.frame(frame.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32);
-        let ahead = files.frame(frame.round() as i32 + 1);
+        let at = frame.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32;
+        let (wanted, ahead) = (files.frame(at), files.frame(at.saturating_add(1)));
         self.clock += 1;
         if let Some((_, why)) = self.failed.iter().find(|(path, _)| *path == wanted.path) {
             return PlateShown::Error(why.clone());
