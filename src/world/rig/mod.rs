@@ -1,13 +1,15 @@
-//! A rig: the nodes, skinned meshes and animation clips of a glTF 2.0 file,
-//! posed at any time as a pure function of that time.
+//! A rig: the nodes, skinned meshes, cameras and animation clips of a glTF
+//! 2.0 file, posed at any time as a pure function of that time.
 //!
 //! A [`Rig`] is checked once when it is made ([`Rig::new`]): parents form a
 //! forest, every index points at something, key times increase and every
 //! number is finite. Posing and skinning then cannot fail. Reading a file
 //! into a rig is `scene`'s (it knows where files are); here is only the math:
 //! node transforms through the parent chain ([`pose`]), clips ([`clip`]), and
-//! linear-blend skinning with morph targets ([`skin`]), by the glTF spec.
+//! linear-blend skinning with morph targets ([`skin`]), and where a camera
+//! on a node looks from ([`camera`]), by the glTF spec.
 
+mod camera;
 mod clip;
 mod pose;
 mod skin;
@@ -16,6 +18,7 @@ use std::sync::Arc;
 
 use glam::{DMat4, DQuat, DVec3};
 
+pub use camera::{CameraPose, Projection, RigCamera};
 pub use clip::{Channel, Clip, Interpolation, Property};
 pub use pose::Pose;
 pub use skin::PosedMesh;
@@ -119,11 +122,13 @@ pub struct Rig {
     meshes: Vec<RigMesh>,
     skins: Vec<Skin>,
     clips: Vec<Clip>,
+    /// Empty unless [`Rig::with_cameras`] gave some.
+    cameras: Vec<RigCamera>,
     /// Every node, each after its parent.
     order: Vec<usize>,
 }
 
-/// Most nodes, skins' joints, morph targets per mesh, or influences per vertex a rig may have.
+/// Most nodes, skins' joints, cameras, morph targets per mesh, or influences per vertex a rig may have.
 pub const MAX_RIG_ITEMS: usize = 1 << 16;
 
 impl Rig {
@@ -165,7 +170,21 @@ impl Rig {
                 check_channel(clip, channel, &nodes)?;
             }
         }
-        Ok(Rig { nodes, meshes, skins, clips, order })
+        Ok(Rig { nodes, meshes, skins, clips, cameras: Vec::new(), order })
+    }
+
+    /// The rig with `cameras` on its nodes, or why one cannot be (a node it
+    /// does not have, a field of view outside (0, π), a near plane not
+    /// greater than 0).
+    pub fn with_cameras(mut self, cameras: Vec<RigCamera>) -> Result<Rig, String> {
+        if cameras.len() > MAX_RIG_ITEMS {
+            return Err(format!("it has {} cameras; Drape reads at most {MAX_RIG_ITEMS}", cameras.len()));
+        }
+        for camera in &cameras {
+            camera::check_camera(camera, self.nodes.len())?;
+        }
+        self.cameras = cameras;
+        Ok(self)
     }
 
     pub fn nodes(&self) -> &[RigNode] {
@@ -182,6 +201,11 @@ impl Rig {
 
     pub fn clips(&self) -> &[Clip] {
         &self.clips
+    }
+
+    /// The cameras on the nodes of the file's default scene, in the order read.
+    pub fn cameras(&self) -> &[RigCamera] {
+        &self.cameras
     }
 
     /// The clip named `name`, or None.
