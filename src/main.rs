@@ -415,7 +415,7 @@ fn check(path: &Path) -> Result<()> {
         }
     }
     if let Some(camera) = &scene.camera {
-        say!("  camera    {}", camera_summary(camera));
+        say!("  camera    {}", camera_summary(&scene, camera));
     }
     if let Some(plate) = &scene.plate {
         let folder = path.parent().unwrap_or(Path::new(""));
@@ -459,9 +459,14 @@ fn plate_summary(plate: &scene::Plate, files: &scene::PlateFiles, timeline: &sce
     parts.join(", ")
 }
 
-/// The shot camera in a line: where it is and looks, its lens, its picture.
-/// A number that is keyed is said to be animated.
-fn camera_summary(camera: &scene::ShotCamera) -> String {
+/// The shot camera in a line: where it is and looks, its lens, its picture
+/// (a number that is keyed is said to be animated); or the reference's
+/// camera it follows ([`reference_camera_summary`]).
+fn camera_summary(scene: &scene::Scene, camera: &scene::ShotCamera) -> String {
+    let (width, height) = camera.image_size;
+    if let Some(from) = &camera.from_reference {
+        return reference_camera_summary(scene, camera, from);
+    }
     let vector = |(x, y, z): &scene::ParamVec3| match (x, y, z) {
         (Param::Constant(x), Param::Constant(y), Param::Constant(z)) => readable_vec3((*x, *y, *z)),
         _ => "animated".to_owned(),
@@ -477,8 +482,54 @@ fn camera_summary(camera: &scene::ShotCamera) -> String {
         }
         _ => "an animated lens".to_owned(),
     };
-    let (width, height) = camera.image_size;
     format!("from {} at {}, {lens}, {width} × {height} px", vector(&camera.position), vector(&camera.target))
+}
+
+/// A shot camera that follows a reference's glTF camera: `ShotCam of
+/// reference "layout", yfov 28.6° (33.8 mm on a 36 mm sensor, 48.6° across),
+/// 1280 × 720 px, level`, the lens at the timeline's start, and how far the
+/// camera rolls over the timeline, which the picture leaves out.
+fn reference_camera_summary(scene: &scene::Scene, camera: &scene::ShotCamera, from: &scene::ReferenceCamera) -> String {
+    use drape::world::rig::Projection;
+    let (width, height) = camera.image_size;
+    let source = format!("{} of reference {:?}", from.camera, from.reference);
+    let found = scene.references.iter().find(|r| r.name == from.reference);
+    let Some(rig_camera) = found.and_then(|r| r.rig.0.as_deref()?.camera_named(&from.camera).cloned()) else {
+        return format!("{source} (not read), {width} × {height} px");
+    };
+    let Projection::Perspective { yfov_rad, aspect_ratio, .. } = rig_camera.projection else {
+        return format!("{source}, orthographic (not usable), {width} × {height} px");
+    };
+    let start = f64::from(scene.timeline.start);
+    let look = drape::picture::shot_look_at(scene, camera, start);
+    let lens = format!(
+        "yfov {:.1}° ({} mm on a {} mm sensor, {:.1}° across)",
+        yfov_rad.to_degrees(),
+        readable_number((look.focal_length_mm * 100.0).round() / 100.0),
+        readable_number(look.sensor_width_mm),
+        scene::horizontal_fov_deg(look.focal_length_mm, look.sensor_width_mm)
+    );
+    let picture_aspect = f64::from(width.max(1)) / f64::from(height.max(1));
+    let aspect = match aspect_ratio {
+        Some(file) if (file - picture_aspect).abs() > 1e-3 => format!(
+            " (the file's aspect ratio {} differs: its vertical field of view is kept)",
+            readable_number((file * 1000.0).round() / 1000.0)
+        ),
+        _ => String::new(),
+    };
+    // Every frame of the timeline, or a thousand spread over it.
+    let (first, last) = (scene.timeline.start, scene.timeline.end.max(scene.timeline.start));
+    let step = ((i64::from(last) - i64::from(first)) / 1000).max(1) as usize;
+    let most_roll = (first..=last)
+        .step_by(step)
+        .map(|frame| drape::picture::shot_look_at(scene, camera, f64::from(frame)).roll_deg.abs())
+        .fold(0.0, f64::max);
+    let roll = if most_roll < 0.05 {
+        "level".to_owned()
+    } else {
+        format!("rolls up to {most_roll:.1}°, shown level (Drape's camera cannot roll)")
+    };
+    format!("{source}, {lens}, {width} × {height} px{aspect}, {roll}")
 }
 
 /// What a reference holds and how it plays: `walker.glb: 10 072 vertices,

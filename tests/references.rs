@@ -421,3 +421,158 @@ fn a_gltf_exported_by_blender_plays_as_blender_shows_it() {
         assert!(worst < 1e-4, "frame {frame}: a vertex is {worst} m from Blender's");
     }
 }
+
+// --- A reference's camera as the shot camera ------------------------------------------
+//
+// `assets/layout_camera.glb` (made by `assets/make_layout_camera.py`): a node
+// "dolly" moved from x = −1 to +1 over 1 s carries "ShotCam" (1.5 m up, 4 m
+// back, tilted 10° down; yfov 0.5 rad, 16:9, znear 0.1) and "Dutch" (the same
+// place, rolled 15°); "Plan" is orthographic.
+
+fn layout_camera_file() -> PathBuf {
+    std::fs::canonicalize("assets/layout_camera.glb").unwrap()
+}
+
+/// A scene with the layout file as reference "layout", placed at (0, 0, 1)
+/// and turned 90° about Y, and `camera` as its shot camera.
+fn layout_scene(camera: &str) -> String {
+    format!(
+        "(version: 1, cloth: (size: (1.0, 1.0), grid: (5, 5)), timeline: (fps: 24.0, start: 0, end: 24),\n \
+         keys: [(frame: 0, pins: [(grid: (0, 0), pos: (-0.5, 1.5, 0.0)), (grid: (4, 0), pos: (0.5, 1.5, 0.0))])],\n \
+         references: [(name: \"layout\", file: {:?}, center: (0.0, 0.0, 1.0), rotation_deg: (0.0, 90.0, 0.0))],\n \
+         camera: {camera},\n)",
+        layout_camera_file().display().to_string()
+    )
+}
+
+const FOLLOW_SHOT_CAM: &str =
+    "(from_reference: (reference: \"layout\", camera: \"ShotCam\"), image_size: (1280, 720), sensor_width_mm: 36.0)";
+
+#[test]
+fn a_layout_files_cameras_are_read_with_their_nodes() {
+    use drape::world::rig::Projection;
+    let rig = read_rig(&layout_camera_file()).unwrap();
+    let names: Vec<&str> = rig.cameras().iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["ShotCam", "Dutch", "Plan"], "named as their nodes, in the file's node order");
+    let shot = rig.camera_named("ShotCam").unwrap();
+    assert_eq!(shot.node, rig.node_named("ShotCam").unwrap());
+    let Projection::Perspective { yfov_rad, aspect_ratio, znear } = shot.projection else { panic!("{shot:?}") };
+    assert_eq!(yfov_rad, 0.5);
+    assert!((aspect_ratio.unwrap() - 16.0 / 9.0).abs() < 1e-6 && (znear - 0.1).abs() < 1e-6);
+    let dutch = rig.camera_named("Dutch").unwrap();
+    assert!(matches!(dutch.projection, Projection::Perspective { aspect_ratio: None, .. }));
+    assert_eq!(rig.camera_named("Plan").unwrap().projection, Projection::Orthographic);
+    assert!(rig.camera_named("ShotCamLens").is_none(), "a camera goes by its node's name");
+}
+
+#[test]
+fn a_reference_camera_is_posed_with_the_references_clock_and_placement() {
+    use drape::animate::references_at::reference_camera_at;
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene::load(&write_scene(dir.path(), &layout_scene(FOLLOW_SHOT_CAM))).unwrap();
+    let from = scene.camera.as_ref().unwrap().from_reference.clone().unwrap();
+    // Frame 6 of 24 fps: 0.25 s, the dolly at x = −0.5, so in the file the
+    // camera stands at (−0.5, 1.5, 4) and looks along (0, −sin 10°, −cos 10°).
+    // Turned 90° about Y ((x, y, z) → (z, y, −x)) and moved by (0, 0, 1):
+    let (sin, cos) = 10f64.to_radians().sin_cos();
+    let posed = reference_camera_at(&scene, &from, 6.0).unwrap();
+    assert!(posed.pose.eye.abs_diff_eq(DVec3::new(4.0, 1.5, 1.5), 1e-6), "{}", posed.pose.eye);
+    assert!(posed.pose.forward.abs_diff_eq(DVec3::new(-cos, -sin, 0.0), 1e-6), "{}", posed.pose.forward);
+    assert!(posed.pose.roll_deg().abs() < 1e-4, "a tilt is no roll");
+    let end = reference_camera_at(&scene, &from, 24.0).unwrap();
+    assert!(end.pose.eye.abs_diff_eq(DVec3::new(4.0, 1.5, -0.0), 1e-6), "the dolly's end: {}", end.pose.eye);
+
+    // As the renderer's camera: there, aimed down the same line, seeing
+    // yfov 0.5 rad across a 16:9 picture's height.
+    let view = drape::picture::scene_shot_camera_at(&scene, 6.0, (1280, 720)).unwrap();
+    assert!(view.eye().as_dvec3().abs_diff_eq(DVec3::new(4.0, 1.5, 1.5), 1e-5), "{}", view.eye());
+    assert!(view.backward().as_dvec3().abs_diff_eq(DVec3::new(cos, sin, 0.0), 1e-5), "{}", view.backward());
+    assert!((f64::from(view.fov_y_deg) - 0.5f64.to_degrees()).abs() < 1e-4, "{}", view.fov_y_deg);
+    // Its focal length: hfov = 2·atan(tan(0.25)·16/9), focal = 18 / tan(hfov/2).
+    let look = drape::picture::shot_look_at(&scene, scene.camera.as_ref().unwrap(), 6.0);
+    let expected = 36.0 / (2.0 * 0.25f64.tan() * 16.0 / 9.0);
+    assert!((look.focal_length_mm - expected).abs() < 1e-9, "{} vs {expected}", look.focal_length_mm);
+    assert!((expected - 39.653).abs() < 1e-3, "{expected}");
+}
+
+#[test]
+fn check_names_the_reference_camera_and_its_roll() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ok, text) = drape_check(&write_scene(dir.path(), &layout_scene(FOLLOW_SHOT_CAM)));
+    assert!(ok, "{text}");
+    assert!(
+        text.contains("camera    ShotCam of reference \"layout\", yfov 28.6° (39.65 mm on a 36 mm sensor"),
+        "{text}"
+    );
+    assert!(text.contains("1280 × 720 px, level"), "{text}");
+    let dutch = FOLLOW_SHOT_CAM.replace("ShotCam", "Dutch").replace("720", "960");
+    let (ok, text) = drape_check(&write_scene(dir.path(), &layout_scene(&dutch)));
+    assert!(ok, "{text}");
+    assert!(text.contains("rolls up to 15.0°, shown level (Drape's camera cannot roll)"), "{text}");
+    let squarer = FOLLOW_SHOT_CAM.replace("720", "960");
+    let (_, text) = drape_check(&write_scene(dir.path(), &layout_scene(&squarer)));
+    assert!(text.contains("the file's aspect ratio 1.778 differs"), "{text}");
+}
+
+#[test]
+fn a_camera_naming_what_is_not_there_says_what_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let message = |camera: &str| {
+        let text = layout_scene(camera);
+        let (ok, message) = drape_check(&write_scene(dir.path(), &text));
+        assert!(!ok, "{message}");
+        (text, message)
+    };
+    let (text, error) = message(&FOLLOW_SHOT_CAM.replace("\"layout\"", "\"set\""));
+    let line = text.lines().position(|l| l.contains("camera:")).unwrap() + 1;
+    assert!(error.contains(&format!("scene.ron:{line}:")), "{error}");
+    assert!(
+        error.contains(
+            "camera: from_reference names reference \"set\", but no reference has that name (the scene has \"layout\")"
+        ),
+        "{error}"
+    );
+    let (text, error) = message(&FOLLOW_SHOT_CAM.replace("ShotCam", "Crane"));
+    let column = text.lines().nth(line - 1).unwrap().find("\"Crane\"").unwrap() + 1;
+    assert!(error.contains(&format!("scene.ron:{line}:{column}:")), "{error}");
+    assert!(error.contains("names camera \"Crane\""), "{error}");
+    assert!(error.contains("which has no such camera (it has \"ShotCam\", \"Dutch\")"), "{error}");
+    let (_, error) = message(&FOLLOW_SHOT_CAM.replace("ShotCam", "Plan"));
+    assert!(error.contains("\"Plan\"") && error.contains("which is orthographic"), "{error}");
+    let (_, error) = message("(image_size: (1280, 720))");
+    assert!(error.contains("camera: `position` and `target` are missing"), "{error}");
+    assert!(error.contains("from_reference"), "{error}");
+}
+
+#[test]
+fn a_camera_following_a_reference_reads_back_as_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene::load(&write_scene(dir.path(), &layout_scene(FOLLOW_SHOT_CAM))).unwrap();
+    let text = scene::to_ron_string(&scene);
+    assert!(text.contains("from_reference: (reference: \"layout\", camera: \"ShotCam\")"), "{text}");
+    let camera_text = &text[text.find("\n    camera:").unwrap_or_else(|| panic!("{text}"))..];
+    assert!(!camera_text.contains("position") && !camera_text.contains("focal_length_mm"), "{text}");
+    let again = scene::load(&write_scene(dir.path(), &text)).unwrap();
+    assert_eq!(again.camera, scene.camera);
+}
+
+#[test]
+fn drape_render_looks_through_the_reference_camera_as_it_dollies() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_scene(dir.path(), &layout_scene(FOLLOW_SHOT_CAM));
+    let render = |frame: &str| {
+        let out = dir.path().join(format!("f{frame}.png"));
+        let output = Command::new(env!("CARGO_BIN_EXE_drape"))
+            .args(["render", &path.display().to_string(), "--frame", frame, "--size", "96x54", "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        let image = drape::image::RgbaImage::decode_png(&std::fs::read(&out).unwrap()).unwrap();
+        assert_eq!((image.width, image.height), (96, 54));
+        image.pixels
+    };
+    let (start, end) = (render("0"), render("24"));
+    let differing = start.chunks_exact(4).zip(end.chunks_exact(4)).filter(|(a, b)| a != b).count();
+    assert!(differing > 96 * 54 / 20, "the dolly moves the picture: {differing} pixels differ");
+}

@@ -686,7 +686,14 @@ fn shot_camera() -> impl Strategy<Value = ShotCamera> {
     (proptest::collection::vec(param(), 8), (any::<u32>(), any::<u32>())).prop_map(|(values, image_size)| {
         let [px, py, pz, tx, ty, tz, focal_length_mm, sensor_width_mm] =
             <[Param; 8]>::try_from(values).expect("eight numbers");
-        ShotCamera { position: (px, py, pz), target: (tx, ty, tz), focal_length_mm, sensor_width_mm, image_size }
+        ShotCamera {
+            from_reference: None,
+            position: (px, py, pz),
+            target: (tx, ty, tz),
+            focal_length_mm,
+            sensor_width_mm,
+            image_size,
+        }
     })
 }
 

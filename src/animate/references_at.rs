@@ -1,13 +1,13 @@
 //! A scene's references at a frame: each file's animation played on the
-//! scene's clock, its meshes skinned and placed in the scene.
+//! scene's clock, its meshes skinned and its cameras placed in the scene.
 
 use std::sync::{Arc, Mutex};
 
 use glam::{DMat4, DVec3};
 
 use super::track::{sample, sample_vec3};
-use crate::scene::{Reference, Scene};
-use crate::world::rig::{Pose, PosedMesh, Rig};
+use crate::scene::{Reference, ReferenceCamera, Scene};
+use crate::world::rig::{CameraPose, Pose, PosedMesh, Projection, Rig};
 use crate::world::{ColliderShape, MeshSolid, Obstacle};
 
 /// One reference at one frame.
@@ -63,6 +63,34 @@ impl PosedReference<'_> {
     pub fn scene_from_node(&self, node: usize) -> Option<DMat4> {
         Some(self.scene_from_file * *self.pose.world_from_node.get(node)?)
     }
+
+    /// The file's camera named `name` at this pose, in the scene (None for
+    /// no such camera).
+    pub fn camera(&self, name: &str) -> Option<PosedCamera> {
+        let camera = self.rig.camera_named(name)?;
+        Some(PosedCamera {
+            pose: CameraPose::of_node(self.scene_from_node(camera.node)?),
+            projection: camera.projection,
+        })
+    }
+}
+
+/// A reference's glTF camera at one frame, in the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PosedCamera {
+    /// Where it stands and which way it looks, the reference's placement
+    /// included (a placement's scale moves it, never its lens).
+    pub pose: CameraPose,
+    pub projection: Projection,
+}
+
+/// The camera `from` names at `frame`, its node posed with its reference's
+/// clock and placement; None where the scene has no reference of that name,
+/// its file has not been read (a scene parsed from text) or it has no
+/// camera of that name.
+pub fn reference_camera_at(scene: &Scene, from: &ReferenceCamera, frame: f64) -> Option<PosedCamera> {
+    let index = scene.references.iter().position(|r| r.name == from.reference)?;
+    reference_at(scene, index, frame)?.camera(&from.camera)
 }
 
 /// The references of `scene` that keep the cloth out, posed at `frame`,

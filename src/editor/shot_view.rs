@@ -1,8 +1,9 @@
 //! Looking through the scene's shot camera in the viewport (the View
 //! panel's Camera toggle, or View ▸ Look through camera):
 //! the camera at the playhead, its picture's frame drawn with action-safe
-//! (90 %) and title-safe (80 %) guides; and setting the camera from the view
-//! or keying it at the playhead, each one undo step.
+//! (90 %) and title-safe (80 %) guides; and setting the camera from the view,
+//! keying it at the playhead, making it follow a reference's glTF camera or
+//! letting go of one, each one undo step.
 
 use eframe::egui;
 use glam::DVec3;
@@ -10,9 +11,10 @@ use glam::DVec3;
 use super::param_edit::set_at_keying;
 use super::workspace::Workspace;
 use crate::animate::track::sample;
-use crate::picture::shot_camera_at;
+use crate::picture::{look_camera, shot_look_at};
 use crate::render::OrbitCamera;
-use crate::scene::{Param, ParamVec3, Scene, ShotCamera};
+use crate::scene::{Param, ParamVec3, ReferenceCamera, Scene, ShotCamera};
+use crate::world::rig::Projection;
 
 /// Share of the viewport's shorter fit the camera's frame takes, so its border shows.
 const FRAME_SHARE: f32 = 0.92;
@@ -31,11 +33,12 @@ pub fn frame_rect(camera: &ShotCamera, rect: egui::Rect) -> egui::Rect {
     egui::Rect::from_center_size(rect.center(), size)
 }
 
-/// The viewport's camera that shows `camera` at `frame` with its picture
-/// filling [`frame_rect`] of `rect`: the shot camera's, its vertical field of
-/// view widened by the viewport's height over the frame's.
-pub fn through(camera: &ShotCamera, frame: f64, rect: egui::Rect) -> OrbitCamera {
-    let mut view = shot_camera_at(camera, frame, camera.image_size);
+/// The viewport's camera that shows `camera` (of `scene`, whose references
+/// it may follow) at `frame` with its picture filling [`frame_rect`] of
+/// `rect`: the shot camera's, its vertical field of view widened by the
+/// viewport's height over the frame's.
+pub fn through(scene: &Scene, camera: &ShotCamera, frame: f64, rect: egui::Rect) -> OrbitCamera {
+    let mut view = look_camera(&shot_look_at(scene, camera, frame), camera.image_size);
     let inner = frame_rect(camera, rect);
     let half = (view.fov_y_deg.to_radians() * 0.5).tan() * rect.height() / inner.height().max(1.0);
     view.fov_y_deg = 2.0 * half.atan().to_degrees();
@@ -78,6 +81,7 @@ pub fn camera_from_view(w: &mut Workspace, view: &OrbitCamera) {
     let (eye, target) = (view.eye().as_dvec3(), view.target.as_dvec3());
     w.apply("Camera from view", |s: &mut Scene| {
         let camera = s.camera.get_or_insert_with(|| ShotCamera {
+            from_reference: None,
             position: constant(eye),
             target: constant(target),
             focal_length_mm: Param::Constant(crate::scene::DEFAULT_FOCAL_LENGTH_MM),
@@ -99,6 +103,73 @@ pub fn key_camera(w: &mut Workspace) {
         for param in [&mut p.0, &mut p.1, &mut p.2, &mut t.0, &mut t.1, &mut t.2, &mut camera.focal_length_mm] {
             let value = sample(param, f64::from(frame));
             set_at_keying(param, frame, value, true);
+        }
+    });
+}
+
+/// The perspective cameras of `scene`'s references, as the shot camera's
+/// `from_reference` names them, in reference order then file order. A
+/// reference whose file is not read, or without a name, offers none.
+pub fn reference_cameras(scene: &Scene) -> Vec<ReferenceCamera> {
+    let mut cameras = Vec::new();
+    for reference in scene.references.iter().filter(|r| !r.name.trim().is_empty()) {
+        let Some(rig) = reference.rig.0.as_deref() else { continue };
+        for camera in rig.cameras() {
+            // Several nodes may carry cameras of one name: the first is the one found.
+            let first = rig.camera_named(&camera.name).is_some_and(|c| c.node == camera.node);
+            if first && matches!(camera.projection, Projection::Perspective { .. }) {
+                cameras.push(ReferenceCamera { reference: reference.name.clone(), camera: camera.name.clone() });
+            }
+        }
+    }
+    cameras
+}
+
+/// Makes the shot camera follow `from` (a camera of one of the scene's
+/// references); one undo step. Without a shot camera, one is made, 1280
+/// pixels wide and as high as the glTF camera's aspect ratio asks (720
+/// where it names none). Its own numbers are kept, unused, until it lets go.
+pub fn camera_from_reference(w: &mut Workspace, from: ReferenceCamera) {
+    let aspect = w
+        .doc
+        .scene()
+        .references
+        .iter()
+        .find(|r| r.name == from.reference)
+        .and_then(|r| r.rig.0.as_deref()?.camera_named(&from.camera).map(|c| c.projection))
+        .and_then(|p| match p {
+            Projection::Perspective { aspect_ratio, .. } => aspect_ratio,
+            Projection::Orthographic => None,
+        });
+    let height = aspect.map_or(720, |a| (1280.0 / a).round().clamp(1.0, 8192.0) as u32);
+    w.apply("Camera from reference", |s: &mut Scene| {
+        let camera = s.camera.get_or_insert_with(|| ShotCamera {
+            from_reference: None,
+            position: constant(DVec3::ZERO),
+            target: constant(DVec3::ZERO),
+            focal_length_mm: Param::Constant(crate::scene::DEFAULT_FOCAL_LENGTH_MM),
+            sensor_width_mm: Param::Constant(crate::scene::DEFAULT_SENSOR_WIDTH_MM),
+            image_size: (1280, height),
+        });
+        camera.from_reference = Some(from);
+    });
+}
+
+/// Lets the shot camera go of the reference's camera it follows, leaving a
+/// camera of its own where that one is at the playhead: its position, aim
+/// and focal length as constants (nothing is keyed; the reference's motion
+/// is not baked); one undo step.
+pub fn detach_camera(w: &mut Workspace) {
+    let frame = w.frame();
+    let Some(camera) = w.doc.scene().camera.as_ref() else { return };
+    let look = shot_look_at(w.doc.scene(), camera, frame);
+    w.apply("Detach camera from reference", |s: &mut Scene| {
+        let Some(camera) = s.camera.as_mut() else { return };
+        camera.from_reference = None;
+        camera.position = constant(look.position);
+        camera.target = constant(look.target);
+        if look.focal_length_mm.is_finite() {
+            camera.focal_length_mm = Param::Constant(look.focal_length_mm);
         }
     });
 }

@@ -1,10 +1,13 @@
 //! The viewport's side of the shot camera: looking through it at the
-//! playhead, and the View menu's items ([`super::shot_view`] has the verbs).
+//! playhead, and the View menu's items ([`super::shot_view`] has the verbs),
+//! a reference's cameras among them.
 
 use eframe::egui;
 
 use super::plate_view::PlateShown;
-use super::shot_view::{camera_from_view, frame_rect, key_camera, through};
+use super::shot_view::{
+    camera_from_reference, camera_from_view, detach_camera, frame_rect, key_camera, reference_cameras, through,
+};
 use super::viewport_panel::ViewportPanel;
 use super::workspace::Workspace;
 use crate::animate::track::sample;
@@ -12,39 +15,78 @@ use crate::render::RenderOptions;
 
 impl ViewportPanel {
     /// While looking through the shot camera, the viewport's camera is the
-    /// shot camera at the playhead; without a camera in the scene the look
-    /// is turned off.
+    /// shot camera at the playhead (a reference's camera it follows posed
+    /// there); without a camera in the scene the look is turned off.
     pub(super) fn look_through_shot(&mut self, w: &Workspace, rect: egui::Rect) {
         if !self.toggles.shot_camera {
             return;
         }
-        match &w.doc.scene().camera {
-            Some(camera) => self.camera = through(camera, w.frame(), rect),
+        let scene = w.doc.scene();
+        match &scene.camera {
+            Some(camera) => self.camera = through(scene, camera, w.frame(), rect),
             None => self.toggles.shot_camera = false,
         }
     }
 
     /// The View menu's shot-camera items: look through it, set it from the
-    /// view, key it at the playhead.
+    /// view, key it at the playhead, follow a camera of a reference (one
+    /// flat item per camera: nested submenus missed real clicks) or let go
+    /// of it. Setting and keying do not apply while it follows one.
     pub fn shot_camera_menu_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
-        let has = w.doc.scene().camera.is_some();
+        let camera = w.doc.scene().camera.as_ref();
+        let has = camera.is_some();
+        let following = camera.and_then(|c| c.from_reference.clone());
         let look = egui::Button::new("Look through camera").selected(self.toggles.shot_camera);
         let toggle = ui.add_enabled(has, look);
         if toggle.on_hover_text("The viewport shows the shot camera's picture (orbiting leaves it)").clicked() {
             self.toggles.shot_camera = !self.toggles.shot_camera;
             ui.close();
         }
+        let not_now = following.as_ref().map(|from| {
+            format!(
+                "The camera follows {} of reference {:?}: Detach camera from reference first",
+                from.camera, from.reference
+            )
+        });
         let label = if has { "Camera from view" } else { "Add camera from view" };
         let hint = "The shot camera looks from where the viewport does, at what it looks at \
                     (keyed at the playhead where its numbers are keyed, or with Auto key)";
-        if ui.add_enabled(!self.toggles.shot_camera, egui::Button::new(label)).on_hover_text(hint).clicked() {
+        let from_view = ui.add_enabled(!self.toggles.shot_camera && not_now.is_none(), egui::Button::new(label));
+        let from_view = match &not_now {
+            Some(why) => from_view.on_disabled_hover_text(why),
+            None => from_view.on_hover_text(hint),
+        };
+        if from_view.clicked() {
             camera_from_view(w, &self.camera);
             ui.close();
         }
-        let key = ui.add_enabled(has, egui::Button::new("Key camera at playhead"));
-        if key.on_hover_text("Key its position, target and focal length where they are now").clicked() {
+        let key = ui.add_enabled(has && not_now.is_none(), egui::Button::new("Key camera at playhead"));
+        let key = match &not_now {
+            Some(why) => key.on_disabled_hover_text(why),
+            None => key.on_hover_text("Key its position, target and focal length where they are now"),
+        };
+        if key.clicked() {
             key_camera(w);
             ui.close();
+        }
+        for from in reference_cameras(w.doc.scene()) {
+            let chosen = following.as_ref() == Some(&from);
+            let item = egui::Button::new(format!("Camera from {} · {}", from.reference, from.camera)).selected(chosen);
+            let hint = "The shot camera follows this camera of the reference at every frame \
+                        (its roll is left out: the picture stays level)";
+            if ui.add(item).on_hover_text(hint).clicked() {
+                if !chosen {
+                    camera_from_reference(w, from);
+                }
+                ui.close();
+            }
+        }
+        if following.is_some() {
+            let hint = "A camera of its own where the reference's camera is at the playhead (nothing keyed)";
+            if ui.button("Detach camera from reference").on_hover_text(hint).clicked() {
+                detach_camera(w);
+                ui.close();
+            }
         }
     }
 

@@ -26,4 +26,4 @@ pub use framing::scene_bounds;
 pub use key_overlay::{SceneOverlays, key_overlay};
 pub use references::reference_solids;
 pub use scene_renderer::{SceneRenderer, render_scene_frame};
-pub use shot::shot_camera_at;
+pub use shot::{ShotLook, look_camera, scene_shot_camera_at, shot_camera_at, shot_look_at};

@@ -16,7 +16,7 @@ use super::framing::Framing;
 use super::key_overlay::{SceneOverlays, key_overlay};
 use super::plate::{over_plate, plate_fitted};
 use super::references::reference_solids;
-use super::shot::shot_camera_at;
+use super::shot::scene_shot_camera_at;
 
 /// One picture of `scene` at `frame`, framed as [`SceneRenderer::new`] does,
 /// on `context` or on a device of its own when none is given.
@@ -100,8 +100,9 @@ impl SceneRenderer {
     /// framing) at `frame` and reads the picture back.
     pub fn render_frame(&mut self, scene: &Scene, frame: f64) -> Result<RgbaImage, RenderError> {
         self.evaluator.evaluate_frame_into(scene, frame, Default::default(), &mut self.mesh);
-        match scene.camera.as_ref().filter(|_| !self.overlays.view_camera) {
-            Some(shot) => self.framing.camera = shot_camera_at(shot, frame, self.target.size_px()),
+        let shot = scene_shot_camera_at(scene, frame, self.target.size_px()).filter(|_| !self.overlays.view_camera);
+        match shot {
+            Some(shot) => self.framing.camera = shot,
             None => self.framing.follow(&self.mesh),
         }
         let shadow_pass = self.overlays.shadow_pass;

@@ -1,21 +1,111 @@
 //! The scene's shot camera at a frame as the renderer's camera: where it
-//! stands, what it looks at and its lens, each number sampled at the frame.
+//! stands, what it looks at and its lens, each number sampled at the frame,
+//! or a referenced glTF camera posed at the frame ([`scene_shot_camera_at`]).
 
 use glam::DVec3;
 
+use crate::animate::references_at::reference_camera_at;
 use crate::animate::track::{sample, sample_vec3};
 use crate::render::OrbitCamera;
-use crate::scene::{ShotCamera, horizontal_fov_deg};
+use crate::scene::{Scene, ShotCamera, focal_length_from_yfov, horizontal_fov_deg};
+use crate::world::rig::Projection;
+
+/// How far ahead of a reference's camera its aim point is, in its near
+/// planes: the renderer's near plane is 1/100 of the distance to the aim
+/// point, so this puts it where the glTF camera's is.
+const AIM_IN_NEAR_PLANES: f64 = 100.0;
+/// The aim point of a reference's camera is this far ahead at least and at
+/// most (m), whatever its near plane, so depth stays usable.
+const AIM_DISTANCE_M: (f64, f64) = (0.1, 1000.0);
+
+/// What a shot camera does at one frame, in a camera of its own's numbers:
+/// it looks from `position` at `target` through `focal_length_mm` on
+/// `sensor_width_mm`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShotLook {
+    pub position: DVec3,
+    pub target: DVec3,
+    pub focal_length_mm: f64,
+    pub sensor_width_mm: f64,
+    /// How far the reference's camera it follows is rolled (degrees, see
+    /// [`crate::world::rig::CameraPose::roll_deg`]): the picture is shown
+    /// level, without it. 0 for a camera of its own.
+    pub roll_deg: f64,
+    /// Whether it comes from a reference's camera (false where it follows
+    /// none, or one that cannot be found: see [`shot_look_at`]).
+    pub from_reference: bool,
+}
+
+/// `camera` of `scene` at `frame`. A camera of its own: its numbers sampled.
+/// One following a reference's camera (`from_reference`): it stands where
+/// that camera's node is, posed with the reference's clock and placement,
+/// and aims down the node's −Z (at a point 100 near planes ahead, within
+/// 0.1–1000 m); its focal length sees the glTF vertical field of view across
+/// the height of a picture of `camera.image_size`
+/// ([`focal_length_from_yfov`]); its roll is left out (+Y stays up). Where
+/// that camera cannot be found or posed (a scene parsed from text, whose
+/// files are not read; a reference renamed since), or is orthographic, the
+/// camera's own numbers stand in.
+pub fn shot_look_at(scene: &Scene, camera: &ShotCamera, frame: f64) -> ShotLook {
+    let sensor_width_mm = sample(&camera.sensor_width_mm, frame);
+    let posed = camera.from_reference.as_ref().and_then(|from| reference_camera_at(scene, from, frame));
+    if let Some(posed) = posed
+        && let Projection::Perspective { yfov_rad, znear, .. } = posed.projection
+    {
+        let (width, height) = camera.image_size;
+        let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
+        let distance = (znear * AIM_IN_NEAR_PLANES).clamp(AIM_DISTANCE_M.0, AIM_DISTANCE_M.1);
+        return ShotLook {
+            position: posed.pose.eye,
+            target: posed.pose.eye + posed.pose.forward * distance,
+            focal_length_mm: focal_length_from_yfov(yfov_rad, aspect, sensor_width_mm),
+            sensor_width_mm,
+            roll_deg: posed.pose.roll_deg(),
+            from_reference: true,
+        };
+    }
+    ShotLook {
+        position: sample_vec3(&camera.position, frame),
+        target: sample_vec3(&camera.target, frame),
+        focal_length_mm: sample(&camera.focal_length_mm, frame),
+        sensor_width_mm,
+        roll_deg: 0.0,
+        from_reference: false,
+    }
+}
+
+/// The scene's shot camera at `frame` as the renderer's camera, picturing
+/// `size_px` (see [`shot_camera_at`]), following a reference's camera where
+/// it does ([`shot_look_at`]); None when the scene has no shot camera.
+pub fn scene_shot_camera_at(scene: &Scene, frame: f64, size_px: (u32, u32)) -> Option<OrbitCamera> {
+    let camera = scene.camera.as_ref()?;
+    Some(look_camera(&shot_look_at(scene, camera, frame), size_px))
+}
 
 /// Steepest a shot camera looks up or down (degrees): straight down, +Y up
 /// leaves no way to turn the picture.
 const MAX_PITCH_DEG: f64 = 89.9;
 
-/// `camera` at `frame`, picturing `size_px` (its `image_size`, or what a
-/// render asks for instead: the horizontal field of view is the lens's, the
-/// vertical one follows from the picture's shape).
+/// `camera`'s own numbers at `frame`, picturing `size_px` (its
+/// `image_size`, or what a render asks for instead: the horizontal field of
+/// view is the lens's, the vertical one follows from the picture's shape).
+/// It does not look at `from_reference`, which needs the scene:
+/// [`scene_shot_camera_at`] does.
 pub fn shot_camera_at(camera: &ShotCamera, frame: f64, size_px: (u32, u32)) -> OrbitCamera {
-    let (position, target) = (sample_vec3(&camera.position, frame), sample_vec3(&camera.target, frame));
+    let look = ShotLook {
+        position: sample_vec3(&camera.position, frame),
+        target: sample_vec3(&camera.target, frame),
+        focal_length_mm: sample(&camera.focal_length_mm, frame),
+        sensor_width_mm: sample(&camera.sensor_width_mm, frame),
+        roll_deg: 0.0,
+        from_reference: false,
+    };
+    look_camera(&look, size_px)
+}
+
+/// The renderer's camera that looks as `look` does, picturing `size_px`.
+pub fn look_camera(look: &ShotLook, size_px: (u32, u32)) -> OrbitCamera {
+    let (position, target) = (look.position, look.target);
     let offset = position - target;
     // Where position and target meet, it looks along −Z from where it is.
     let (target, back, distance) = match offset.try_normalize() {
@@ -24,7 +114,7 @@ pub fn shot_camera_at(camera: &ShotCamera, frame: f64, size_px: (u32, u32)) -> O
     };
     let pitch_deg = back.y.clamp(-1.0, 1.0).asin().to_degrees().clamp(-MAX_PITCH_DEG, MAX_PITCH_DEG);
     let yaw_deg = back.x.atan2(back.z).to_degrees();
-    let fov_x = horizontal_fov_deg(sample(&camera.focal_length_mm, frame), sample(&camera.sensor_width_mm, frame));
+    let fov_x = horizontal_fov_deg(look.focal_length_mm, look.sensor_width_mm);
     let aspect = f64::from(size_px.0.max(1)) / f64::from(size_px.1.max(1));
     let fov_y_deg = 2.0 * ((fov_x.to_radians() * 0.5).tan() / aspect).atan().to_degrees();
     OrbitCamera {

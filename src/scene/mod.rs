@@ -55,7 +55,10 @@ pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig};
 pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
-pub use shot_camera::{DEFAULT_FOCAL_LENGTH_MM, DEFAULT_SENSOR_WIDTH_MM, ShotCamera, horizontal_fov_deg};
+pub use shot_camera::{
+    DEFAULT_FOCAL_LENGTH_MM, DEFAULT_SENSOR_WIDTH_MM, ReferenceCamera, ShotCamera, focal_length_from_yfov,
+    horizontal_fov_deg,
+};
 pub use toon::{
     MAX_CREASE_DEG, MAX_INK_WIDTH_PX, MAX_TOON_BANDS, MIN_TOON_BANDS, SrgbColor, ToonSettings, linear_rgb,
     linear_to_srgb, srgb_to_linear,

@@ -1,11 +1,13 @@
 //! Reading the glTF 2.0 files a scene's references name into rigs: nodes,
-//! skins, the triangle meshes of the default scene, and animations.
+//! skins, the triangle meshes and cameras of the default scene, and
+//! animations.
 //!
 //! What Drape does not read is said, not guessed at: a file that needs an
 //! extension, a skinned mesh without joints, an animation name the file
-//! lacks. Lines and points are not surfaces and are left out; cameras and
-//! lights are not read. A mesh takes its material's base colour and
-//! base-colour texture (PNG or JPEG).
+//! lacks. Lines and points are not surfaces and are left out; lights are
+//! not read. A mesh takes its material's base colour and base-colour
+//! texture (PNG or JPEG). A camera is kept with the node it hangs on, so
+//! the shot camera can follow it (`camera.from_reference`).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -20,7 +22,8 @@ use super::references::{Attachment, LoadedRig};
 use super::types::Scene;
 use crate::image::RgbaImage;
 use crate::world::rig::{
-    Channel, Clip, Influences, Interpolation, Property, Rig, RigMesh, RigNode, RigTexture, Skin, Trs,
+    Channel, Clip, Influences, Interpolation, Projection, Property, Rig, RigCamera, RigMesh, RigNode, RigTexture, Skin,
+    Trs,
 };
 
 /// Most vertices all the meshes of one referenced file may have together.
@@ -30,7 +33,9 @@ pub const MAX_REFERENCE_VERTICES: usize = 4_000_000;
 /// and whose text is `text` (for positions in messages), and keeps each rig
 /// in its reference. Hidden references are read too, so showing one never
 /// fails later. A named animation the file lacks is an error at its name,
-/// and so is an attached pin naming a node or triangle the file lacks.
+/// and so is an attached pin naming a node or triangle the file lacks, and
+/// a shot camera following a camera the file lacks or one that is not a
+/// perspective camera.
 pub fn read_references(scene: &mut Scene, scene_file: &Path, text: &str) -> Result<(), SceneError> {
     let folder = scene_file.parent().unwrap_or(Path::new(""));
     let label = scene_file.display().to_string();
@@ -60,7 +65,36 @@ pub fn read_references(scene: &mut Scene, scene_file: &Path, text: &str) -> Resu
         }
         reference.rig = LoadedRig(Some(rig));
     }
-    check_attachments(scene, &label, text)
+    check_attachments(scene, &label, text)?;
+    check_shot_camera(scene, &label, text)
+}
+
+/// The reference's camera the shot camera follows is in its file and is a
+/// perspective camera; the message lists the cameras that are.
+fn check_shot_camera(scene: &Scene, label: &str, text: &str) -> Result<(), SceneError> {
+    let Some(from) = scene.camera.as_ref().and_then(|c| c.from_reference.as_ref()) else { return Ok(()) };
+    let Some(reference) = scene.references.iter().find(|r| r.name == from.reference) else { return Ok(()) };
+    let Some(rig) = reference.rig.0.as_deref() else { return Ok(()) };
+    let perspective: Vec<String> = rig
+        .cameras()
+        .iter()
+        .filter(|c| matches!(c.projection, Projection::Perspective { .. }))
+        .map(|c| format!("{:?}", c.name))
+        .collect();
+    let has = if perspective.is_empty() {
+        "it has no perspective camera".to_owned()
+    } else {
+        format!("it has {}", perspective.join(", "))
+    };
+    let what = format!("camera: from_reference names camera {:?} of {:?}", from.camera, reference.file);
+    let message = match rig.camera_named(&from.camera).map(|c| c.projection) {
+        None => format!("{what}, which has no such camera ({has})"),
+        Some(Projection::Orthographic) => {
+            format!("{what}, which is orthographic: the shot camera sees in perspective ({has})")
+        }
+        Some(Projection::Perspective { .. }) => return Ok(()),
+    };
+    Err(SceneError::invalid(label, locate(text, "camera.from_reference.camera"), message))
 }
 
 /// The followed node, and every attached pin's node or triangle, are in
@@ -131,7 +165,46 @@ pub fn read_rig(path: &Path) -> Result<Rig, String> {
     let images = read_images(document, &buffers, path.parent().unwrap_or(Path::new("")))?;
     let meshes = read_meshes(document, &buffers, &images)?;
     let clips = read_clips(document, &buffers, &nodes)?;
-    Rig::new(nodes, meshes, skins, clips)
+    let cameras = read_cameras(document);
+    Rig::new(nodes, meshes, skins, clips)?.with_cameras(cameras)
+}
+
+/// Every camera on a node of the default scene (or the first), each as
+/// often as nodes carry it, in the file's node order, named as
+/// [`RigCamera::name`] says.
+fn read_cameras(document: &gltf::Document) -> Vec<RigCamera> {
+    use gltf::camera::Projection as Lens;
+    let Some(scene) = document.default_scene().or_else(|| document.scenes().next()) else {
+        return Vec::new();
+    };
+    let mut in_scene = vec![false; document.nodes().len()];
+    let mut stack: Vec<gltf::Node> = scene.nodes().collect();
+    while let Some(node) = stack.pop() {
+        // A malformed file may list a node twice: walk it once.
+        if std::mem::replace(&mut in_scene[node.index()], true) {
+            continue;
+        }
+        stack.extend(node.children());
+    }
+    let mut cameras = Vec::new();
+    for node in document.nodes().filter(|n| in_scene[n.index()]) {
+        let Some(camera) = node.camera() else { continue };
+        let name = [node.name(), camera.name()]
+            .into_iter()
+            .flatten()
+            .find(|n| !n.trim().is_empty())
+            .map_or_else(|| format!("camera {}", camera.index() + 1), str::to_owned);
+        let projection = match camera.projection() {
+            Lens::Perspective(lens) => Projection::Perspective {
+                yfov_rad: f64::from(lens.yfov()),
+                aspect_ratio: lens.aspect_ratio().map(f64::from),
+                znear: f64::from(lens.znear()),
+            },
+            Lens::Orthographic(_) => Projection::Orthographic,
+        };
+        cameras.push(RigCamera { name, node: node.index(), projection });
+    }
+    cameras
 }
 
 /// Every node with its parent, rest transform and default morph weights.

@@ -219,7 +219,7 @@ impl Checker {
             }
         }
         if let Some(camera) = &scene.camera {
-            self.camera(camera);
+            self.camera(camera, &scene.references);
         }
         if let Some(plate) = &scene.plate {
             self.plate(plate);
@@ -253,8 +253,33 @@ impl Checker {
     }
 
     /// The shot camera: where it is and what it looks at within the world,
-    /// a lens and sensor greater than 0, a picture of sensible size.
-    fn camera(&mut self, camera: &ShotCamera) {
+    /// a lens and sensor greater than 0, a picture of sensible size; a
+    /// reference's camera it follows names one reference of `references`
+    /// (whether that file has the camera is known once it is read:
+    /// [`super::read_references`]). Numbers a following camera does not use
+    /// are checked too, so letting go of the reference never finds them bad.
+    fn camera(&mut self, camera: &ShotCamera, references: &[Reference]) {
+        if let Some(from) = &camera.from_reference {
+            let named = references.iter().filter(|r| r.name == from.reference).count();
+            if named != 1 {
+                let names: Vec<String> = references.iter().map(|r| format!("{:?}", r.name)).collect();
+                let why = match (named, names.is_empty()) {
+                    (0, true) => "the scene has no references".to_owned(),
+                    (0, false) => format!("no reference has that name (the scene has {})", names.join(", ")),
+                    _ => "several references have that name".to_owned(),
+                };
+                self.push(
+                    "camera.from_reference.reference",
+                    format!("camera: from_reference names reference {:?}, but {why}", from.reference),
+                );
+            }
+            if from.camera.trim().is_empty() {
+                self.push(
+                    "camera.from_reference.camera",
+                    format!("camera: from_reference.camera is empty: name a camera of reference {:?}", from.reference),
+                );
+            }
+        }
         let world = ParamRange::Within(-MAX_PIN_COORD_M, MAX_PIN_COORD_M, " m");
         self.vector_param("camera.position", "camera: position", &camera.position, world);
         self.vector_param("camera.target", "camera: target", &camera.target, world);
