@@ -576,3 +576,55 @@ fn drape_render_looks_through_the_reference_camera_as_it_dollies() {
     let differing = start.chunks_exact(4).zip(end.chunks_exact(4)).filter(|(a, b)| a != b).count();
     assert!(differing > 96 * 54 / 20, "the dolly moves the picture: {differing} pixels differ");
 }
+
+/// View ▸ "Camera from layout · ShotCam" (a flat item, one per perspective
+/// camera of the references) makes the shot camera follow it; "Camera from
+/// view" and "Key camera at playhead" then do not apply, and "Detach camera
+/// from reference" leaves a camera of its own.
+#[test]
+fn the_view_menu_offers_the_reference_cameras() {
+    use drape::editor::DrapeApp;
+    use eframe::egui;
+    use eframe::egui::accesskit::Role;
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::{NodeT as _, Queryable};
+
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_scene(dir.path(), &layout_scene("(position: (0.0, 1.5, 4.0), target: (0.0, 1.0, 0.0))"));
+    let scene = scene::load(&path).unwrap();
+    let (config, state) = (dir.path().join("config"), dir.path().join("state"));
+    let mut harness = Harness::builder().with_size(egui::vec2(1100.0, 720.0)).wgpu().build_eframe(move |cc| {
+        DrapeApp::new(scene, Some(path), cc.wgpu_render_state.as_ref()).with_file_dirs(Some(config), Some(state))
+    });
+    let settle = |harness: &mut Harness<'_, DrapeApp>| {
+        for _ in 0..3 {
+            assert!(harness.state_mut().wait_for_shapes(std::time::Duration::from_secs(120)));
+            harness.run();
+        }
+    };
+    settle(&mut harness);
+    let open_view = |harness: &mut Harness<'_, DrapeApp>| {
+        harness.get_by_role_and_label(Role::Button, "View").click();
+        harness.run_ok();
+    };
+    open_view(&mut harness);
+    assert!(harness.query_by_label("Camera from layout · Plan").is_none(), "an orthographic camera is not offered");
+    assert!(!harness.get_by_label("Camera from view").accesskit_node().is_disabled());
+    harness.get_by_label("Camera from layout · ShotCam").click();
+    harness.run_ok();
+    let camera = harness.state().scene().camera.clone().unwrap();
+    let from = camera.from_reference.expect("it follows the reference's camera");
+    assert_eq!((from.reference.as_str(), from.camera.as_str()), ("layout", "ShotCam"));
+
+    open_view(&mut harness);
+    assert!(harness.get_by_label("Camera from view").accesskit_node().is_disabled());
+    assert!(harness.get_by_label("Key camera at playhead").accesskit_node().is_disabled());
+    harness.get_by_label("Detach camera from reference").click();
+    harness.run_ok();
+    let camera = harness.state().scene().camera.clone().unwrap();
+    assert_eq!(camera.from_reference, None);
+    // Frame 0: the dolly at x = −1, the camera turned with the reference to (4, 1.5, 2).
+    let position = drape::animate::track::sample_vec3(&camera.position, 0.0);
+    assert!(position.abs_diff_eq(DVec3::new(4.0, 1.5, 2.0), 1e-6), "{position}");
+    settle(&mut harness);
+}

@@ -183,3 +183,70 @@ fn set_vector(vector: &mut ParamVec3, to: DVec3, frame: i32, auto_key: bool) {
     set_at_keying(&mut vector.1, frame, to.y, auto_key);
     set_at_keying(&mut vector.2, frame, to.z, auto_key);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A curtain with `assets/layout_camera.glb` as reference "layout" (its
+    /// dolly moves "ShotCam" from x = −1 to +1 over frames 0–24) and no camera.
+    fn layout() -> Workspace {
+        let dir = tempfile::tempdir().unwrap();
+        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/layout_camera.glb");
+        let text = format!(
+            "(version: 1, cloth: (size: (1.0, 1.0), grid: (5, 5)), \
+             keys: [(frame: 0, pins: [(grid: (0, 0), pos: (0.0, 1.5, 0.0))])], \
+             references: [(name: \"layout\", file: {:?})])",
+            file.display().to_string()
+        );
+        let path = dir.path().join("layout.ron");
+        std::fs::write(&path, text).unwrap();
+        Workspace::new(crate::scene::load(&path).unwrap(), None)
+    }
+
+    fn shot_cam() -> ReferenceCamera {
+        ReferenceCamera { reference: "layout".into(), camera: "ShotCam".into() }
+    }
+
+    #[test]
+    fn the_references_perspective_cameras_are_offered() {
+        let w = layout();
+        let names: Vec<String> = reference_cameras(w.doc.scene()).into_iter().map(|c| c.camera).collect();
+        assert_eq!(names, ["ShotCam", "Dutch"], "the orthographic \"Plan\" is not");
+    }
+
+    #[test]
+    fn following_a_reference_camera_and_letting_go_are_one_undo_step_each() {
+        let mut w = layout();
+        camera_from_reference(&mut w, shot_cam());
+        let camera = w.doc.scene().camera.clone().expect("a camera made");
+        assert_eq!((camera.from_reference, camera.image_size), (Some(shot_cam()), (1280, 720)));
+        assert_eq!(w.doc.undo_label(), Some("Camera from reference"));
+
+        // Frame 6: the dolly at x = −0.5, so the camera at (−0.5, 1.5, 4), tilted 10° down.
+        w.set_frame(6.0);
+        let rect = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(800.0, 600.0));
+        let scene = w.doc.scene();
+        let view = through(scene, scene.camera.as_ref().unwrap(), 6.0, rect);
+        assert!(view.eye().abs_diff_eq(glam::Vec3::new(-0.5, 1.5, 4.0), 1e-5), "{}", view.eye());
+        detach_camera(&mut w);
+        let plain = w.doc.scene().camera.clone().unwrap();
+        assert_eq!(plain.from_reference, None);
+        assert_eq!(w.doc.undo_label(), Some("Detach camera from reference"));
+        let (Param::Constant(x), Param::Constant(focal)) = (&plain.position.0, &plain.focal_length_mm) else {
+            panic!("constants: {plain:?}")
+        };
+        assert!((x + 0.5).abs() < 1e-6, "{x}");
+        assert!((focal - 36.0 / (2.0 * 0.25f64.tan() * 16.0 / 9.0)).abs() < 1e-6, "{focal}");
+        // The picture does not jump when it lets go.
+        let scene = w.doc.scene();
+        let after = through(scene, scene.camera.as_ref().unwrap(), 6.0, rect);
+        assert!(after.eye().abs_diff_eq(view.eye(), 1e-5) && (after.fov_y_deg - view.fov_y_deg).abs() < 1e-4);
+        assert!(after.target.abs_diff_eq(view.target, 1e-4), "{} vs {}", after.target, view.target);
+
+        w.undo();
+        assert_eq!(w.doc.scene().camera.as_ref().unwrap().from_reference, Some(shot_cam()));
+        w.undo();
+        assert_eq!(w.doc.scene().camera, None);
+    }
+}
