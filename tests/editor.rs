@@ -1827,3 +1827,54 @@ fn looking_through_the_camera_shows_the_plate_behind_the_cloth() {
     // Found, or it panics.
     harness.get_by_label_contains("plate: there is no image \"../assets/magic_carpet_plate.png\"");
 }
+
+/// File ▸ Render…: a PNG sequence of three frames with alpha into a folder
+/// typed beside Choose…, rendered on the window's worker while the editor
+/// keeps drawing; each frame is transparent in its corner.
+#[test]
+fn file_render_writes_a_png_sequence_with_alpha() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    harness.get_by_role_and_label(Role::Button, "File").click();
+    harness.run_ok();
+    harness.get_by_label_contains("Render…").click();
+    harness.run_ok();
+    harness.get_by_label("PNG sequence").click();
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "First frame").set_value_accesskit(10.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "Last frame").set_value_accesskit(12.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "Picture width").set_value_accesskit(96.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "Picture height").set_value_accesskit(54.0);
+    harness.run_ok();
+    harness.get_by_label_contains("straight alpha, as PNG stores it").click();
+    harness.run_ok();
+    let frames = workspace.path("frames");
+    let field = harness.get_by_role_and_label(Role::TextInput, "Folder");
+    field.focus();
+    harness.run_ok();
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    harness.get_by_role_and_label(Role::TextInput, "Folder").type_text(&frames.display().to_string());
+    harness.run_ok();
+    harness.key_press(Key::Enter);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::Button, "Render").click();
+    let deadline = std::time::Instant::now() + Duration::from_secs(240);
+    while harness.query_by_label_contains("Rendered 3 frames").is_none() {
+        assert!(std::time::Instant::now() < deadline, "the render finished");
+        assert!(harness.query_by_label_contains("Could not render").is_none(), "the render failed");
+        harness.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let mut names: Vec<String> =
+        std::fs::read_dir(&frames).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert_eq!(names, ["carpet_0010.png", "carpet_0011.png", "carpet_0012.png"]);
+    for name in names {
+        let image = drape::image::RgbaImage::decode_png(&std::fs::read(frames.join(&name)).unwrap()).unwrap();
+        assert_eq!((image.width, image.height), (96, 54), "{name}");
+        assert_eq!(image.pixel(0, 0)[3], 0, "{name}: the corner is off the cloth, transparent");
+    }
+}

@@ -23,9 +23,10 @@ use super::layers_panel::LayersPanel;
 use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
 use super::references_panel::ReferencesPanel;
+use super::render_window::RenderWindow;
 use super::shortcuts::{
-    SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_REDO, SHORTCUT_REDO_ALT, SHORTCUT_SAVE, SHORTCUT_SAVE_AS, SHORTCUT_UNDO,
-    SHORTCUTS,
+    SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_REDO, SHORTCUT_REDO_ALT, SHORTCUT_RENDER, SHORTCUT_SAVE, SHORTCUT_SAVE_AS,
+    SHORTCUT_UNDO, SHORTCUTS,
 };
 use super::shot_panel::ShotPanel;
 use super::timeline::TimelinePanel;
@@ -51,6 +52,7 @@ pub struct DrapeApp {
     cloth: ClothPanel,
     files: Files,
     export: ExportWindow,
+    render: RenderWindow,
     show_shortcuts: bool,
     /// CPU time of the last update and the smoothed time between frames, for the readout.
     last_update_ms: f64,
@@ -88,6 +90,7 @@ impl DrapeApp {
             cloth: ClothPanel::default(),
             files: Files::new(default_config_dir(), default_state_dir()),
             export: ExportWindow::default(),
+            render: RenderWindow::default(),
             show_shortcuts: false,
             last_update_ms: 0.0,
             frame_interval_ms: 0.0,
@@ -295,6 +298,7 @@ impl DrapeApp {
                     self.shot = ShotPanel::default();
                 }
                 FileEvent::OpenExport => self.export.open_for(&self.work.doc),
+                FileEvent::OpenRender => self.render.open_for(&self.work.doc, self.viewport.toggles.toon),
             }
         }
     }
@@ -394,6 +398,9 @@ impl DrapeApp {
         }
         if consume(&SHORTCUT_OPEN) {
             self.files.file_open(w, camera);
+        }
+        if consume(&SHORTCUT_RENDER) {
+            self.render.open_for(&w.doc, self.viewport.toggles.toon);
         }
         if consume(&SHORTCUT_NEW) {
             self.files.file_new(w, camera);
@@ -595,6 +602,7 @@ impl eframe::App for DrapeApp {
         self.work.keep_attach_mode_on_its_pin();
         self.shortcuts_window(&ctx);
         self.export.window_ui(&ctx, &mut self.work);
+        self.render.window_ui(&ctx, &mut self.work);
         self.files.dialogs_ui(&ctx, &mut self.work, &mut self.viewport.camera);
         self.after_files();
         // A gesture ends when the mouse lets go (a drag on a slider or a pin is one undo step).

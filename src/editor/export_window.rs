@@ -7,16 +7,15 @@
 
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::sync::atomic::Ordering;
+use std::time::Duration;
 
 use eframe::egui;
 
 use super::document::Document;
 use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use super::number_field::number_field;
+use super::worker_job::WorkerJob;
 use super::workspace::Workspace;
 use crate::export::{
     AnimationFormat, ExportError, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, export_animation,
@@ -24,13 +23,7 @@ use crate::export::{
 use crate::scene::{Scene, readable_bytes};
 
 /// An export running on its worker.
-struct Job {
-    handle: JoinHandle<Result<ExportSummary, ExportError>>,
-    done: Arc<AtomicUsize>,
-    total: Arc<AtomicUsize>,
-    cancel: Arc<AtomicBool>,
-    started: Instant,
-}
+type Job = WorkerJob<Result<ExportSummary, ExportError>>;
 
 /// The Export window's settings and the running export.
 pub(super) struct ExportWindow {
@@ -72,21 +65,13 @@ fn start(
     format: AnimationFormat,
     ctx: egui::Context,
 ) -> Job {
-    let (done, total) = (Arc::new(AtomicUsize::new(0)), Arc::new(AtomicUsize::new(1)));
-    let cancel = Arc::new(AtomicBool::new(false));
-    let (worker_done, worker_total, worker_cancel) = (done.clone(), total.clone(), Arc::clone(&cancel));
-    let handle = std::thread::spawn(move || {
-        let mut progress = |d: usize, t: usize| {
-            worker_done.store(d, Ordering::Relaxed);
-            worker_total.store(t.max(1), Ordering::Relaxed);
-            ctx.request_repaint_after(Duration::from_millis(100));
-            !worker_cancel.load(Ordering::Relaxed)
+    WorkerJob::start(ctx, move |progress, cancel| {
+        let mut progress = |done: usize, total: usize| {
+            progress(done as u64, total.max(1) as u64);
+            !cancel.load(Ordering::Relaxed)
         };
-        let result = export_animation(&scene, frames, &output, format, &mut progress);
-        ctx.request_repaint();
-        result
-    });
-    Job { handle, done, total, cancel, started: Instant::now() }
+        export_animation(&scene, frames, &output, format, &mut progress)
+    })
 }
 
 /// Why exporting `frames` of `scene` as `format` to `output` should not go
@@ -192,18 +177,7 @@ impl ExportWindow {
             });
             ui.separator();
             match &window.job {
-                Some(job) => {
-                    let (done, total) = (job.done.load(Ordering::Relaxed), job.total.load(Ordering::Relaxed));
-                    let fraction = done as f32 / total as f32;
-                    let elapsed = job.started.elapsed().as_secs_f64();
-                    ui.add(egui::ProgressBar::new(fraction).show_percentage().animate(true));
-                    ui.horizontal(|ui| {
-                        ui.label(format!("{done} of {total} frame evaluations, {elapsed:.1} s"));
-                        if ui.button("Cancel").clicked() {
-                            job.cancel.store(true, Ordering::Relaxed);
-                        }
-                    });
-                }
+                Some(job) => job.progress_ui(ui, "frame evaluations", "Starting"),
                 None => {
                     let settings = (window.format, window.first, window.last, window.output.clone());
                     if window.refused.as_ref().is_some_and(|(_, held)| *held != settings) {
@@ -254,7 +228,7 @@ impl ExportWindow {
         if !open {
             // Closing the window cancels an export in progress.
             if let Some(job) = &self.job {
-                job.cancel.store(true, Ordering::Relaxed);
+                job.cancel();
             }
             self.open = false;
         }
@@ -265,11 +239,12 @@ impl ExportWindow {
 
     /// Reports a finished export.
     fn finish(&mut self, w: &mut Workspace) {
-        let Some(job) = self.job.take_if(|job| job.handle.is_finished()) else { return };
-        match job.handle.join() {
+        let Some(job) = self.job.take_if(|job| job.is_finished()) else { return };
+        let (result, elapsed) = job.join();
+        match result {
             Ok(Ok(summary)) => {
                 let file = summary.files.first().map(|f| f.display().to_string()).unwrap_or_default();
-                let seconds = job.started.elapsed().as_secs_f64();
+                let seconds = elapsed.as_secs_f64();
                 w.report(format!("Exported {} frames to {file} in {seconds:.1} s", summary.frame_count), false);
                 self.open = false;
             }

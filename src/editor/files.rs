@@ -11,7 +11,7 @@ use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use super::prompt::{DiscardChoice, discard_prompt};
 use super::recent::RecentFiles;
 use super::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, Recovery};
-use super::shortcuts::{SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
+use super::shortcuts::{SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_RENDER, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
 use super::workspace::Workspace;
 use crate::render::OrbitCamera;
 use crate::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline, View};
@@ -57,6 +57,8 @@ pub(super) enum FileEvent {
     Replaced,
     /// File ▸ Export… was chosen.
     OpenExport,
+    /// File ▸ Render… was chosen.
+    OpenRender,
 }
 
 impl Files {
@@ -142,6 +144,10 @@ impl Files {
         ui.separator();
         if ui.button("Export…").on_hover_text("PC2, MDD, glTF, USD or an OBJ sequence").clicked() {
             self.events.push(FileEvent::OpenExport);
+        }
+        let render = ui.add(item("Render…", &SHORTCUT_RENDER));
+        if render.on_hover_text("A PNG still, a PNG sequence or a GIF of the scene").clicked() {
+            self.events.push(FileEvent::OpenRender);
         }
         ui.separator();
         if ui.button("Quit").clicked() {

@@ -8,7 +8,7 @@
 //! [`viewport_panel`] (with `viewport_input` for the mouse, [`viewport`] for
 //! the GPU), `timeline`, `layers_panel`, `colliders_panel` and
 //! `references_panel` (with [`curve_view`]), `cloth_panel`
-//! (with [`grid_editor`]), [`files`] and `export_window`. No panel imports
+//! (with [`grid_editor`]), [`files`], `export_window` and `render_window`. No panel imports
 //! another panel or the app; what one panel changes for another (the
 //! playhead, selected pins, key or layer, Follow, auto-key) lives in the
 //! workspace's session.
@@ -51,6 +51,7 @@ pub mod recent;
 pub mod recovery;
 pub mod reference_pick;
 mod references_panel;
+mod render_window;
 pub mod selection;
 pub mod shaper;
 pub mod shortcuts;
@@ -70,6 +71,7 @@ mod viewport_input;
 pub mod viewport_panel;
 mod viewport_shot;
 mod viewport_style;
+mod worker_job;
 pub mod workspace;
 
 pub use app::{DEFAULT_SCENE, DrapeApp, run};

@@ -11,6 +11,7 @@ pub const SHORTCUT_UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COM
 pub const SHORTCUT_REDO: KeyboardShortcut =
     KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), KeyCode::Z);
 pub const SHORTCUT_REDO_ALT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::Y);
+pub const SHORTCUT_RENDER: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, KeyCode::R);
 
 /// Every shortcut, for Help ▸ Shortcuts: (keys, what they do).
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -18,6 +19,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Ctrl+O", "Open a scene"),
     ("Ctrl+S", "Save"),
     ("Ctrl+Shift+S", "Save as"),
+    ("Ctrl+R", "Render a PNG, a PNG sequence or a GIF (the File menu's Render…)"),
     ("Ctrl+Z", "Undo"),
     ("Ctrl+Shift+Z, Ctrl+Y", "Redo"),
     ("Delete", "Unpin the selected pins (or remove the selected collider, or delete the key selected on the timeline)"),

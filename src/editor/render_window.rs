@@ -1,0 +1,455 @@
+//! File ▸ Render…: pictures of the scene as a PNG still at the playhead, a
+//! numbered PNG sequence in a folder or a GIF, rendered on a worker thread
+//! with a device of its own (the viewport's is never waited on) through
+//! the same [`crate::render_job`] as `drape render`. The window shows the
+//! progress with Cancel, then what was written or why not; a render past
+//! 8 GiB or the free disk space is held back until the user asks to render
+//! anyway. A cancelled or failed render leaves no file behind.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use eframe::egui;
+
+use super::document::Document;
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::number_field::number_field;
+use super::worker_job::WorkerJob;
+use super::workspace::Workspace;
+use crate::export::sequence::file_stem_for;
+use crate::picture::SceneOverlays;
+use crate::render_job::{
+    MAX_SIDE_PX, RenderJobError, RenderKind, RenderRequest, RenderSummary, default_size_px, render_to_files,
+};
+use crate::scene::Scene;
+
+/// A render running on its worker, and what it was asked.
+struct Job {
+    worker: WorkerJob<Result<RenderSummary, RenderJobError>>,
+    request: RenderRequest,
+}
+
+/// What the last render came to, shown under the settings until they
+/// change (a stale "could not write" would mislead).
+struct Outcome {
+    text: String,
+    tone: Tone,
+    /// The request it came from.
+    request: RenderRequest,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Tone {
+    /// What was written, or that nothing was (a cancel).
+    Note,
+    Error,
+    /// Held back for its size, until the user renders anyway.
+    HeldBack,
+}
+
+/// The Render window's settings and the running render.
+pub(super) struct RenderWindow {
+    open: bool,
+    kind: RenderKind,
+    first: i32,
+    last: i32,
+    size_px: (u32, u32),
+    /// The size follows the camera and kind ([`default_size_px`]) until typed.
+    size_auto: bool,
+    /// Looks through the scene's shot camera (else the framing view).
+    shot: bool,
+    toon: bool,
+    /// The cloth alone over transparency (PNGs only).
+    alpha: bool,
+    /// The shadow pass alone (PNGs only).
+    shadow: bool,
+    plate: bool,
+    colliders: bool,
+    references: bool,
+    output: String,
+    dialog: Option<FileDialog>,
+    job: Option<Job>,
+    outcome: Option<Outcome>,
+}
+
+impl Default for RenderWindow {
+    fn default() -> Self {
+        RenderWindow {
+            open: false,
+            kind: RenderKind::Png,
+            first: 0,
+            last: 0,
+            size_px: crate::render_job::DEFAULT_PNG_SIZE,
+            size_auto: true,
+            shot: true,
+            toon: false,
+            alpha: false,
+            shadow: false,
+            plate: true,
+            colliders: true,
+            references: true,
+            output: String::new(),
+            dialog: None,
+            job: None,
+            outcome: None,
+        }
+    }
+}
+
+/// `path` made fit for `kind`: `.png` or `.gif` for a file, no extension
+/// for a sequence's folder. An empty path stays empty.
+fn output_for_kind(path: &str, kind: RenderKind) -> String {
+    let path = Path::new(path.trim());
+    if path.as_os_str().is_empty() {
+        return String::new();
+    }
+    let extension = match kind {
+        RenderKind::Png => "png",
+        RenderKind::Gif => "gif",
+        RenderKind::Sequence => "",
+    };
+    path.with_extension(extension).display().to_string()
+}
+
+/// Starts rendering on a worker thread with its own headless device.
+fn start(scene: Scene, scene_path: Option<PathBuf>, request: RenderRequest, ctx: egui::Context) -> Job {
+    let job_request = request.clone();
+    let worker = WorkerJob::start(ctx, move |progress, cancel| {
+        render_to_files(&scene, scene_path.as_deref(), &job_request, None, progress, cancel)
+    });
+    Job { worker, request }
+}
+
+impl RenderWindow {
+    /// Opens the window on the whole timeline, through the shot camera when
+    /// the scene has one, in the viewport's style (`toon`), writing next to
+    /// the scene's file; other settings stay as the user left them.
+    pub(super) fn open_for(&mut self, doc: &Document, toon: bool) {
+        let scene = doc.scene();
+        self.open = true;
+        self.first = scene.timeline.start;
+        self.last = scene.timeline.end;
+        self.toon = toon;
+        self.shot = scene.camera.is_some();
+        self.plate = scene.plate.is_some() && self.shot;
+        self.size_auto = true;
+        if self.output.is_empty() {
+            let stem = match doc.path().and_then(Path::file_stem) {
+                Some(stem) => stem.to_string_lossy().into_owned(),
+                None => file_stem_for(&scene.name),
+            };
+            let name = output_for_kind(&stem, self.kind);
+            self.output = doc.folder().join(name).display().to_string();
+        }
+    }
+
+    /// The request the settings make, the PNG still at `playhead`.
+    fn request(&self, scene: &Scene, playhead: i32) -> RenderRequest {
+        let png = self.kind.is_png();
+        let shadow = self.shadow && png;
+        let alpha = self.alpha && png && !shadow;
+        let frames = match self.kind {
+            RenderKind::Png => playhead..=playhead,
+            RenderKind::Sequence | RenderKind::Gif => self.first..=self.last,
+        };
+        let overlays = SceneOverlays {
+            hide_colliders: !self.colliders,
+            hide_references: !self.references,
+            view_camera: !(self.shot && scene.camera.is_some()),
+            alpha,
+            shadow_pass: shadow,
+            toon: self.toon,
+            ..SceneOverlays::default()
+        };
+        let mut request = RenderRequest::new(self.kind, PathBuf::from(self.output.trim()), frames, self.size_px);
+        request.overlays = overlays;
+        request.plate = self.plate && scene.plate.is_some() && !alpha && !shadow;
+        request
+    }
+
+    pub(super) fn window_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
+        self.finish(w);
+        if !self.open {
+            return;
+        }
+        let scene = w.doc.scene();
+        let timeline = scene.timeline.clone();
+        let playhead = (w.frame().round() as i32).clamp(timeline.start, timeline.end);
+        if self.size_auto {
+            self.size_px = default_size_px(scene, self.kind, !(self.shot && scene.camera.is_some()));
+        }
+        let mut open = true;
+        let (mut render_now, mut force_now, mut choose) = (false, false, false);
+        let busy = self.job.is_some();
+        egui::Window::new("Render").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
+            ui.add_enabled_ui(!busy, |ui| {
+                egui::Grid::new("render settings").num_columns(2).show(ui, |ui| {
+                    self.settings_ui(ui, scene, playhead);
+                    let label = ui.label(if self.kind == RenderKind::Sequence { "Folder" } else { "File" }).id;
+                    ui.horizontal(|ui| {
+                        let field = egui::TextEdit::singleline(&mut self.output).desired_width(320.0);
+                        let _ = ui.add(field).labelled_by(label);
+                        choose = ui.button("Choose…").clicked();
+                    });
+                    ui.end_row();
+                });
+            });
+            ui.separator();
+            match &self.job {
+                Some(job) => job.worker.progress_ui(ui, "frames", "Preparing the cloth's shapes and the GPU"),
+                None => {
+                    let request = self.request(scene, playhead);
+                    if self.outcome.as_ref().is_some_and(|outcome| outcome.request != request) {
+                        self.outcome = None;
+                    }
+                    outcome_ui(ui, self.outcome.as_ref());
+                    ui.horizontal(|ui| {
+                        let ready = !self.output.trim().is_empty();
+                        render_now = ui.add_enabled(ready, egui::Button::new("Render")).clicked();
+                        let held_back = self.outcome.as_ref().is_some_and(|outcome| outcome.tone == Tone::HeldBack);
+                        if held_back && ui.button("Render anyway").clicked() {
+                            force_now = true;
+                        }
+                    });
+                }
+            }
+        });
+        if choose {
+            self.dialog = Some(self.output_dialog(&w.doc));
+        }
+        if let Some(dialog) = &mut self.dialog
+            && let Some(outcome) = dialog.show(ctx)
+        {
+            if let FileDialogOutcome::Picked(path) = outcome {
+                self.output = path.display().to_string();
+            }
+            self.dialog = None;
+        }
+        if render_now || force_now {
+            let scene = w.doc.scene();
+            let mut request = self.request(scene, playhead);
+            request.force = force_now;
+            self.outcome = None;
+            self.job = Some(start(scene.clone(), w.doc.path().map(Path::to_path_buf), request, ctx.clone()));
+        }
+        if !open {
+            // Closing the window cancels a render in progress.
+            if let Some(job) = &self.job {
+                job.worker.cancel();
+            }
+            self.open = false;
+        }
+        if self.job.is_some() {
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    /// The rows above the output: kind, frames, size, camera, style, pass,
+    /// alpha, plate and what else is shown.
+    fn settings_ui(&mut self, ui: &mut egui::Ui, scene: &Scene, playhead: i32) {
+        let timeline = &scene.timeline;
+        ui.label("Write");
+        ui.horizontal(|ui| {
+            let before = self.kind;
+            for kind in RenderKind::ALL {
+                ui.radio_value(&mut self.kind, kind, kind.label());
+            }
+            if self.kind != before {
+                self.output = output_for_kind(&self.output, self.kind);
+            }
+        });
+        ui.end_row();
+
+        ui.label("Frames");
+        ui.horizontal(|ui| {
+            if self.kind == RenderKind::Png {
+                ui.label(format!("{playhead} (the playhead)"));
+                return;
+            }
+            let range = timeline.start..=timeline.end;
+            ui.add(number_field(&mut self.first).range(range.clone()))
+                .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "First frame"));
+            ui.label("to");
+            ui.add(number_field(&mut self.last).range(range))
+                .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Last frame"));
+            self.last = self.last.max(self.first);
+            let count = self.last - self.first + 1;
+            ui.weak(format!("{count} frames, {:.2} s at {} fps", f64::from(count) / timeline.fps, timeline.fps));
+        });
+        ui.end_row();
+
+        ui.label("Size");
+        ui.horizontal(|ui| {
+            let before = self.size_px;
+            let sides = 1..=MAX_SIDE_PX;
+            ui.add(number_field(&mut self.size_px.0).range(sides.clone()))
+                .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Picture width"));
+            ui.label("×");
+            ui.add(number_field(&mut self.size_px.1).range(sides))
+                .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Picture height"));
+            ui.label("px");
+            if self.size_px != before {
+                self.size_auto = false;
+            }
+            let default = if self.shot && scene.camera.is_some() { "the camera's image size" } else { "default" };
+            if self.size_auto {
+                ui.weak(format!("({default})"));
+            } else if ui.small_button("Reset").on_hover_text(format!("Back to {default}")).clicked() {
+                self.size_auto = true;
+            }
+        });
+        ui.end_row();
+
+        ui.label("Camera");
+        ui.horizontal(|ui| {
+            let has_camera = scene.camera.is_some();
+            ui.radio_value(&mut self.shot, false, "View").on_hover_text(
+                "The scene's saved view, or one that frames every key (as `drape render --camera view`)",
+            );
+            ui.add_enabled_ui(has_camera, |ui| {
+                ui.radio_value(&mut self.shot, true, "Shot camera")
+                    .on_disabled_hover_text("The scene has no shot camera (View menu: Add camera from view)");
+            });
+        });
+        ui.end_row();
+
+        ui.label("Style");
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut self.toon, false, "Lit");
+            ui.radio_value(&mut self.toon, true, "Toon");
+        });
+        ui.end_row();
+
+        let png = self.kind.is_png();
+        ui.label("Pass");
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut self.shadow, false, "Cloth");
+            ui.add_enabled_ui(png, |ui| {
+                ui.radio_value(&mut self.shadow, true, "Shadow")
+                    .on_hover_text("The cloth's shadow on the ground alone, black with alpha")
+                    .on_disabled_hover_text("A GIF has no alpha channel: the shadow pass is written as PNGs");
+            });
+        });
+        ui.end_row();
+
+        ui.label("Alpha");
+        let alpha_possible = png && !self.shadow;
+        ui.add_enabled_ui(alpha_possible, |ui| {
+            // Disabled, it shows what the render does (no alpha), keeping the choice for later.
+            let mut shown = false;
+            let target = if alpha_possible { &mut self.alpha } else { &mut shown };
+            let text = "The cloth alone over transparency (straight alpha, as PNG stores it)";
+            ui.checkbox(target, text).on_disabled_hover_text("PNGs of the cloth pass only: a GIF has no alpha channel");
+        });
+        ui.end_row();
+
+        if scene.plate.is_some() {
+            ui.label("Plate");
+            let separate = png && (self.alpha || self.shadow);
+            ui.add_enabled_ui(!separate, |ui| {
+                let mut shown = false;
+                let target = if separate { &mut shown } else { &mut self.plate };
+                ui.checkbox(target, "Over the background plate").on_disabled_hover_text(
+                    "Alpha and shadow renders are the cloth or its shadow alone, to lay over the plate later",
+                );
+            });
+            ui.end_row();
+        }
+
+        ui.label("Show");
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.colliders, "Colliders");
+            ui.checkbox(&mut self.references, "References");
+        });
+        ui.end_row();
+    }
+
+    /// The file dialog for the output: a `.png` or `.gif` file, or for a
+    /// sequence the name of the folder the frames go into.
+    fn output_dialog(&self, doc: &Document) -> FileDialog {
+        let typed = Path::new(self.output.trim());
+        let dir = typed.parent().filter(|d| d.is_dir()).map(Path::to_path_buf).unwrap_or_else(|| doc.folder());
+        let name = typed.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let (title, extension) = match self.kind {
+            RenderKind::Png => ("Render to", "png"),
+            RenderKind::Gif => ("Render to", "gif"),
+            RenderKind::Sequence => ("Render the frames into the folder", ""),
+        };
+        FileDialog::new(FileDialogMode::Save, title, &dir, &name, extension)
+    }
+
+    /// Takes in a finished render: what it wrote, or why not.
+    fn finish(&mut self, w: &mut Workspace) {
+        let Some(job) = self.job.take_if(|job| job.worker.is_finished()) else { return };
+        let (text, tone) = match job.worker.join().0 {
+            Ok(Ok(summary)) => {
+                let text = summary_text(&summary);
+                w.report(text.clone(), false);
+                let warnings: String = summary.warnings.iter().map(|warning| format!("\nNote: {warning}.")).collect();
+                (text + &warnings, Tone::Note)
+            }
+            Ok(Err(RenderJobError::Cancelled)) => ("Cancelled; nothing was written.".to_owned(), Tone::Note),
+            Ok(Err(RenderJobError::TooLarge(reason))) => (format!("Not rendered: {reason}."), Tone::HeldBack),
+            Ok(Err(error)) => (format!("Could not render: {error}."), Tone::Error),
+            Err(_) => ("The render stopped unexpectedly; nothing was written.".to_owned(), Tone::Error),
+        };
+        // Compared with the settings as they are next frame: held without `force`.
+        let request = RenderRequest { force: false, ..job.request };
+        self.outcome = Some(Outcome { text, tone, request });
+    }
+}
+
+/// What a finished render wrote, in a sentence.
+fn summary_text(summary: &RenderSummary) -> String {
+    let (width, height) = summary.size_px;
+    let frames = match summary.frame_count() {
+        1 => format!("frame {}", summary.frames.start()),
+        count => format!("{count} frames ({}..{})", summary.frames.start(), summary.frames.end()),
+    };
+    format!(
+        "Rendered {frames} at {width}×{height} to {} in {:.1} s",
+        summary.output.display(),
+        summary.elapsed.as_secs_f64()
+    )
+}
+
+/// The last render's result: a note in the text colour, a problem in the error colour.
+fn outcome_ui(ui: &mut egui::Ui, outcome: Option<&Outcome>) {
+    let Some(Outcome { text, tone, .. }) = outcome else { return };
+    let color = match tone {
+        Tone::Note => ui.visuals().text_color(),
+        Tone::Error => ui.visuals().error_fg_color,
+        Tone::HeldBack => ui.visuals().warn_fg_color,
+    };
+    ui.colored_label(color, text);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn changing_the_kind_changes_the_extension() {
+        assert_eq!(output_for_kind("/a/carpet.png", RenderKind::Gif), "/a/carpet.gif");
+        assert_eq!(output_for_kind("/a/carpet.gif", RenderKind::Sequence), "/a/carpet");
+        assert_eq!(output_for_kind("/a/carpet", RenderKind::Png), "/a/carpet.png");
+        assert_eq!(output_for_kind("  ", RenderKind::Png), "");
+    }
+
+    #[test]
+    fn alpha_and_shadow_are_for_pngs_and_leave_out_the_plate() {
+        let scene = crate::scene::parse(include_str!("../../scenes/magic_carpet.ron"), "magic_carpet.ron").unwrap();
+        let mut window =
+            RenderWindow { kind: RenderKind::Gif, alpha: true, output: "x.gif".into(), ..Default::default() };
+        let request = window.request(&scene, 5);
+        assert!(!request.overlays.alpha && request.plate == scene.plate.is_some(), "{request:?}");
+        assert_eq!(request.frames, 0..=0, "a GIF renders the chosen range");
+        window.kind = RenderKind::Png;
+        let request = window.request(&scene, 5);
+        assert!(request.overlays.alpha && !request.plate);
+        assert_eq!(request.frames, 5..=5, "a still renders the playhead");
+        window.shadow = true;
+        let request = window.request(&scene, 5);
+        assert!(request.overlays.shadow_pass && !request.overlays.alpha && !request.plate);
+    }
+}
