@@ -282,10 +282,27 @@ fn open_editor(path: Option<PathBuf>, quit_after_frames: Option<u64>) -> Result<
                 (drape::editor::files::new_scene(), None, Some(format!("Could not open the scene:\n{error}")))
             }
         },
-        None => (scene::parse(drape::editor::DEFAULT_SCENE, "magic_carpet.ron")?, None, None),
+        None => {
+            let mut scene = scene::parse(drape::editor::DEFAULT_SCENE, "magic_carpet.ron")?;
+            locate_bundled_plate(&mut scene);
+            (scene, None, None)
+        }
     };
     drape::editor::run(scene, path, quit_after_frames, problem)
         .map_err(|e| anyhow!("the editor window could not run: {e}"))
+}
+
+/// The default scene is the bundled magic carpet, unsaved: its plate's
+/// path, relative to `scenes/`, is made absolute in the source tree Drape
+/// was built from; where that tree is gone the scene opens without a plate.
+fn locate_bundled_plate(scene: &mut scene::Scene) {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let Some(plate) = &mut scene.plate else { return };
+    let path = scenes.join(&plate.file);
+    match path.canonicalize() {
+        Ok(found) => plate.file = found.display().to_string(),
+        Err(_) => scene.plate = None,
+    }
 }
 
 /// Mesa's Vulkan driver probes for a Wayland display when the device opens,
@@ -716,8 +733,7 @@ fn check_size(estimate: &drape::export::SizeEstimate, output: &Path, force: bool
     if force {
         return Ok(());
     }
-    drape::export::check_export_size(estimate, output, drape::export::MAX_EXPORT_BYTES)
-        .map_err(force_hint)
+    drape::export::check_export_size(estimate, output, drape::export::MAX_EXPORT_BYTES).map_err(force_hint)
 }
 
 /// A refusal of an output's size, saying how to write it anyway.

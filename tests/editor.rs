@@ -1824,8 +1824,53 @@ fn looking_through_the_camera_shows_the_plate_behind_the_cloth() {
     harness.get_by_role_and_label(Role::Button, "Camera").click();
     harness.run_ok();
     harness.run_ok();
-    // Found, or it panics.
-    harness.get_by_label_contains("plate: there is no image \"../assets/magic_carpet_plate.png\"");
+    let said = harness.query_all_by_label_contains("plate: there is no image \"../assets/magic_carpet_plate.png\"");
+    assert_eq!(said.count(), 2, "in the camera's frame and in the Shot panel");
+}
+
+/// The Shot panel edits the carpet's camera and plate: a lens typed in is one
+/// undo step, a number keyed at 0 and moved at 48 is keyed at both with its
+/// curve below, the picture size and frame offset are whole numbers, and
+/// removing the plate is undone like any edit.
+#[test]
+fn the_shot_panel_edits_the_camera_and_the_plate() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    let opened = harness.state().scene().clone();
+    assert!(harness.query_by_label_contains("54.4° across").is_some(), "the lens's field of view");
+    harness.get_by_role_and_label(Role::SpinButton, "focal length").set_value_accesskit(50.0);
+    harness.run_ok();
+    let camera = harness.state().scene().camera.clone().unwrap();
+    assert_eq!(camera.focal_length_mm, scene::Param::Constant(50.0));
+    assert_eq!(harness.state().document().undo_label(), Some("Shot focal length"));
+    assert!(harness.query_by_label_contains("39.6° across").is_some(), "the new field of view");
+
+    harness.get_by_label("Key shot target y").click();
+    harness.run_ok();
+    harness.state_mut().set_frame(48.0);
+    harness.run_ok();
+    harness.get_by_role_and_label(Role::SpinButton, "target y").set_value_accesskit(1.5);
+    harness.run_ok();
+    let keys: Vec<(i32, f64)> = match &harness.state().scene().camera.as_ref().unwrap().target.1 {
+        scene::Param::Keys(keys) => keys.iter().map(|k| (k.frame, k.value)).collect(),
+        other => panic!("not keyed: {other:?}"),
+    };
+    assert_eq!(keys, [(0, 0.95), (48, 1.5)]);
+    assert!(harness.query_by_label("Curve of position z").is_some(), "the first keyed number's curve");
+    click_scrolled(&mut harness, "Show the target y curve");
+    assert!(harness.query_by_label("Curve of target y").is_some(), "the chosen number's curve");
+
+    harness.get_by_role_and_label(Role::SpinButton, "Frame offset").set_value_accesskit(12.0);
+    harness.run_ok();
+    assert_eq!(harness.state().scene().plate.as_ref().unwrap().frame_offset, 12);
+    click_scrolled(&mut harness, "Remove plate");
+    assert!(harness.state().scene().plate.is_none());
+    for _ in 0..5 {
+        harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+        harness.run_ok();
+    }
+    assert_eq!(harness.state().scene(), &opened, "every step undone");
+    settle(&mut harness);
 }
 
 /// File ▸ Render…: a PNG sequence of three frames with alpha into a folder

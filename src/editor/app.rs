@@ -339,7 +339,7 @@ impl DrapeApp {
                 if ui.add_enabled(copied, egui::Button::new("Paste pin positions").shortcut_text("Ctrl+V")).clicked() {
                     self.work.paste_pins(None);
                 }
-                if ui.add_enabled(selected, egui::Button::new("Mirror pins (x ↔ −x)")).clicked() {
+                if ui.add_enabled(selected, egui::Button::new("Mirror pins (x to −x)")).clicked() {
                     self.work.mirror_selected_pins();
                 }
             });

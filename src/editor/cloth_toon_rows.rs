@@ -33,7 +33,7 @@ fn color_button(ui: &mut egui::Ui, color: SrgbColor, label: &str) -> Option<Srgb
 /// The Toon rows, collapsed by default so the panel keeps its length.
 pub(super) fn toon_section_ui(ui: &mut egui::Ui, w: &mut Workspace) {
     egui::CollapsingHeader::new("Toon style").id_salt("toon").show(ui, |ui| {
-        ui.weak("How View ▸ Style ▸ Toon and `drape render --style toon` draw the cloth.");
+        ui.weak("How the View menu's Toon and `drape render --style toon` draw the cloth.");
         let toon = w.doc.scene().cloth.toon.clone();
         egui::Grid::new("toon").num_columns(2).show(ui, |ui| {
             ui.label("Bands").on_hover_text("Flat tones from the key light: lit and shadow, or lit, half and shadow");

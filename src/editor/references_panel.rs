@@ -440,8 +440,9 @@ fn holding_pins(scene: &Scene, index: usize) -> Option<String> {
     Some(format!("Cannot remove {label}: {count} {listed}{more} of {keys} {verb} attached to it. Detach {them} first."))
 }
 
-/// Renames reference `index` (one undo step); pins attached to it by its
-/// old name follow it, so the rename keeps them attached.
+/// Renames reference `index` (one undo step); pins attached to it, the
+/// cloth following it and the shot camera following its camera name it
+/// anew, so the rename keeps them.
 fn rename(w: &mut Workspace, index: usize, name: String) {
     let Some(old) = w.doc.scene().references.get(index).map(|r| r.name.clone()) else { return };
     let sole = w.doc.scene().references.iter().filter(|r| r.name == old).count() == 1;
@@ -449,6 +450,13 @@ fn rename(w: &mut Workspace, index: usize, name: String) {
         s.references[index].name = name.clone();
         if !sole {
             return;
+        }
+        if let Some(follow) = s.follow.as_mut().filter(|f| f.reference == old) {
+            follow.reference = name.clone();
+        }
+        let camera = s.camera.as_mut().and_then(|c| c.from_reference.as_mut());
+        if let Some(source) = camera.filter(|c| c.reference == old) {
+            source.reference = name.clone();
         }
         let pins = s.keys.iter_mut().flat_map(|k| k.pins.iter_mut());
         for attachment in pins.filter_map(|p| p.attach.as_mut()).filter(|a| a.reference() == old) {
@@ -499,6 +507,27 @@ fn reference_dialog(w: &Workspace) -> FileDialog {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The cape's pins hang on the walker; renamed, they, the cloth's follow
+    /// and a camera following one of its cameras go on naming it.
+    #[test]
+    fn a_rename_carries_what_names_the_reference() {
+        let mut w = Workspace::new(crate::scene::load(Path::new("scenes/cape.ron")).unwrap(), None);
+        w.apply("setup", |s| {
+            s.follow = Some(crate::scene::Follow { reference: "walker".into(), node: "hips".into() });
+            if let Some(camera) = &mut s.camera {
+                camera.from_reference =
+                    Some(crate::scene::ReferenceCamera { reference: "walker".into(), camera: "Cam".into() });
+            }
+        });
+        rename(&mut w, 0, "hero".to_owned());
+        let scene = w.doc.scene();
+        assert_eq!(scene.references[0].name, "hero");
+        assert!(
+            scene.keys.iter().flat_map(|k| &k.pins).filter_map(|p| p.attach.as_ref()).all(|a| a.reference() == "hero")
+        );
+        assert_eq!(scene.follow.as_ref().map(|f| f.reference.as_str()), Some("hero"));
+    }
 
     fn walker() -> Reference {
         let rig = read_rig(Path::new("assets/walker.glb")).expect("the bundled walker");

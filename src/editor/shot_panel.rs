@@ -39,12 +39,12 @@ impl ShotPanel {
         let scene = w.doc.scene().clone();
         match &scene.camera {
             None => {
-                ui.weak("No shot camera. View ▸ Add camera from view sets one where the viewport looks from.");
+                ui.weak("No shot camera. The View menu's Add camera from view sets one where the viewport looks from.");
             }
             Some(camera) => {
                 ui.horizontal(|ui| {
                     ui.strong("Camera");
-                    if ui.small_button("Remove").on_hover_text("The scene without a shot camera").clicked() {
+                    if ui.small_button("Remove camera").on_hover_text("The scene without a shot camera").clicked() {
                         w.apply("Remove camera", |s| s.camera = None);
                     }
                 });
@@ -52,17 +52,33 @@ impl ShotPanel {
                     crate::animate::track::sample(&camera.focal_length_mm, f64::from(frame)),
                     crate::animate::track::sample(&camera.sensor_width_mm, f64::from(frame)),
                 );
-                ui.weak(format!("Values at frame {frame}: {lens:.1}° across."));
+                if camera.from_reference.is_none() {
+                    ui.weak(format!("Values at frame {frame}: {lens:.1}° across."));
+                }
                 image_size_ui(ui, w, camera.image_size);
             }
         }
         let shown = self.curve.shown_for_shot(&scene);
-        if scene.camera.is_some() {
-            egui::Grid::new("shot camera numbers").num_columns(4).show(ui, |ui| {
-                for number in ShotNumber::CAMERA {
-                    self.number_row_ui(ui, w, &scene, frame, number, shown);
-                }
-            });
+        match scene.camera.as_ref().map(|c| &c.from_reference) {
+            None => {}
+            // Its own numbers are not used while it follows a glTF camera: only the sensor is.
+            Some(Some(source)) => {
+                ui.weak(format!(
+                    "Follows camera {:?} of reference {:?}: it moves and zooms as that one does. \
+                     The View menu's Detach camera from reference makes it a camera of its own.",
+                    source.camera, source.reference
+                ));
+                egui::Grid::new("shot camera numbers").num_columns(4).show(ui, |ui| {
+                    self.number_row_ui(ui, w, &scene, frame, ShotNumber::SensorWidth, shown);
+                });
+            }
+            Some(None) => {
+                egui::Grid::new("shot camera numbers").num_columns(4).show(ui, |ui| {
+                    for number in ShotNumber::CAMERA {
+                        self.number_row_ui(ui, w, &scene, frame, number, shown);
+                    }
+                });
+            }
         }
         ui.add_space(6.0);
         self.plate_ui(ui, w, &scene, frame, shown);
@@ -104,12 +120,13 @@ impl ShotPanel {
         };
         ui.horizontal(|ui| {
             ui.strong("Plate");
-            if ui.small_button("Remove").on_hover_text("The scene without a background plate").clicked() {
+            if ui.small_button("Remove plate").on_hover_text("The scene without a background plate").clicked() {
                 w.apply("Remove plate", |s| s.plate = None);
             }
         });
         ui.horizontal(|ui| {
-            ui.label("File");
+            // Not "File": the menu bar's File must stay the one widget of that name.
+            ui.label("Image");
             let width = (ui.available_width() - CHOOSE_WIDTH).max(40.0);
             let label = egui::Label::new(egui::RichText::new(&plate.file).monospace()).truncate();
             ui.add_sized([width, 18.0], label).on_hover_text(&plate.file);
