@@ -6,26 +6,14 @@ low moon, far hills with a domed city, near dunes with lit crests - over a
 faint brush grain. Run from anywhere with numpy: /usr/bin/python3 make_plate.py.
 """
 import os
-import struct
-import zlib
 
 import numpy as np
+
+from make_textures import write_png
 
 WIDTH, HEIGHT = 1280, 720
 HERE = os.path.dirname(os.path.abspath(__file__))
 RNG = np.random.default_rng(1001)
-
-
-def write_png(path, rgb):
-    height, width, _ = rgb.shape
-    raw = b"".join(b"\x00" + rgb[y].astype(np.uint8).tobytes() for y in range(height))
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-
-    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
 def rgb(hex_colour):
