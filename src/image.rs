@@ -10,6 +10,18 @@ pub struct RgbaImage {
     pub pixels: Vec<u8>,
 }
 
+/// Most pixels a decoded picture may have (8192 × 8192: 256 MiB as RGBA):
+/// a file claiming more is refused before anything is allocated for it.
+pub const MAX_DECODED_PIXELS: u64 = 8192 * 8192;
+
+/// Refuses a `width × height` picture over [`MAX_DECODED_PIXELS`].
+fn check_size(width: u32, height: u32) -> Result<(), String> {
+    if u64::from(width) * u64::from(height) > MAX_DECODED_PIXELS {
+        return Err(format!("{width} × {height} pixels is more than Drape reads (8192 × 8192 at most)"));
+    }
+    Ok(())
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
     #[error("not a PNG Drape can read: {0}")]
@@ -67,6 +79,10 @@ impl RgbaImage {
             use zune_core::options::DecoderOptions;
             let options = DecoderOptions::default().jpeg_set_out_colorspace(ColorSpace::RGBA);
             let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
+            decoder.decode_headers().map_err(|error| format!("not a readable JPEG ({error:?})"))?;
+            if let Some(info) = decoder.info() {
+                check_size(u32::from(info.width), u32::from(info.height))?;
+            }
             let rgba = decoder.decode().map_err(|error| format!("not a readable JPEG ({error:?})"))?;
             let info = decoder.info().ok_or("not a readable JPEG (no size)")?;
             let (width, height) = (u32::from(info.width), u32::from(info.height));
@@ -80,6 +96,8 @@ impl RgbaImage {
         let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
         decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
         let mut reader = decoder.read_info().map_err(|e| ImageError::Decode(e.to_string()))?;
+        let header = reader.info();
+        check_size(header.width, header.height).map_err(ImageError::Decode)?;
         let size = reader.output_buffer_size().ok_or_else(|| ImageError::Decode("image too large".into()))?;
         let mut buffer = vec![0; size];
         let info = reader.next_frame(&mut buffer).map_err(|e| ImageError::Decode(e.to_string()))?;
@@ -112,6 +130,37 @@ impl RgbaImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_picture_claiming_too_many_pixels_is_refused_before_it_is_read() {
+        // A PNG header for 30 000 × 30 000 (3.6 GB as RGBA), and no pixels.
+        let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+        let mut ihdr = b"IHDR".to_vec();
+        ihdr.extend(30_000u32.to_be_bytes());
+        ihdr.extend(30_000u32.to_be_bytes());
+        ihdr.extend([8, 6, 0, 0, 0]);
+        png.extend(13u32.to_be_bytes());
+        png.extend(&ihdr);
+        png.extend(crc32(&ihdr).to_be_bytes());
+        for kind in [b"IDAT", b"IEND"] {
+            png.extend(0u32.to_be_bytes());
+            png.extend(kind);
+            png.extend(crc32(kind).to_be_bytes());
+        }
+        let error = RgbaImage::decode(&png, None).unwrap_err();
+        assert!(error.contains("30000 × 30000 pixels is more than Drape reads"), "{error}");
+    }
+
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = 0xFFFF_FFFFu32;
+        for &byte in bytes {
+            crc ^= u32::from(byte);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+            }
+        }
+        !crc
+    }
 
     #[test]
     fn premultiplied_edges_come_back_straight() {
