@@ -66,6 +66,8 @@ pub(super) struct RenderWindow {
     plate: bool,
     colliders: bool,
     references: bool,
+    /// What `drape render` draws with --wireframe, --pins, --catenaries, --triangulation.
+    overlays: [bool; 4],
     output: String,
     dialog: Option<FileDialog>,
     job: Option<Job>,
@@ -88,6 +90,7 @@ impl Default for RenderWindow {
             plate: true,
             colliders: true,
             references: true,
+            overlays: [false; 4],
             output: String::new(),
             dialog: None,
             job: None,
@@ -152,7 +155,12 @@ impl RenderWindow {
             RenderKind::Png => playhead..=playhead,
             RenderKind::Sequence | RenderKind::Gif => self.first..=self.last,
         };
+        let [wireframe, pins, catenaries, triangulation] = self.overlays;
         let overlays = SceneOverlays {
+            wireframe,
+            pins,
+            catenaries,
+            triangulation,
             hide_colliders: !self.colliders,
             hide_references: !self.references,
             view_camera: !(self.shot && scene.camera.is_some()),
@@ -362,6 +370,16 @@ impl RenderWindow {
             ui.checkbox(&mut self.references, "References");
         });
         ui.end_row();
+
+        ui.label("Overlays");
+        ui.horizontal_wrapped(|ui| {
+            let [wireframe, pins, catenaries, triangulation] = &mut self.overlays;
+            ui.checkbox(wireframe, "Wireframe");
+            ui.checkbox(pins, "Pins");
+            ui.checkbox(catenaries, "Catenaries").on_hover_text("The key's catenary network, conflicts in magenta");
+            ui.checkbox(triangulation, "Triangulation").on_hover_text("The key's triangulation of its pins");
+        });
+        ui.end_row();
     }
 
     /// The file dialog for the output: a `.png` or `.gif` file, or for a
@@ -451,5 +469,14 @@ mod tests {
         window.shadow = true;
         let request = window.request(&scene, 5);
         assert!(request.overlays.shadow_pass && !request.overlays.alpha && !request.plate);
+    }
+
+    #[test]
+    fn overlays_are_asked_for_as_drape_render_s_flags_ask() {
+        let scene = crate::scene::parse(include_str!("../../scenes/magic_carpet.ron"), "magic_carpet.ron").unwrap();
+        let window = RenderWindow { overlays: [true, false, true, false], ..Default::default() };
+        let overlays = window.request(&scene, 0).overlays;
+        assert!(overlays.wireframe && !overlays.pins && overlays.catenaries && !overlays.triangulation);
+        assert!(!RenderWindow::default().request(&scene, 0).overlays.wireframe, "none by default");
     }
 }
