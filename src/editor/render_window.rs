@@ -167,7 +167,6 @@ impl RenderWindow {
             alpha,
             shadow_pass: shadow,
             toon: self.toon,
-            ..SceneOverlays::default()
         };
         let mut request = RenderRequest::new(self.kind, PathBuf::from(self.output.trim()), frames, self.size_px);
         request.overlays = overlays;
