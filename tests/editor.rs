@@ -843,6 +843,18 @@ fn a_number_typed_and_tabbed_in_one_frame_lands_in_its_field() {
     click_at(&mut harness, field, Modifiers::NONE);
     in_one_frame(&mut harness, vec![Event::Text("99".into()), key_event(Key::Escape)]);
     assert_eq!(harness.state().scene().timeline.fps, fps);
+
+    // A unit after the number is read; text that is no number keeps the value, and says so.
+    for (typed, expected) in [("25 fps", 25.0), ("2.51.0", 25.0)] {
+        settle(&mut harness);
+        let field = spin(&mut harness, "fps");
+        click_at(&mut harness, field, Modifiers::NONE);
+        in_one_frame(&mut harness, vec![Event::Text(typed.into()), key_event(Key::Enter)]);
+        harness.run_ok();
+        let said: Vec<String> = harness.query_all_by_label_contains("not a number").map(|n| format!("{n:?}")).collect();
+        assert_eq!(harness.state().scene().timeline.fps, expected, "{typed}: {said:?}");
+    }
+    assert!(harness.query_by_label_contains("“2.51.0” is not a number").is_some(), "said in the status bar");
 }
 
 /// Whether the centre of the shown cloth is drawn inside the viewport.

@@ -613,6 +613,11 @@ impl eframe::App for DrapeApp {
             ctx.request_repaint_after(Duration::from_millis(50));
         }
         self.files.autosave(&ctx, &mut self.work);
+        // A number field kept its value because what was typed was no number: say so.
+        if let Some(text) = super::number_field::take_refused() {
+            self.work.report(format!("“{text}” is not a number: the field kept its value."), true);
+            ctx.request_repaint();
+        }
         self.frames_drawn += 1;
         if self.quit_after_frames.is_some_and(|n| self.frames_drawn >= n) {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
