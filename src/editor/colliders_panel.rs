@@ -9,15 +9,12 @@ use std::sync::Arc;
 use eframe::egui;
 
 use super::curve_view::{Curve, CurveView};
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
 use super::workspace::Workspace;
 use crate::scene::{
     Collider, ColliderNumber, LoadedMesh, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
 };
-
-/// Room kept beside a mesh's file name for its Choose… button, points.
-const CHOOSE_WIDTH: f32 = 100.0;
 
 /// The Colliders panel's own state: the file dialog picking a mesh (for a
 /// new collider, or the one at an index). Which collider's numbers it shows
@@ -64,18 +61,10 @@ impl CollidersPanel {
         }
         let Some(index) = w.session.selected_collider.filter(|i| *i < colliders.len()) else { return };
         ui.separator();
-        if let Collider::Mesh(mesh) = &colliders[index] {
-            ui.horizontal(|ui| {
-                ui.label("File");
-                let shown = if mesh.file.is_empty() { "none".to_owned() } else { mesh.file.clone() };
-                // A fixed share of the panel, so a long path is cut (whole on hover) instead of widening it.
-                let width = (ui.available_width() - CHOOSE_WIDTH).max(40.0);
-                let label = egui::Label::new(egui::RichText::new(shown).monospace()).truncate();
-                ui.add_sized([width, 18.0], label).on_hover_text(&mesh.file);
-                if ui.button("Choose…").on_hover_text("Read the mesh from another OBJ or glTF file").clicked() {
-                    self.mesh_dialog = Some((mesh_dialog(w), Some(index)));
-                }
-            });
+        if let Collider::Mesh(mesh) = &colliders[index]
+            && file_row_ui(ui, "File", &mesh.file, "Read the mesh from another OBJ or glTF file")
+        {
+            self.mesh_dialog = Some((mesh_dialog(w), Some(index)));
         }
         self.details_ui(ui, w, index, &colliders[index]);
     }

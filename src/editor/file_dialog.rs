@@ -636,6 +636,25 @@ impl FileDialog {
     }
 }
 
+/// Room kept beside a file's name for its Choose… button, points.
+const CHOOSE_WIDTH: f32 = 100.0;
+
+/// A panel's row for a file it names: `label`, the name (cut to the panel,
+/// whole on hover; "none" when empty) and Choose… with `hint`; returns
+/// whether Choose… was clicked (the caller opens its dialog).
+pub fn file_row_ui(ui: &mut egui::Ui, label: &str, file: &str, hint: &str) -> bool {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        let shown = if file.is_empty() { "none" } else { file };
+        // A fixed share of the panel, so a long path is cut instead of widening it.
+        let width = (ui.available_width() - CHOOSE_WIDTH).max(40.0);
+        let name = egui::Label::new(egui::RichText::new(shown).monospace()).truncate();
+        ui.add_sized([width, 18.0], name).on_hover_text(file);
+        ui.button("Choose…").on_hover_text(hint).clicked()
+    })
+    .inner
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -111,14 +111,13 @@ impl PlateView {
 
     /// Scans the plate's files again when the plate or the scene's folder changed.
     fn rescan_if_changed(&mut self, plate: &Plate, folder: &Path) {
-        let same = self.scanned.as_ref().is_some_and(|(p, f)| p.file == plate.file && f == folder)
-            && self.scanned.as_ref().is_some_and(|(p, _)| p.frame_offset == plate.frame_offset);
-        if same {
+        let same_files = self.scanned.as_ref().is_some_and(|(p, f)| p.file == plate.file && f == folder);
+        if same_files && self.scanned.as_ref().is_some_and(|(p, _)| p.frame_offset == plate.frame_offset) {
             return;
         }
         let files = PlateFiles::scan(plate, folder);
         // Pictures of files that are still named stay; a new file name starts afresh.
-        if self.scanned.as_ref().is_none_or(|(p, f)| p.file != plate.file || f != folder) {
+        if !same_files {
             self.cache.clear();
             self.failed.clear();
         }

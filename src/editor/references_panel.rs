@@ -13,7 +13,7 @@ use std::sync::Arc;
 use eframe::egui;
 
 use super::curve_view::{Curve, CurveView, ReferenceNumber};
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
 use super::number_field::number_field;
 use super::param_edit::set_at_keying;
@@ -25,8 +25,6 @@ use crate::scene::{
 };
 use crate::world::rig::Rig;
 
-/// Room kept beside the file name for its Choose… button, points.
-const CHOOSE_WIDTH: f32 = 100.0;
 /// Room kept beside a name field for the row's switch and ×, points.
 const ROW_BUTTONS_WIDTH: f32 = 56.0;
 
@@ -242,16 +240,9 @@ impl ReferencesPanel {
 
     /// The file's name (cut to the panel, whole on hover) and Choose… to read another.
     fn file_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &Reference) {
-        ui.horizontal(|ui| {
-            ui.label("File");
-            // A fixed share of the panel, so a long path is cut instead of widening it.
-            let width = (ui.available_width() - CHOOSE_WIDTH).max(40.0);
-            let label = egui::Label::new(egui::RichText::new(&reference.file).monospace()).truncate();
-            ui.add_sized([width, 18.0], label).on_hover_text(&reference.file);
-            if ui.button("Choose…").on_hover_text("Read the reference from another glTF file").clicked() {
-                self.dialog = Some((reference_dialog(w), Some(index)));
-            }
-        });
+        if file_row_ui(ui, "File", &reference.file, "Read the reference from another glTF file") {
+            self.dialog = Some((reference_dialog(w), Some(index)));
+        }
     }
 }
 

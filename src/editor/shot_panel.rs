@@ -8,17 +8,14 @@ use std::path::{Path, PathBuf};
 use eframe::egui;
 
 use super::curve_view::{Curve, CurveView, ShotNumber};
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
 use super::number_field::number_field;
 use super::workspace::Workspace;
 use crate::scene::{
     MAX_IMAGE_SIDE_PX, MAX_LENS_MM, MAX_PIN_COORD_M, MAX_PLATE_FRAME_OFFSET, Param, Plate, PlateFiles, PlatePattern,
-    Scene, frame_list, horizontal_fov_deg,
+    frame_list, horizontal_fov_deg,
 };
-
-/// Room kept beside the plate's file name for its Choose… button, points.
-const CHOOSE_WIDTH: f32 = 100.0;
 
 /// The Shot panel's own state: the plate's file dialog, the curve shown,
 /// and what was last found of the plate's files.
@@ -36,8 +33,10 @@ impl ShotPanel {
         ui.heading("Shot");
         self.dialog_ui(ui.ctx(), w);
         let frame = w.frame().round() as i32;
-        let scene = w.doc.scene().clone();
-        match &scene.camera {
+        // Only what the panel shows is copied, not the scene: the rows edit through `w`.
+        let (camera, plate) = (w.doc.scene().camera.clone(), w.doc.scene().plate.clone());
+        let shown = self.curve.shown_for_shot(w.doc.scene());
+        match &camera {
             None => {
                 ui.weak("No shot camera. The View menu's Add camera from view sets one where the viewport looks from.");
             }
@@ -58,8 +57,7 @@ impl ShotPanel {
                 image_size_ui(ui, w, camera.image_size);
             }
         }
-        let shown = self.curve.shown_for_shot(&scene);
-        match scene.camera.as_ref().map(|c| &c.from_reference) {
+        match camera.as_ref().map(|c| &c.from_reference) {
             None => {}
             // Its own numbers are not used while it follows a glTF camera: only the sensor is.
             Some(Some(source)) => {
@@ -69,37 +67,31 @@ impl ShotPanel {
                     source.camera, source.reference
                 ));
                 egui::Grid::new("shot camera numbers").num_columns(4).show(ui, |ui| {
-                    self.number_row_ui(ui, w, &scene, frame, ShotNumber::SensorWidth, shown);
+                    self.number_row_ui(ui, w, frame, ShotNumber::SensorWidth, shown);
                 });
             }
             Some(None) => {
                 egui::Grid::new("shot camera numbers").num_columns(4).show(ui, |ui| {
                     for number in ShotNumber::CAMERA {
-                        self.number_row_ui(ui, w, &scene, frame, number, shown);
+                        self.number_row_ui(ui, w, frame, number, shown);
                     }
                 });
             }
         }
         ui.add_space(6.0);
-        self.plate_ui(ui, w, &scene, frame, shown);
-        if shown.param(&scene).is_some() {
+        self.plate_ui(ui, w, plate.as_ref(), frame, shown);
+        if shown.param(w.doc.scene()).is_some() {
             self.curve.plot_ui(ui, w, shown);
         }
     }
 
     /// One animatable number: its row, and the button showing its curve.
-    fn number_row_ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        w: &mut Workspace,
-        scene: &Scene,
-        frame: i32,
-        number: ShotNumber,
-        shown: Curve,
-    ) {
-        let Some(param) = number.param(scene) else { return };
+    fn number_row_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, frame: i32, number: ShotNumber, shown: Curve) {
+        let Some(param) = number.param(w.doc.scene()).cloned() else { return };
         let owner = Owner { diamond_prefix: "shot ", noun: "Shot" };
-        keyed_number_row_ui(ui, w, frame, owner, &number.label(), param, number_range(number), |s| number.param_mut(s));
+        keyed_number_row_ui(ui, w, frame, owner, &number.label(), &param, number_range(number), |s| {
+            number.param_mut(s)
+        });
         let curve = Curve::Shot(number);
         self.curve.button_ui(ui, curve, shown == curve);
         ui.end_row();
@@ -107,8 +99,8 @@ impl ShotPanel {
 
     /// The plate: Add plate… without one; with one its file, what was found
     /// of it, its frame offset and opacity.
-    fn plate_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, scene: &Scene, frame: i32, shown: Curve) {
-        let Some(plate) = &scene.plate else {
+    fn plate_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, plate: Option<&Plate>, frame: i32, shown: Curve) {
+        let Some(plate) = plate else {
             ui.horizontal(|ui| {
                 let hint = "A picture, or a numbered sequence of them (PNG or JPEG), behind the cloth \
                             through the shot camera";
@@ -124,16 +116,10 @@ impl ShotPanel {
                 w.apply("Remove plate", |s| s.plate = None);
             }
         });
-        ui.horizontal(|ui| {
-            // Not "File": the menu bar's File must stay the one widget of that name.
-            ui.label("Image");
-            let width = (ui.available_width() - CHOOSE_WIDTH).max(40.0);
-            let label = egui::Label::new(egui::RichText::new(&plate.file).monospace()).truncate();
-            ui.add_sized([width, 18.0], label).on_hover_text(&plate.file);
-            if ui.button("Choose…").on_hover_text("Another picture or sequence").clicked() {
-                self.dialog = Some(plate_dialog(w));
-            }
-        });
+        // Not "File": the menu bar's File must stay the one widget of that name.
+        if file_row_ui(ui, "Image", &plate.file, "Another picture or sequence") {
+            self.dialog = Some(plate_dialog(w));
+        }
         ui.weak(self.plate_summary(w, plate));
         ui.horizontal(|ui| {
             let label = ui.label("Frame offset").id;
@@ -149,7 +135,7 @@ impl ShotPanel {
             }
         });
         egui::Grid::new("plate numbers").num_columns(4).show(ui, |ui| {
-            self.number_row_ui(ui, w, scene, frame, ShotNumber::PlateOpacity, shown);
+            self.number_row_ui(ui, w, frame, ShotNumber::PlateOpacity, shown);
         });
     }
 

@@ -64,11 +64,16 @@ pub fn shot_look_at(scene: &Scene, camera: &ShotCamera, frame: f64) -> ShotLook 
             from_reference: true,
         };
     }
+    own_look(camera, frame)
+}
+
+/// `camera`'s own numbers at `frame`, whatever it follows.
+fn own_look(camera: &ShotCamera, frame: f64) -> ShotLook {
     ShotLook {
         position: sample_vec3(&camera.position, frame),
         target: sample_vec3(&camera.target, frame),
         focal_length_mm: sample(&camera.focal_length_mm, frame),
-        sensor_width_mm,
+        sensor_width_mm: sample(&camera.sensor_width_mm, frame),
         roll_deg: 0.0,
         from_reference: false,
     }
@@ -92,15 +97,7 @@ const MAX_PITCH_DEG: f64 = 89.9;
 /// It does not look at `from_reference`, which needs the scene:
 /// [`scene_shot_camera_at`] does.
 pub fn shot_camera_at(camera: &ShotCamera, frame: f64, size_px: (u32, u32)) -> OrbitCamera {
-    let look = ShotLook {
-        position: sample_vec3(&camera.position, frame),
-        target: sample_vec3(&camera.target, frame),
-        focal_length_mm: sample(&camera.focal_length_mm, frame),
-        sensor_width_mm: sample(&camera.sensor_width_mm, frame),
-        roll_deg: 0.0,
-        from_reference: false,
-    };
-    look_camera(&look, size_px)
+    look_camera(&own_look(camera, frame), size_px)
 }
 
 /// The renderer's camera that looks as `look` does, picturing `size_px`.
