@@ -543,12 +543,7 @@ impl DrapeApp {
 
     /// `tent.ron* — /path/to — Drape`: the star marks unsaved changes.
     pub fn title(&self) -> String {
-        let dirty = if self.work.doc.is_dirty() { "*" } else { "" };
-        let name = self.work.doc.display_name();
-        match self.work.doc.path().and_then(|p| p.parent()) {
-            Some(dir) if !dir.as_os_str().is_empty() => format!("{name}{dirty} — {} — Drape", dir.display()),
-            _ => format!("{name}{dirty} — Drape"),
-        }
+        window_title(&self.work.doc.display_name(), self.work.doc.is_dirty(), self.work.doc.path())
     }
 
     fn measure_frame(&mut self) {
@@ -558,6 +553,18 @@ impl DrapeApp {
             self.frame_interval_ms =
                 if self.frame_interval_ms == 0.0 { interval } else { self.frame_interval_ms * 0.9 + interval * 0.1 };
         }
+    }
+}
+
+/// `name* — /path/to — Drape` for a scene at `path` (none: not saved yet).
+/// The folder is shown whole even when the scene was opened by a bare or
+/// relative name (`drape tent.ron`), as it is after a Save.
+fn window_title(name: &str, dirty: bool, path: Option<&std::path::Path>) -> String {
+    let dirty = if dirty { "*" } else { "" };
+    let folder = path.and_then(|p| std::path::absolute(p).ok()).and_then(|p| p.parent().map(|dir| dir.to_path_buf()));
+    match folder {
+        Some(dir) if !dir.as_os_str().is_empty() => format!("{name}{dirty} — {} — Drape", dir.display()),
+        _ => format!("{name}{dirty} — Drape"),
     }
 }
 
@@ -681,6 +688,18 @@ mod tests {
     fn app() -> DrapeApp {
         let scene = crate::scene::parse(DEFAULT_SCENE, "magic_carpet.ron").unwrap();
         DrapeApp::new(scene, None, None)
+    }
+
+    #[test]
+    fn the_title_names_the_whole_folder_whatever_name_the_scene_was_opened_by() {
+        let here = std::env::current_dir().unwrap();
+        let bare = window_title("tent.ron", false, Some(std::path::Path::new("tent.ron")));
+        assert_eq!(bare, format!("tent.ron — {} — Drape", here.display()));
+        let relative = window_title("tent.ron", true, Some(std::path::Path::new("scenes/tent.ron")));
+        assert_eq!(relative, format!("tent.ron* — {} — Drape", here.join("scenes").display()));
+        let whole = window_title("tent.ron", false, Some(std::path::Path::new("/srv/shots/tent.ron")));
+        assert_eq!(whole, "tent.ron — /srv/shots — Drape");
+        assert_eq!(window_title("untitled", true, None), "untitled* — Drape");
     }
 
     #[test]
