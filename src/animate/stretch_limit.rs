@@ -106,8 +106,8 @@ pub struct StretchLimiter {
     /// Each obstacle's box, swollen by its thickness, in f32: most points are
     /// outside every one, and are passed over without measuring a distance.
     obstacle_bounds: Vec<([f32; 3], [f32; 3])>,
-    /// The limit on the grid of every other point, run first (see
-    /// [`StretchLimiter::limit_grid`]); made on first use.
+    /// The evening on the grid of every other point, run first (see
+    /// [`StretchLimiter::even`]); made on first use, with these obstacles.
     coarse: Option<Box<Coarse>>,
 }
 
@@ -162,6 +162,9 @@ impl StretchLimiter {
             let margin = o.thickness + 1e-3;
             ((lo - margin).as_vec3().to_array(), (hi + margin).as_vec3().to_array())
         }));
+        if let Some(coarse) = &mut self.coarse {
+            coarse.limiter.set_obstacles(obstacles);
+        }
     }
 
     /// `p` moved out of the obstacles the nearest way (unchanged if outside).
@@ -469,7 +472,7 @@ impl StretchLimiter {
     /// Each point's neighbours on a `cols × rows` grid, made again only
     /// when the grid changed (then true).
     fn neighbours_of(&mut self, (cols, rows): (usize, usize)) -> bool {
-        if self.neighbours_grid == (cols, rows) && self.neighbours.len() == cols * rows {
+        if self.neighbours_grid == (cols, rows) {
             return false;
         }
         self.neighbours_grid = (cols, rows);

@@ -9,10 +9,16 @@ use crate::mesh::PointArrays;
 /// first and last included.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Coarse {
-    limiter: StretchLimiter,
+    pub(super) limiter: StretchLimiter,
+    /// The finer grid these were made for.
+    fine_grid: (usize, usize),
     /// The finer grid's column and row of each coarse column and row.
     cols_at: Vec<usize>,
     rows_at: Vec<usize>,
+    /// For each fine column (row): the coarse column (row) before it and how
+    /// far it lies towards the next one, for interpolating the coarse moves.
+    spans_u: Vec<(usize, f32)>,
+    spans_v: Vec<(usize, f32)>,
     ratio: Vec<f32>,
     points: PointArrays,
     /// The coarse points as they were before the coarse limit moved them,
@@ -30,18 +36,21 @@ impl StretchLimiter {
     /// included), each coarse edge allowed the summed reach of the fine edges
     /// it spans, and moves the fine points by the coarse moves, interpolated.
     pub(super) fn even_coarse(&mut self, (cols, rows): (usize, usize), ratio: &[f32], points: &mut PointArrays) {
-        let every_other = |side: usize| -> Vec<usize> {
-            let mut at: Vec<usize> = (0..side).step_by(2).collect();
-            if side.is_multiple_of(2) {
-                at.push(side - 1);
-            }
-            at
-        };
-        let coarse = self.coarse.get_or_insert_with(Box::default);
-        coarse.limiter.obstacles.clone_from(&self.obstacles);
-        coarse.limiter.obstacle_bounds.clone_from(&self.obstacle_bounds);
-        coarse.cols_at = every_other(cols);
-        coarse.rows_at = every_other(rows);
+        let coarse = self.coarse.get_or_insert_with(|| {
+            let mut coarse = Box::<Coarse>::default();
+            coarse.limiter.set_obstacles(&self.obstacles);
+            coarse
+        });
+        if coarse.fine_grid != (cols, rows) {
+            coarse.fine_grid = (cols, rows);
+            coarse.cols_at = every_other(cols);
+            coarse.rows_at = every_other(rows);
+            coarse.spans_u = spans(&coarse.cols_at, cols);
+            coarse.spans_v = spans(&coarse.rows_at, rows);
+            // The coarse reaches are summed again for the new grid.
+            coarse.from_allowed2_u.clear();
+            coarse.from_allowed2_v.clear();
+        }
         let (cc, cr) = (coarse.cols_at.len(), coarse.rows_at.len());
         let Coarse { cols_at, rows_at, ratio: coarse_ratio, points: coarse_points, before, .. } = &mut **coarse;
         let fine = |a: usize, b: usize| rows_at[b] * cols + cols_at[a];
@@ -55,9 +64,7 @@ impl StretchLimiter {
             to.extend(coarse_at().map(|k| from[k]));
         }
         before.clone_from(coarse_points);
-        let same_reach = coarse.from_allowed2_u == self.allowed2_u
-            && coarse.from_allowed2_v == self.allowed2_v
-            && coarse.limiter.allowed2_u.len() == cc * cr;
+        let same_reach = coarse.from_allowed2_u == self.allowed2_u && coarse.from_allowed2_v == self.allowed2_v;
         if !same_reach {
             coarse.from_allowed2_u.clone_from(&self.allowed2_u);
             coarse.from_allowed2_v.clone_from(&self.allowed2_v);
@@ -85,24 +92,12 @@ impl StretchLimiter {
             }
         }
         let Coarse {
-            limiter, cols_at, rows_at, ratio: coarse_ratio, points: coarse_points, before, along_rows, ..
+            limiter, ratio: coarse_ratio, points: coarse_points, before, along_rows, spans_u, spans_v, ..
         } = &mut **coarse;
         limiter.sort_for((cc, cr), coarse_ratio);
         limiter.even((cc, cr), coarse_ratio, coarse_points);
         // The coarse moves, bilinear between coarse points (along each coarse
         // row first, then between rows); pins stay.
-        let spans = |at: &[usize], side: usize| {
-            let mut a = 0;
-            (0..side)
-                .map(|i| {
-                    while a + 2 < at.len() && at[a + 1] <= i {
-                        a += 1;
-                    }
-                    (a, (i - at[a]) as f32 / (at[a + 1] - at[a]) as f32)
-                })
-                .collect::<Vec<_>>()
-        };
-        let (spans_u, spans_v) = (spans(cols_at, cols), spans(rows_at, rows));
         for (after, moved, values) in [
             (&coarse_points.x, &mut before.x, &mut points.x),
             (&coarse_points.y, &mut before.y, &mut points.y),
@@ -116,6 +111,7 @@ impl StretchLimiter {
                 let moved = &moved[b * cc..(b + 1) * cc];
                 spans_u.iter().map(move |&(a, t)| moved[a] * (1.0 - t) + moved[a + 1] * t)
             }));
+            let spans_v = &*spans_v;
             for (j, &(b, s)) in spans_v.iter().enumerate() {
                 let (top, bottom) =
                     (&along_rows[b * cols..(b + 1) * cols], &along_rows[(b + 1) * cols..(b + 2) * cols]);
@@ -130,4 +126,27 @@ impl StretchLimiter {
             }
         }
     }
+}
+
+/// Every other index of a side of `side` points, the last one included.
+fn every_other(side: usize) -> Vec<usize> {
+    let mut at: Vec<usize> = (0..side).step_by(2).collect();
+    if side.is_multiple_of(2) {
+        at.push(side - 1);
+    }
+    at
+}
+
+/// For each of `side` fine indices, the coarse index `at[a]` at or before it
+/// (never the last) and its fraction of the way to `at[a + 1]`.
+fn spans(at: &[usize], side: usize) -> Vec<(usize, f32)> {
+    let mut a = 0;
+    (0..side)
+        .map(|i| {
+            while a + 2 < at.len() && at[a + 1] <= i {
+                a += 1;
+            }
+            (a, (i - at[a]) as f32 / (at[a + 1] - at[a]) as f32)
+        })
+        .collect()
 }
