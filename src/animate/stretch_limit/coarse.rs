@@ -53,15 +53,19 @@ impl StretchLimiter {
         }
         let (cc, cr) = (coarse.cols_at.len(), coarse.rows_at.len());
         let Coarse { cols_at, rows_at, ratio: coarse_ratio, points: coarse_points, before, .. } = &mut **coarse;
-        let fine = |a: usize, b: usize| rows_at[b] * cols + cols_at[a];
-        let coarse_at = || (0..cr).flat_map(|b| (0..cc).map(move |a| fine(a, b)));
-        coarse_ratio.clear();
-        coarse_ratio.extend(coarse_at().map(|k| ratio[k]));
+        // Row by row, so each row's gather is one sized extend.
+        let gather = |to: &mut Vec<f32>, from: &[f32]| {
+            to.clear();
+            for &j in rows_at.iter() {
+                let row = &from[j * cols..(j + 1) * cols];
+                to.extend(cols_at.iter().map(|&i| row[i]));
+            }
+        };
+        gather(coarse_ratio, ratio);
         for (to, from) in
             [(&mut coarse_points.x, &points.x), (&mut coarse_points.y, &points.y), (&mut coarse_points.z, &points.z)]
         {
-            to.clear();
-            to.extend(coarse_at().map(|k| from[k]));
+            gather(to, from);
         }
         before.clone_from(coarse_points);
         let same_reach = coarse.from_allowed2_u == self.allowed2_u && coarse.from_allowed2_v == self.allowed2_v;
@@ -107,10 +111,10 @@ impl StretchLimiter {
                 *m = a - *m;
             }
             along_rows.clear();
-            along_rows.extend((0..cr).flat_map(|b| {
+            for b in 0..cr {
                 let moved = &moved[b * cc..(b + 1) * cc];
-                spans_u.iter().map(move |&(a, t)| moved[a] * (1.0 - t) + moved[a + 1] * t)
-            }));
+                along_rows.extend(spans_u.iter().map(|&(a, t)| moved[a] * (1.0 - t) + moved[a + 1] * t));
+            }
             let spans_v = &*spans_v;
             for (j, &(b, s)) in spans_v.iter().enumerate() {
                 let (top, bottom) =
