@@ -1198,6 +1198,51 @@ fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
     assert_eq!(harness.state().selection(), [(0, 0)]);
 }
 
+/// A modal dialog covers the translate gizmo: its arrows, plainly visible
+/// before, are dimmed under the Save dialog's backdrop like the rest of the
+/// viewport (they were painted on a foreground layer of their own, over it).
+#[test]
+fn the_save_dialog_covers_the_gizmo() {
+    use drape::editor::pin_drag::AxisLock;
+    let workspace = Workspace::new();
+    let mut harness = open_editor(&workspace, new_scene(), None);
+    let grid_rect = grid_editor_rect(&mut harness);
+    let cloth = harness.state().scene().cloth.clone();
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (0, 0)), Modifiers::NONE);
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (32, 0)), Modifiers::SHIFT);
+    settle(&mut harness);
+    let gizmo = harness.state().gizmo().expect("a gizmo on the selected pins");
+    let origin = harness.state().screen_pos(gizmo.origin).unwrap();
+    // Points along the middle of each arrow, with the arrow's colour.
+    let along: Vec<(Pos2, [u8; 3])> =
+        [(AxisLock::X, [225, 60, 60]), (AxisLock::Y, [90, 200, 70]), (AxisLock::Z, [70, 120, 235])]
+            .into_iter()
+            .filter_map(|(axis, color)| Some((gizmo.tip(axis)?, color)))
+            .flat_map(|(tip, color)| (3..8).map(move |i| (origin + (tip - origin) * (i as f32 / 10.0), color)))
+            .collect();
+    assert!(along.len() >= 10, "at least two arrows on screen");
+    let arrow_pixels_seen = |harness: &mut Harness<'_, DrapeApp>| {
+        let scale = harness.ctx.pixels_per_point();
+        let image = harness.render().expect("a rendered frame");
+        along
+            .iter()
+            .filter(|(at, color)| {
+                let (x, y) = ((at.x * scale) as u32, (at.y * scale) as u32);
+                let pixel = image.get_pixel(x.min(image.width() - 1), y.min(image.height() - 1)).0;
+                (0..3).all(|c| pixel[c].abs_diff(color[c]) <= 40)
+            })
+            .count()
+    };
+    let before = arrow_pixels_seen(&mut harness);
+    assert!(before * 2 >= along.len(), "the arrows are drawn: {before} of {}", along.len());
+    harness.get_by_label("File").click();
+    harness.run_ok();
+    harness.get_by_label_contains("Save As…").click();
+    harness.run_ok();
+    assert!(harness.query_by_label("File name").is_some(), "the Save dialog is open");
+    assert_eq!(arrow_pixels_seen(&mut harness), 0, "no arrow shows through the dialog");
+}
+
 /// The Colliders panel: add a box, name it, key its height at two frames,
 /// switch it off, remove it; each is one undo step, and the cloth is
 /// shaped among what the panel made.

@@ -320,17 +320,8 @@ impl ViewportPanel {
             overlay_painter.rect_filled(bg, 3.0, egui::Color32::from_black_alpha(170));
             overlay_painter.galley(at, galley, egui::Color32::WHITE);
         }
-        if let Some(gizmo) = self.gizmo(w, area.size_px) {
-            let painter = ui
-                .painter()
-                .clone()
-                .with_layer_id(egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("viewport-gizmo")));
-            let dragged = self.pin_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock);
-            let dragged = dragged.or(self.collider_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock));
-            let hovered = area.response.hover_pos().and_then(|p| gizmo.axis_at(p));
-            gizmo.paint(&painter, dragged.or(hovered));
-        }
         if !self.has_gpu {
+            self.gizmo_ui(ui, w, &area);
             return;
         }
         let (solids, wire) = self.solids_drawn(w);
@@ -357,7 +348,21 @@ impl ViewportPanel {
         {
             super::shot_view::paint_frame(ui.painter(), camera, area.rect);
         }
+        self.gizmo_ui(ui, w, &area);
         self.plate_note_ui(ui, w, area.rect);
+    }
+
+    /// The translate gizmo, painted on the viewport's own layer after the 3D
+    /// view: over the cloth, but under every window and modal dialog (on a
+    /// foreground layer of its own it showed through the Save dialog).
+    fn gizmo_ui(&self, ui: &egui::Ui, w: &Workspace, area: &ViewportArea) {
+        let Some(gizmo) = self.gizmo(w, area.size_px) else {
+            return;
+        };
+        let dragged = self.pin_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock);
+        let dragged = dragged.or(self.collider_drag.as_ref().filter(|d| d.by_gizmo).and_then(|d| d.lock));
+        let hovered = area.response.hover_pos().and_then(|p| gizmo.axis_at(p));
+        gizmo.paint(ui.painter(), dragged.or(hovered));
     }
 
     /// The translate gizmo at the selected pins' centre: where the pins are
