@@ -303,7 +303,7 @@ impl StretchLimiter {
     /// edge over its limit) and those whose leaders moved are visited: any
     /// other point has every leader where it was and within reach, so the
     /// walk would leave it as it is, bit for bit (on the `evaluate`
-    /// benchmark's frame, three in four points).
+    /// benchmark's frame the walk moves one point in four).
     ///
     /// [`mark_over`]: StretchLimiter::mark_over
     fn lead(&mut self, ratio: &[f32], points: &mut PointArrays) {
