@@ -1203,6 +1203,7 @@ fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
 /// viewport (they were painted on a foreground layer of their own, over it).
 #[test]
 fn the_save_dialog_covers_the_gizmo() {
+    use drape::editor::gizmo::axis_color;
     use drape::editor::pin_drag::AxisLock;
     let workspace = Workspace::new();
     let mut harness = open_editor(&workspace, new_scene(), None);
@@ -1214,12 +1215,11 @@ fn the_save_dialog_covers_the_gizmo() {
     let gizmo = harness.state().gizmo().expect("a gizmo on the selected pins");
     let origin = harness.state().screen_pos(gizmo.origin).unwrap();
     // Points along the middle of each arrow, with the arrow's colour.
-    let along: Vec<(Pos2, [u8; 3])> =
-        [(AxisLock::X, [225, 60, 60]), (AxisLock::Y, [90, 200, 70]), (AxisLock::Z, [70, 120, 235])]
-            .into_iter()
-            .filter_map(|(axis, color)| Some((gizmo.tip(axis)?, color)))
-            .flat_map(|(tip, color)| (3..8).map(move |i| (origin + (tip - origin) * (i as f32 / 10.0), color)))
-            .collect();
+    let along: Vec<(Pos2, [u8; 3])> = [AxisLock::X, AxisLock::Y, AxisLock::Z]
+        .into_iter()
+        .filter_map(|axis| Some((gizmo.tip(axis)?, axis_color(axis, false).to_array())))
+        .flat_map(|(tip, [r, g, b, _])| (3..8).map(move |i| (origin + (tip - origin) * (i as f32 / 10.0), [r, g, b])))
+        .collect();
     assert!(along.len() >= 10, "at least two arrows on screen");
     let arrow_pixels_seen = |harness: &mut Harness<'_, DrapeApp>| {
         let scale = harness.ctx.pixels_per_point();

@@ -88,7 +88,7 @@ impl Gizmo {
         for (axis, tip) in AXES.iter().zip(self.tips_pt) {
             let Some(tip) = tip else { continue };
             let is_hot = hot == Some(*axis);
-            let color = color_of(*axis, is_hot);
+            let color = axis_color(*axis, is_hot);
             let stroke = Stroke::new(if is_hot { 3.5 } else { 2.5 }, color);
             painter.line_segment([self.origin_pt, tip], stroke);
             let dir = (tip - self.origin_pt).normalized();
@@ -100,7 +100,8 @@ impl Gizmo {
     }
 }
 
-fn color_of(axis: AxisLock, hot: bool) -> Color32 {
+/// The colour of `axis`'s arrow, brighter when `hot` (hovered or dragged).
+pub fn axis_color(axis: AxisLock, hot: bool) -> Color32 {
     let (r, g, b) = match axis {
         AxisLock::X => (225, 60, 60),
         AxisLock::Y => (90, 200, 70),
