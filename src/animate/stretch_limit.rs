@@ -291,8 +291,7 @@ impl StretchLimiter {
             }
             any = true;
             for p in [k, q] {
-                let r = self.rank[p] as usize;
-                self.next_marks[r / 64] |= 1 << (r % 64);
+                mark_rank(&mut self.next_marks, self.rank[p] as usize);
             }
         }
         any
@@ -362,7 +361,7 @@ impl StretchLimiter {
                     }
                     let later = self.rank[q as usize] as usize;
                     if later > r {
-                        self.marks[later / 64] |= 1 << (later % 64);
+                        mark_rank(&mut self.marks, later);
                     }
                 }
             }
@@ -434,8 +433,7 @@ impl StretchLimiter {
                     for moved in [k, q] {
                         let around = self.neighbours[moved];
                         for p in std::iter::once(moved as u32).chain(around.into_iter().filter(|&p| p != NONE)) {
-                            let r = self.rank[p as usize] as usize;
-                            self.next_marks[r / 64] |= 1 << (r % 64);
+                            mark_rank(&mut self.next_marks, self.rank[p as usize] as usize);
                         }
                     }
                 }
@@ -534,6 +532,12 @@ impl StretchLimiter {
             }
         }
     }
+}
+
+/// Sets the bit of walk rank `r` in `marks` (one bit per rank).
+#[inline(always)]
+fn mark_rank(marks: &mut [u64], r: usize) {
+    marks[r / 64] |= 1 << (r % 64);
 }
 
 /// `p` moved out of `obstacles` the nearest way (unchanged if outside).
