@@ -296,15 +296,8 @@ fn solve_on_coarser_grid(
             coarse.push(sample_mirrored(positions, cols, rows, (k, coarse_cols), (l, coarse_rows)));
         }
     }
-    let mut coarse_pinned = vec![false; coarse_cols * coarse_rows];
-    for (f, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
-        let (k, l) = (nearest_index(f % cols, cols, coarse_cols), nearest_index(f / cols, rows, coarse_rows));
-        let c = l * coarse_cols + k;
-        if !coarse_pinned[c] {
-            coarse_pinned[c] = true;
-            coarse[c] = positions[f];
-        }
-    }
+    let coarse_pinned =
+        pin_coarse_points(positions, (cols, rows), pinned, params, &mut coarse, (coarse_cols, coarse_rows));
     let ratio_u = (cols - 1) as f64 / (coarse_cols - 1) as f64;
     let ratio_v = (rows - 1) as f64 / (coarse_rows - 1) as f64;
     let coarse_params =
@@ -324,8 +317,59 @@ fn solve_on_coarser_grid(
     Ok(report)
 }
 
+/// Pins each coarse point that a fine pin maps to (its nearest coarse point)
+/// where the nearest such pin in material distance is, and returns which
+/// coarse points are pinned.
+///
+/// Several fine pins can map to one coarse point (a pin lattice denser than
+/// the coarse grid). Choosing the nearest keeps a mirror-symmetric layout
+/// symmetric: taking the first in index order took the left-hand pin on one
+/// side and the right-hand one on the other (a 15 × 15 pin lattice on 65²
+/// relaxed 78 mm asymmetric; 28 mm now, the rest from slack between the pins
+/// buckling up or down). Pins tied for nearest leave the coarse point where
+/// the fine grid has it, which is just as symmetric.
+fn pin_coarse_points(
+    positions: &[DVec3],
+    (cols, rows): (usize, usize),
+    pinned: &[bool],
+    params: &RelaxParams,
+    coarse: &mut [DVec3],
+    (coarse_cols, coarse_rows): (usize, usize),
+) -> Vec<bool> {
+    // Offsets in whole units of rest / (coarse side − 1): mirror-image pins are
+    // at exactly the same distance.
+    let unit_u = params.rest_u_m / (coarse_cols - 1) as f64;
+    let unit_v = params.rest_v_m / (coarse_rows - 1) as f64;
+    let offset = |at: usize, from: usize, to: usize, near: usize| (at * (to - 1)).abs_diff(near * (from - 1)) as f64;
+    // Per coarse point: (squared distance, fine pin, tied with another).
+    let mut nearest: Vec<Option<(f64, usize, bool)>> = vec![None; coarse_cols * coarse_rows];
+    for (f, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
+        let (i, j) = (f % cols, f / cols);
+        let (k, l) = (nearest_index(i, cols, coarse_cols), nearest_index(j, rows, coarse_rows));
+        let du = offset(i, cols, coarse_cols, k) * unit_u;
+        let dv = offset(j, rows, coarse_rows, l) * unit_v;
+        let distance2 = du * du + dv * dv;
+        let slot = &mut nearest[l * coarse_cols + k];
+        *slot = match *slot {
+            None => Some((distance2, f, false)),
+            Some((best, _, _)) if distance2 < best => Some((distance2, f, false)),
+            Some((best, first, _)) if distance2 == best => Some((best, first, true)),
+            kept => kept,
+        };
+    }
+    let mut coarse_pinned = vec![false; coarse_cols * coarse_rows];
+    for (c, near) in nearest.into_iter().enumerate() {
+        let Some((_, f, tied)) = near else { continue };
+        coarse_pinned[c] = true;
+        if !tied {
+            coarse[c] = positions[f];
+        }
+    }
+    coarse_pinned
+}
+
 /// Index on a side of `to` points nearest to index `at` on a side of `from`
-/// points (both sides spanning the same length); ties go away from the middle
+/// points (both sides spanning the same length); ties go towards the middle
 /// so mirrored indices map to mirrored indices.
 fn nearest_index(at: usize, from: usize, to: usize) -> usize {
     let near = |at: usize| (2 * at * (to - 1) + (from - 1)) / (2 * (from - 1));
