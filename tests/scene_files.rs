@@ -365,7 +365,7 @@ fn the_reference_scene_exercises_every_variant() {
     // Defaults fill what the file leaves out (the third key, the first Sway).
     assert_eq!(scene.keys[2].elasticity, 1.0);
     assert_eq!(scene.keys[2].stiffness, 0.2);
-    assert_eq!(scene.keys[2].relax, RelaxSettings { iterations: 10000, tolerance: 1e-5 });
+    assert_eq!(scene.keys[2].relax, RelaxSettings { iterations: 40_000, tolerance: 1e-5 });
     let Layer::Sway(breeze) = &scene.layers[0] else { panic!("first layer is the breeze Sway") };
     assert!(breeze.enabled);
     assert_eq!(breeze.weight, Param::Constant(1.0));

@@ -164,6 +164,7 @@ fn fall_report(fall: DrapeReport, params: &RelaxParams) -> RelaxReport {
         converged: fall.settled,
         coarse_capped: false,
         fell_off: fall.fell_off,
+        stiff: params.stiffness > 0.0,
     }
 }
 
