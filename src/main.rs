@@ -70,10 +70,11 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Validate a scene and print a short summary; exit code 1 with the error otherwise.
+    /// Validate scenes and print a short summary of each; exit code 1, with each error, if any is not valid.
     Check {
-        /// The scene file (.ron).
-        scene: PathBuf,
+        /// The scene files (.ron), one or more: `drape check scenes/*.ron` checks them all.
+        #[arg(required = true, value_name = "SCENE")]
+        scenes: Vec<PathBuf>,
     },
     /// Write the cloth at a frame as OBJ, or a frame range as a PC2/MDD point cache, glTF, USD or OBJ sequence.
     Export {
@@ -213,7 +214,7 @@ fn main() -> ExitCode {
         SUMMARY_TO_STDERR.store(true, std::sync::atomic::Ordering::Relaxed);
     }
     let result = match command {
-        Command::Check { scene } => check(&scene),
+        Command::Check { scenes } => check_all(&scenes),
         Command::Export { scene, output, frame, frames, format, stage, no_layers, force } => {
             let request = export_command::ExportRequest { frame, frames, format, stage, layers: !no_layers, force };
             export_command::export(&scene, &output, request)
@@ -315,6 +316,30 @@ fn quiet_wayland_probe() {
         // SAFETY: called first thing in `main`, while the process has one thread.
         unsafe { std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir()) };
     }
+}
+
+/// [`check`] for each scene in turn, a blank line between; a scene that is
+/// not valid is reported and the rest are still checked. With one scene its
+/// error is the command's error, as `check` words it.
+fn check_all(paths: &[PathBuf]) -> Result<()> {
+    let [path] = paths else {
+        let mut failed = 0;
+        for (index, path) in paths.iter().enumerate() {
+            if index > 0 {
+                say!("");
+            }
+            if let Err(error) = check(path) {
+                // Each error already names its file and cause in one line.
+                eprintln!("error: {error}");
+                failed += 1;
+            }
+        }
+        return match failed {
+            0 => Ok(()),
+            _ => Err(anyhow!("{failed} of {} scenes are not valid (each error above)", paths.len())),
+        };
+    };
+    check(path)
 }
 
 fn check(path: &Path) -> Result<()> {

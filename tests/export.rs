@@ -1000,6 +1000,41 @@ fn three_hundred_pins_check_and_export_with_every_pin_in_place() {
     }
 }
 
+/// `drape check scenes/*.ron`, as the modelling issue asks for it: every
+/// bundled scene is valid and every key's rest shape settled. A scene that is
+/// not valid among valid ones is reported, the others still checked, and
+/// the command fails.
+#[test]
+fn check_takes_several_scenes_and_every_bundled_key_settles() {
+    let mut scenes: Vec<_> = fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes"))
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    scenes.sort();
+    assert!(scenes.len() >= 10, "{scenes:?}");
+    let drape = env!("CARGO_BIN_EXE_drape");
+    let run = Command::new(drape).arg("check").args(&scenes).output().unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(run.status.success(), "{stderr}");
+    assert_eq!(stdout.matches("— valid").count(), scenes.len(), "{stdout}");
+    let keys: Vec<&str> = stdout.lines().filter(|line| line.trim_start().starts_with("frame ")).collect();
+    assert!(keys.len() >= scenes.len(), "{stdout}");
+    for key in &keys {
+        assert!(key.contains("; settled in "), "a bundled key did not settle: {key}");
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    let broken = dir.path().join("broken.ron");
+    fs::write(&broken, "(version: 1, cloth: (size: (1.0, 1.0), grid: (1, 17)))").unwrap();
+    let run = Command::new(drape).arg("check").arg(&scenes[0]).arg(&broken).arg(&scenes[1]).output().unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(!run.status.success());
+    assert_eq!(stdout.matches("— valid").count(), 2, "both valid scenes are still checked: {stdout}");
+    assert!(stderr.contains("broken.ron"), "{stderr}");
+    assert!(stderr.contains("1 of 3 scenes are not valid"), "{stderr}");
+}
+
 /// `drape check` says when a rest shape passes through itself (a curtain
 /// gathered to a tenth of its width folds through itself until Drape keeps
 /// folds apart) and stays quiet for one that does not (the bundled curtain).
