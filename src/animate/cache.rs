@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 use std::ops::ControlFlow;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
 
@@ -13,6 +13,7 @@ use super::falloff::{pin_distance_field, resting_distance_field};
 use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
+use crate::shape::contact::count_crossings;
 use crate::shape::{Cancelled, Placement, RelaxProgress, RestShape};
 use crate::world::{ColliderShape, Obstacle};
 
@@ -34,6 +35,9 @@ pub struct KeyShape {
     pub pinned: Vec<bool>,
     /// Each structural edge's reach in this key, for the stretch limit.
     pub reach: EdgeReach,
+    /// How many edges of the relaxed shape pass through the cloth, once
+    /// counted ([`KeyShape::self_crossings`]).
+    crossings: OnceLock<usize>,
 }
 
 impl KeyShape {
@@ -81,7 +85,21 @@ impl KeyShape {
         let pinned = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
         let rest_m = (cloth.spacing_u_m() * key.elasticity, cloth.spacing_v_m() * key.elasticity);
         let reach = EdgeReach::of(&points, cloth.cols(), cloth.rows(), rest_m.0 as f32, rest_m.1 as f32);
-        KeyShape { rest, positions, points, ratio, d_max_m: d_max_m as f32, pinned, reach }
+        KeyShape { rest, positions, points, ratio, d_max_m: d_max_m as f32, pinned, reach, crossings: OnceLock::new() }
+    }
+
+    /// How many edges of the relaxed shape pass through the cloth
+    /// ([`count_crossings`]), counted on the first call: counting costs about
+    /// half as much as relaxing (9 ms at 64², 41 ms at 128²), so it is done
+    /// when asked for (the editor's worker asks after the shape is shown).
+    pub fn self_crossings(&self) -> usize {
+        let (cols, rows) = (self.rest.grid.cols, self.rest.grid.rows);
+        *self.crossings.get_or_init(|| count_crossings(&self.rest.relaxed, cols, rows))
+    }
+
+    /// [`KeyShape::self_crossings`] if it has been counted, without counting.
+    pub fn self_crossings_if_counted(&self) -> Option<usize> {
+        self.crossings.get().copied()
     }
 }
 

@@ -499,7 +499,13 @@ impl DrapeApp {
     /// The status bar's left part: relaxation, a message, or the mouse.
     fn status_text_ui(&self, ui: &mut egui::Ui) {
         let relaxing = self.work.shown.relax_status();
-        if let Some(status) = &relaxing {
+        if let Some(status) = relaxing.as_ref().filter(|status| status.counting) {
+            ui.add(egui::Spinner::new());
+            ui.label(format!(
+                "Checking where the rest shapes pass through themselves… ({:.1} s)",
+                status.started.elapsed().as_secs_f64()
+            ));
+        } else if let Some(status) = &relaxing {
             ui.add(egui::Spinner::new());
             let keys = if status.keys_total > 1 {
                 format!(" key {} of {},", status.keys_done + 1, status.keys_total)

@@ -279,13 +279,22 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         }
     });
     // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
-    let (text, color, full) = match w.shown_relax_report() {
+    let (mut text, mut color, mut full) = match w.shown_relax_report() {
         Some(report) if report.converged => {
             (report.summary(), ui.visuals().weak_text_color(), format!("Rest shape {}", report.verdict()))
         }
         Some(report) => (report.summary(), ui.visuals().warn_fg_color, format!("Rest shape {}", report.verdict())),
         None => ("Relaxing…".to_owned(), ui.visuals().weak_text_color(), "The rest shape is being relaxed.".to_owned()),
     };
+    if let Some(crossings @ 1..) = w.shown_self_crossings() {
+        let edges = if crossings == 1 { "edge crosses" } else { "edges cross" };
+        text = format!("Passes through itself · {text}");
+        color = ui.visuals().warn_fg_color;
+        full = format!(
+            "The rest shape passes through itself: {crossings} {edges} the cloth. Drape does not yet keep folds \
+             apart: pins that gather the cloth less fold it less.\n{full}"
+        );
+    }
     ui.add(egui::Label::new(egui::RichText::new(text).color(color)).truncate()).on_hover_text(full);
 }
 

@@ -41,12 +41,20 @@ pub struct ShaperStatus {
     pub iteration: u32,
     pub max_iterations: u32,
     pub started: Instant,
+    /// The relaxing is done: the new shapes' self-crossings are being counted.
+    pub counting: bool,
 }
 
 struct Job {
     generation: u64,
     cloth: Cloth,
     keys: Vec<(Key, Vec<Obstacle>)>,
+    /// Count where the new shapes pass through themselves once they are all
+    /// sent (for the Cloth panel). Not for the moves of a drag: the count
+    /// costs about half a relaxation, which the next move should not wait for.
+    count_crossings: bool,
+    /// Shapes relaxed elsewhere whose crossings to count, after the keys.
+    count: Vec<Arc<KeyShape>>,
 }
 
 struct Shared {
@@ -97,8 +105,22 @@ impl Shaper {
             self.shared.cancel_below.store(generation, Ordering::Relaxed);
         }
         let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
-        *pending = Some(Job { generation, cloth: cloth.clone(), keys });
+        *pending = Some(Job { generation, cloth: cloth.clone(), keys, count_crossings: supersede, count: Vec::new() });
         self.shared.wake.notify_one();
+    }
+
+    /// Asks for the self-crossings of `shapes` to be counted
+    /// ([`KeyShape::self_crossings`]) unless a request is pending; the
+    /// shapes then know them and the UI is woken.
+    pub fn count_crossings(&mut self, cloth: &Cloth, shapes: Vec<Arc<KeyShape>>) {
+        let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
+        if pending.is_none() {
+            let generation = self.next_generation;
+            self.next_generation += 1;
+            *pending =
+                Some(Job { generation, cloth: cloth.clone(), keys: Vec::new(), count_crossings: true, count: shapes });
+            self.shared.wake.notify_one();
+        }
     }
 
     /// The shapes finished since the last call.
@@ -157,6 +179,7 @@ fn work(shared: &Shared, results: &Sender<Built>) {
                         iteration: 0,
                         max_iterations: 0,
                         started: Instant::now(),
+                        counting: job.keys.is_empty(),
                     };
                     *shared.status.lock().unwrap_or_else(PoisonError::into_inner) = Some(status);
                     break job;
@@ -172,6 +195,7 @@ fn work(shared: &Shared, results: &Sender<Built>) {
 
 fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
     let total = job.keys.len();
+    let mut finished = Vec::with_capacity(total);
     for (done, (key, obstacles)) in job.keys.into_iter().enumerate() {
         let mut control = |progress: crate::shape::RelaxProgress| {
             if job.generation < shared.cancel_below.load(Ordering::Relaxed) {
@@ -208,9 +232,23 @@ fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
         let Ok(shape) = shape else {
             return;
         };
+        finished.push(shape.clone());
         let built = Built { cloth: job.cloth.clone(), key, obstacles, shape };
         if results.send(built).is_err() {
             return;
+        }
+        (shared.repaint)();
+    }
+    if job.count_crossings {
+        if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+            status.counting = true;
+        }
+        for shape in finished.into_iter().chain(job.count) {
+            // A newer request goes first; the panel then counts nothing for these shapes.
+            if shared.pending.lock().unwrap_or_else(PoisonError::into_inner).is_some() {
+                return;
+            }
+            shape.self_crossings();
         }
         (shared.repaint)();
     }

@@ -52,6 +52,8 @@ pub struct Shown {
     pub frame_when_shown: bool,
     /// The bounds of a newly opened scene just shown, until the viewport takes them.
     opened_bounds: Option<(glam::Vec3, glam::Vec3)>,
+    /// The shown version whose shapes the worker was last asked to count crossings of.
+    crossings_asked: Option<u64>,
 }
 
 /// What the onion-skin ghosts were made for.
@@ -86,6 +88,7 @@ impl Shown {
             version: 0,
             frame_when_shown: false,
             opened_bounds: None,
+            crossings_asked: None,
         }
     }
 
@@ -149,6 +152,7 @@ impl Shown {
         }
         let scene = doc.scene();
         if *scene == self.scene {
+            self.count_crossings();
             return;
         }
         let cache = self.evaluator.cache();
@@ -175,6 +179,33 @@ impl Shown {
             let supersede = !doc.in_gesture();
             self.shaper.request(&request.0, request.1.clone(), supersede);
             self.requested = Some(request);
+        }
+    }
+
+    /// Once per shown version, with the worker idle: asks it to count the
+    /// self-crossings of the shown keys' shapes that it did not relax itself
+    /// (those relaxed here, when a scene is opened), for the Cloth panel.
+    fn count_crossings(&mut self) {
+        if self.crossings_asked == Some(self.version) || self.shaper.is_busy() {
+            return;
+        }
+        self.crossings_asked = Some(self.version);
+        let cache = self.evaluator.cache();
+        let uncounted: Vec<_> = self
+            .scene
+            .keys
+            .iter()
+            .filter_map(|k| {
+                cache.get(
+                    &self.scene.cloth,
+                    &animate::attachments::posed_key(&self.scene, k),
+                    &key_obstacles(&self.scene, k),
+                )
+            })
+            .filter(|shape| shape.self_crossings_if_counted().is_none())
+            .collect();
+        if !uncounted.is_empty() {
+            self.shaper.count_crossings(&self.scene.cloth, uncounted);
         }
     }
 
@@ -223,10 +254,19 @@ impl Shown {
 
     /// The relaxation report of the shown key in effect at `frame`.
     pub fn relax_report(&self, frame: f64) -> Option<RelaxReport> {
+        Some(self.key_shape(frame)?.rest.relax_report)
+    }
+
+    /// How many edges of the shown key's rest shape (in effect at `frame`)
+    /// pass through the cloth, once the worker has counted them.
+    pub fn self_crossings(&self, frame: f64) -> Option<usize> {
+        self.key_shape(frame)?.self_crossings_if_counted()
+    }
+
+    fn key_shape(&self, frame: f64) -> Option<std::sync::Arc<animate::KeyShape>> {
         let key = self.scene.key_in_effect(frame);
         let posed = animate::attachments::posed_key(&self.scene, key);
-        let shape = self.evaluator.cache().get(&self.scene.cloth, &posed, &key_obstacles(&self.scene, key))?;
-        Some(shape.rest.relax_report)
+        self.evaluator.cache().get(&self.scene.cloth, &posed, &key_obstacles(&self.scene, key))
     }
 
     /// Blocks until `doc`'s shapes are relaxed and shown and the worker is idle (tests and scripts).

@@ -323,6 +323,11 @@ impl Workspace {
     pub fn shown_relax_report(&self) -> Option<RelaxReport> {
         self.shown.relax_report(self.session.frame)
     }
+
+    /// Edges of the shown key's rest shape that pass through the cloth, once counted.
+    pub fn shown_self_crossings(&self) -> Option<usize> {
+        self.shown.self_crossings(self.session.frame)
+    }
 }
 
 #[cfg(test)]
