@@ -171,6 +171,9 @@ impl Shown {
             if std::mem::take(&mut self.frame_when_shown) {
                 self.opened_bounds = Some(self.bounds());
             }
+            // Now, not at the next frame: whoever waits for the worker to be idle
+            // (`wait_for`) then waits for the count too.
+            self.count_crossings();
             return;
         }
         let request = (scene.cloth.clone(), missing);
