@@ -185,11 +185,13 @@ impl Shown {
         }
     }
 
-    /// Once per shown version, with the worker idle: asks it to count the
-    /// self-crossings of the shown keys' shapes that it did not relax itself
-    /// (those relaxed here, when a scene is opened), for the Cloth panel.
+    /// Once per shown version: asks the worker to count the self-crossings of
+    /// the shown keys' shapes that are not counted yet (those relaxed here,
+    /// when a scene is opened, or during a drag), for the Cloth panel. Queued
+    /// behind a running job, so whoever then waits for the worker to be idle
+    /// waits for the count too; a newer request replaces it.
     fn count_crossings(&mut self) {
-        if self.crossings_asked == Some(self.version) || self.shaper.is_busy() {
+        if self.crossings_asked == Some(self.version) {
             return;
         }
         self.crossings_asked = Some(self.version);
