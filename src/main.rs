@@ -12,7 +12,6 @@ use drape::scene::{
     self, Collider, ColliderNumber, Key, Layer, Measure, Param, ParamSpec, ParamValue, Scene, WaveAxis,
     readable_number, readable_vec3, shown_name,
 };
-use drape::shape::contact::count_crossings;
 use drape::shape::relax::mean_structural_error;
 
 /// `println!` that ends the program quietly when stdout is closed (`drape
@@ -400,7 +399,7 @@ fn check(path: &Path) -> Result<()> {
             error * 100.0,
             report.verdict()
         );
-        let crossings = count_crossings(&rest.relaxed, cloth.cols(), cloth.rows());
+        let crossings = shape.self_crossings();
         if crossings > 0 {
             say!(
                 "      warning: the rest shape passes through itself ({crossings} edge{} cross the cloth); Drape does not yet keep folds apart",

@@ -279,14 +279,15 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         }
     });
     // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
-    let (mut text, mut color, mut full) = match w.shown_relax_report() {
+    let shape = w.shown_key_shape();
+    let (mut text, mut color, mut full) = match shape.as_ref().map(|shape| shape.rest.relax_report) {
         Some(report) if report.converged => {
             (report.summary(), ui.visuals().weak_text_color(), format!("Rest shape {}", report.verdict()))
         }
         Some(report) => (report.summary(), ui.visuals().warn_fg_color, format!("Rest shape {}", report.verdict())),
         None => ("Relaxing…".to_owned(), ui.visuals().weak_text_color(), "The rest shape is being relaxed.".to_owned()),
     };
-    if let Some(crossings @ 1..) = w.shown_self_crossings() {
+    if let Some(crossings @ 1..) = shape.and_then(|shape| shape.self_crossings_if_counted()) {
         let edges = if crossings == 1 { "edge crosses" } else { "edges cross" };
         text = format!("Passes through itself · {text}");
         color = ui.visuals().warn_fg_color;

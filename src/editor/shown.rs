@@ -18,7 +18,6 @@ use crate::mesh::Mesh;
 use crate::picture::scene_bounds;
 use crate::render::Ghost;
 use crate::scene::{Cloth, Key, Scene};
-use crate::shape::RelaxReport;
 use crate::world::Obstacle;
 
 /// A key and the colliders at its frame: what its rest shape is built from.
@@ -257,18 +256,9 @@ impl Shown {
         self.ghosts_of = Some(wanted);
     }
 
-    /// The relaxation report of the shown key in effect at `frame`.
-    pub fn relax_report(&self, frame: f64) -> Option<RelaxReport> {
-        Some(self.key_shape(frame)?.rest.relax_report)
-    }
-
-    /// How many edges of the shown key's rest shape (in effect at `frame`)
-    /// pass through the cloth, once the worker has counted them.
-    pub fn self_crossings(&self, frame: f64) -> Option<usize> {
-        self.key_shape(frame)?.self_crossings_if_counted()
-    }
-
-    fn key_shape(&self, frame: f64) -> Option<std::sync::Arc<animate::KeyShape>> {
+    /// The shape of the shown key in effect at `frame`, once relaxed: its
+    /// relaxation report, and its self-crossings once the worker has counted them.
+    pub fn key_shape(&self, frame: f64) -> Option<Arc<animate::KeyShape>> {
         let key = self.scene.key_in_effect(frame);
         let posed = animate::attachments::posed_key(&self.scene, key);
         self.evaluator.cache().get(&self.scene.cloth, &posed, &key_obstacles(&self.scene, key))

@@ -6,14 +6,15 @@
 //! construction.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::document::Document;
 use super::edits;
 use super::selection::{self, Pick};
 use super::shown::Shown;
+use crate::animate::KeyShape;
 use crate::scene::{Pin, Scene};
-use crate::shape::RelaxReport;
 
 /// How long a status message stays, seconds.
 pub const MESSAGE_SECS: f64 = 8.0;
@@ -319,14 +320,10 @@ impl Workspace {
         self.session.selected_key = None;
     }
 
-    /// The relaxation report of the shown key being edited.
-    pub fn shown_relax_report(&self) -> Option<RelaxReport> {
-        self.shown.relax_report(self.session.frame)
-    }
-
-    /// Edges of the shown key's rest shape that pass through the cloth, once counted.
-    pub fn shown_self_crossings(&self) -> Option<usize> {
-        self.shown.self_crossings(self.session.frame)
+    /// The rest shape of the key in effect at the playhead, once relaxed
+    /// (its relaxation report; its self-crossings once counted).
+    pub fn shown_key_shape(&self) -> Option<Arc<KeyShape>> {
+        self.shown.key_shape(self.session.frame)
     }
 }
 
