@@ -1,8 +1,11 @@
 //! How many random pin layouts settle at the default relaxation settings.
 //!
-//! `cargo run --release --example random_layouts [COUNT] [SEED]` builds the
-//! rest shape of COUNT (default 80) random, reachable layouts and prints the
-//! ones that do not settle within the default sweep cap, then a summary. The
+//! `cargo run --release --example random_layouts [COUNT] [SEED] [--stiffness S]
+//! [--sides MIN..MAX]` builds the rest shape of COUNT (default 80) random,
+//! reachable layouts and prints the ones that do not settle within the
+//! default sweep cap, then a summary. `--stiffness` gives every layout that
+//! stiffness instead of a random one; `--sides` draws the grid's sides from
+//! MIN..=MAX points instead of 9..=65. The
 //! modelling issue asks for every valid scene up to 256² to settle at the
 //! default settings; this is the measurement a property test will assert once
 //! it holds (BENCHMARKS.md has the figures).
@@ -45,14 +48,21 @@ struct Layout {
     tilt: f64,
 }
 
-fn layout(rng: &mut Xorshift) -> Layout {
-    let (cols, rows) = (9 + rng.below(57), 9 + rng.below(57));
+/// What the command line changes about the drawn layouts.
+struct Options {
+    stiffness: Option<f64>,
+    sides: (u32, u32),
+}
+
+fn layout(rng: &mut Xorshift, options: &Options) -> Layout {
+    let (min, max) = options.sides;
+    let (cols, rows) = (min + rng.below(max - min + 1), min + rng.below(max - min + 1));
     let spacing_m = 0.01 + 0.03 * rng.unit();
     let size_m = (spacing_m * f64::from(cols - 1), spacing_m * f64::from(rows - 1));
     let count = 1 + rng.below(8) as usize;
     let squeeze = 0.5 + 0.4 * rng.unit();
     let tilt = if rng.below(2) == 0 { 0.0 } else { 0.8 * rng.unit() };
-    let stiffness = rng.unit();
+    let stiffness = options.stiffness.unwrap_or(rng.unit());
     let elasticity = 1.0 + 0.3 * rng.unit();
     let mut taken = HashSet::new();
     let mut pins = Vec::new();
@@ -81,14 +91,34 @@ fn layout(rng: &mut Xorshift) -> Layout {
 }
 
 fn main() {
+    let mut options = Options { stiffness: None, sides: (9, 65) };
+    let mut numbers = Vec::new();
     let mut args = std::env::args().skip(1);
-    let count: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(80);
-    let seed: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(0x9e37_79b9_7f4a_7c15);
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--stiffness" => options.stiffness = args.next().and_then(|a| a.parse().ok()),
+            "--sides" => {
+                let range = args.next().unwrap_or_default();
+                let Some((Ok(min), Ok(max))) = range.split_once("..").map(|(a, b)| (a.parse(), b.parse())) else {
+                    eprintln!("--sides wants MIN..MAX, e.g. 129..256");
+                    std::process::exit(2);
+                };
+                if !(2 <= min && min <= max) {
+                    eprintln!("--sides wants 2 ≤ MIN ≤ MAX");
+                    std::process::exit(2);
+                }
+                options.sides = (min, max);
+            }
+            _ => numbers.push(arg),
+        }
+    }
+    let count: usize = numbers.first().and_then(|a| a.parse().ok()).unwrap_or(80);
+    let seed: u64 = numbers.get(1).and_then(|a| a.parse().ok()).unwrap_or(0x9e37_79b9_7f4a_7c15);
     let mut rng = Xorshift(seed.max(1));
     let started = Instant::now();
     let mut unsettled = Vec::new();
     for case in 0..count {
-        let Layout { cloth, key, tilt } = layout(&mut rng);
+        let Layout { cloth, key, tilt } = layout(&mut rng, &options);
         let shape = RestShape::build(&cloth, &key);
         let report = shape.relax_report;
         if !report.converged {
