@@ -238,8 +238,9 @@ fn the_drape_does_not_depend_on_the_parity_of_the_grid() {
 }
 
 /// A stiff strip on one pin, case 68 of `examples/random_layouts.rs`: it
-/// settles after 10 336 fine sweeps, past the old default cap of 10 000, so
-/// it said "NOT settled" at the default settings; the default cap is 40 000.
+/// needed 10 336 fine sweeps, past the old default cap of 10 000, so it said
+/// "NOT settled" at the default settings (the default cap is 40 000 now, and
+/// with the bending bounds at half weight it settles in 5 612).
 #[test]
 fn a_stiff_strip_on_one_pin_settles_at_the_default_settings() {
     let cloth = Cloth::new((0.5159015747802351, 1.8572456692088466), (16, 55));
@@ -249,7 +250,6 @@ fn a_stiff_strip_on_one_pin_settles_at_the_default_settings() {
     let shape = RestShape::build(&cloth, &k);
     let report = shape.relax_report;
     assert!(report.converged, "{}", report.verdict());
-    assert!(report.iterations > 10_000, "{} sweeps: no longer a case past the old cap", report.iterations);
     pin_positions_exact(&shape, &k);
 }
 
@@ -430,9 +430,11 @@ proptest! {
     /// Soft cloth (no bending limit) settles at the default relaxation
     /// settings on any grid up to 256², whatever its reachable pins: 1 620
     /// layouts all did (1 220 from `examples/random_layouts.rs`, 400 runs of
-    /// this test). Stiff cloth does not yet: at the default Stiffness 0.2, 1
-    /// of 500 layouts up to 65² and every one of 20 from 129² to 256² stopped
-    /// at the cap (BENCHMARKS.md, session 22).
+    /// this test). Stiff cloth nearly does: with the bending bounds at half
+    /// weight, 80 of 80 layouts of random stiffness up to 65² and 20 of 20
+    /// from 129² to 256² at the default Stiffness 0.2 settle, but one of 300
+    /// small ones at 0.2 (a 55 × 11 strip) still stops at the cap
+    /// (BENCHMARKS.md, session 22).
     #[test]
     fn soft_cloth_settles_at_the_default_settings_whatever_its_pins(
         cols in 9u32..=256,

@@ -12,7 +12,9 @@
 //!     curvature, enforced as a minimum distance between second neighbours).
 //!
 //! Solver: nonlinear Gauss–Seidel in gather form. Each free point moves by the
-//! average of what its violated constraints ask, over-relaxed, plus momentum:
+//! average of what its violated constraints ask (a bending bound counting
+//! half, so where pins bend stiff cloth more than it allows the lengths win
+//! and the sweeps settle), over-relaxed, plus momentum:
 //! a share of the previous sweep's move is carried on (heavy-ball
 //! acceleration), which speeds up the slow, cloth-wide modes that plain
 //! Gauss–Seidel crawls through; a point faster than half a cell per sweep
