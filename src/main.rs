@@ -321,24 +321,24 @@ fn quiet_wayland_probe() {
 /// not valid is reported and the rest are still checked. With one scene its
 /// error is the command's error, as `check` words it.
 fn check_all(paths: &[PathBuf]) -> Result<()> {
-    let [path] = paths else {
-        let mut failed = 0;
-        for (index, path) in paths.iter().enumerate() {
-            if index > 0 {
-                say!("");
-            }
-            if let Err(error) = check(path) {
-                // Each error already names its file and cause in one line.
-                eprintln!("error: {error}");
-                failed += 1;
-            }
+    if let [path] = paths {
+        return check(path);
+    }
+    let mut failed = 0;
+    for (index, path) in paths.iter().enumerate() {
+        if index > 0 {
+            say!("");
         }
-        return match failed {
-            0 => Ok(()),
-            _ => Err(anyhow!("{failed} of {} scenes are not valid (each error above)", paths.len())),
-        };
-    };
-    check(path)
+        if let Err(error) = check(path) {
+            // Each error already names its file and cause in one line.
+            eprintln!("error: {error}");
+            failed += 1;
+        }
+    }
+    match failed {
+        0 => Ok(()),
+        _ => Err(anyhow!("{failed} of {} scenes are not valid (each error above)", paths.len())),
+    }
 }
 
 fn check(path: &Path) -> Result<()> {
