@@ -11,5 +11,7 @@ pub mod rest_shape;
 
 pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
 pub use catenary::Catenary;
-pub use relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, relax, relax_with};
+pub use relax::{
+    Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, relax, relax_resolved, relax_with, solver_grid,
+};
 pub use rest_shape::RestShape;

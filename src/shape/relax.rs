@@ -37,6 +37,10 @@
 //! odd number of points per side (see [`coarser_side`]), so a cloth of 2m
 //! and one of 2m + 1 points a side settle on the same coarsest grid.
 //!
+//! A cloth with fewer than [`SOLVER_MIN_SIDE`] points along its longer side
+//! is relaxed with its cells split ([`relax_resolved`]) and read back at its
+//! own points: the grid is detail, not shape.
+//!
 //! The settling is a fixed schedule ([`SETTLE_SWEEPS`] sweeps before the
 //! constraint-only ones), not a share of the sweep cap: what the cloth
 //! settles to depends on the scene alone, and `max_iterations` only stops a
@@ -264,6 +268,74 @@ pub fn refine(positions: &mut [DVec3], cols: usize, rows: usize, pinned: &[bool]
         .run(positions, params, Settle::No, &mut |_| ControlFlow::Continue(()))
         .expect("a control that never breaks never cancels");
     RelaxReport { stiff: params.stiffness > 0.0, ..report }
+}
+
+/// Fewest points the solver's grid has along the cloth's longer side: cells
+/// at most 1/32 of it. Stiffness sets the smallest bend as a share of that
+/// side ([`STIFF_RADIUS_FRACTION`]), so this resolves the same bends on every
+/// cloth; a coarser grid is drawn from it (see [`relax_resolved`]).
+pub const SOLVER_MIN_SIDE: usize = 33;
+
+/// Points per side of the grid the solver relaxes a `cols × rows` cloth on:
+/// the cloth's own grid, or one with every cell split into 2ᵏ × 2ᵏ (the
+/// smallest k giving [`SOLVER_MIN_SIDE`] points along the longer side), so
+/// every point of the cloth's grid is one of the solver's.
+pub fn solver_grid(cols: usize, rows: usize) -> (usize, usize) {
+    if cols < 2 || rows < 2 {
+        return (cols, rows);
+    }
+    let (mut c, mut r) = (cols, rows);
+    while c.max(r) < SOLVER_MIN_SIDE {
+        (c, r) = (2 * c - 1, 2 * r - 1);
+    }
+    (c, r)
+}
+
+/// [`relax_with`] on the [`solver_grid`]: a cloth with fewer points along its
+/// longer side than [`SOLVER_MIN_SIDE`] is relaxed on a grid with its cells
+/// split, started from its own grid interpolated, pinned at the same
+/// material points, and drawn back at its own points. So a coarse grid is the
+/// same cloth with less detail, not a different drape: the 2 m tent at 17²
+/// was 28 mm from 129² relaxed on its own cells, too coarse for the bend
+/// beside a corner pin (BENCHMARKS.md). Its edges are then chords of the
+/// finer cloth's, shorter where it folds. The report is the solver grid's.
+pub fn relax_resolved(
+    positions: &mut [DVec3],
+    cols: usize,
+    rows: usize,
+    pinned: &[bool],
+    params: &RelaxParams,
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<RelaxReport, Cancelled> {
+    assert_eq!(positions.len(), cols * rows);
+    assert_eq!(pinned.len(), cols * rows);
+    let (fine_cols, fine_rows) = solver_grid(cols, rows);
+    if (fine_cols, fine_rows) == (cols, rows) {
+        return relax_with(positions, cols, rows, pinned, params, control);
+    }
+    let split = (fine_cols - 1) / (cols - 1);
+    let mut fine = Vec::with_capacity(fine_cols * fine_rows);
+    let mut fine_pinned = vec![false; fine_cols * fine_rows];
+    for l in 0..fine_rows {
+        for k in 0..fine_cols {
+            fine.push(sample_mirrored(positions, cols, rows, (k, fine_cols), (l, fine_rows)));
+        }
+    }
+    for (f, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
+        let shared = (f / cols) * split * fine_cols + (f % cols) * split;
+        fine[shared] = positions[f];
+        fine_pinned[shared] = true;
+    }
+    let split_f = split as f64;
+    let fine_params =
+        RelaxParams { rest_u_m: params.rest_u_m / split_f, rest_v_m: params.rest_v_m / split_f, ..*params };
+    let report = relax_with(&mut fine, fine_cols, fine_rows, &fine_pinned, &fine_params, control)?;
+    for (f, p) in positions.iter_mut().enumerate() {
+        if !pinned[f] {
+            *p = fine[(f / cols) * split * fine_cols + (f % cols) * split];
+        }
+    }
+    Ok(report)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -613,5 +685,49 @@ mod tests {
         refine(&mut locked, 2, 2, &pinned, &params);
         let shear = shear_deg(&locked);
         assert!(shear < 36.0 && shear > MAX_SHEAR_DEG - 5.0, "40° is pulled back towards the limit: {shear}°");
+    }
+
+    #[test]
+    fn the_solver_grid_splits_cells_until_the_longer_side_has_33_points() {
+        assert_eq!(solver_grid(17, 17), (33, 33));
+        assert_eq!(solver_grid(31, 21), (61, 41));
+        assert_eq!(solver_grid(2, 2), (33, 33));
+        assert_eq!(solver_grid(9, 3), (33, 9));
+        assert_eq!(solver_grid(33, 5), (33, 5));
+        assert_eq!(solver_grid(256, 9), (256, 9));
+        assert_eq!(solver_grid(1, 5), (1, 5), "a side of one point has no cells to split");
+    }
+
+    #[test]
+    fn a_coarse_grid_is_drawn_from_the_solver_grid_with_its_pins_exact() {
+        // A 9 × 9 sheet hung by two corners: the same as relaxing the 33 × 33
+        // sheet with the same pins and reading every fourth point.
+        let (cols, rows) = (9, 9);
+        let params =
+            RelaxParams { rest_u_m: 0.1, rest_v_m: 0.1, stiffness: 0.2, max_iterations: 4000, tolerance: 1e-5 };
+        let flat = |cols: usize, rows: usize, spacing: f64| -> Vec<DVec3> {
+            (0..cols * rows)
+                .map(|k| DVec3::new((k % cols) as f64 * spacing * 0.8, 2.0, (k / cols) as f64 * spacing * 0.8))
+                .collect()
+        };
+        let mut coarse = flat(cols, rows, 0.1);
+        let mut pinned = vec![false; cols * rows];
+        pinned[0] = true;
+        pinned[cols - 1] = true;
+        let report = relax_resolved(&mut coarse, cols, rows, &pinned, &params, &mut |_| ControlFlow::Continue(()))
+            .expect("never cancelled");
+        assert!(report.converged, "{report:?}");
+        assert_eq!((coarse[0], coarse[cols - 1]), (flat(cols, rows, 0.1)[0], flat(cols, rows, 0.1)[cols - 1]));
+
+        let mut fine = flat(33, 33, 0.025);
+        let mut fine_pinned = vec![false; 33 * 33];
+        fine_pinned[0] = true;
+        fine_pinned[32] = true;
+        let fine_params = RelaxParams { rest_u_m: 0.025, rest_v_m: 0.025, ..params };
+        relax(&mut fine, 33, 33, &fine_pinned, &fine_params);
+        for (k, p) in coarse.iter().enumerate() {
+            let shared = fine[(k / cols) * 4 * 33 + (k % cols) * 4];
+            assert!(p.distance(shared) < 1e-3, "point {k}: {p} against the fine grid's {shared}");
+        }
     }
 }

@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
 use super::lay_flat::{flat_at, lay_flat};
-use super::relax::{Cancelled, DrapeReport, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_with};
+use super::relax::{Cancelled, DrapeReport, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_resolved};
 use crate::scene::{Cloth, Key};
 use crate::world::{ColliderShape, Obstacle, push_out};
 
@@ -63,7 +63,7 @@ impl RestShape {
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = positions.clone();
-        let relax_report = relax_with(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
+        let relax_report = relax_resolved(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
         let plain = RestShape {
             grid,
             elasticity: key.elasticity,
