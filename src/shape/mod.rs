@@ -11,7 +11,5 @@ pub mod rest_shape;
 
 pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
 pub use catenary::Catenary;
-pub use relax::{
-    Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, relax, relax_resolved, relax_with, solver_grid,
-};
+pub use relax::{Cancelled, RelaxParams, RelaxProgress, RelaxReport, refine, relax, relax_with};
 pub use rest_shape::RestShape;

@@ -314,17 +314,13 @@ pub fn relax_resolved(
         return relax_with(positions, cols, rows, pinned, params, control);
     }
     let split = (fine_cols - 1) / (cols - 1);
-    let mut fine = Vec::with_capacity(fine_cols * fine_rows);
+    // The solver point at the cloth's point `f`.
+    let shared = |f: usize| (f / cols) * split * fine_cols + (f % cols) * split;
+    let mut fine = resample(positions, (cols, rows), (fine_cols, fine_rows));
     let mut fine_pinned = vec![false; fine_cols * fine_rows];
-    for l in 0..fine_rows {
-        for k in 0..fine_cols {
-            fine.push(sample_mirrored(positions, cols, rows, (k, fine_cols), (l, fine_rows)));
-        }
-    }
     for (f, _) in pinned.iter().enumerate().filter(|(_, p)| **p) {
-        let shared = (f / cols) * split * fine_cols + (f % cols) * split;
-        fine[shared] = positions[f];
-        fine_pinned[shared] = true;
+        fine[shared(f)] = positions[f];
+        fine_pinned[shared(f)] = true;
     }
     let split_f = split as f64;
     let fine_params =
@@ -332,7 +328,7 @@ pub fn relax_resolved(
     let report = relax_with(&mut fine, fine_cols, fine_rows, &fine_pinned, &fine_params, control)?;
     for (f, p) in positions.iter_mut().enumerate() {
         if !pinned[f] {
-            *p = fine[(f / cols) * split * fine_cols + (f % cols) * split];
+            *p = fine[shared(f)];
         }
     }
     Ok(report)
@@ -377,12 +373,7 @@ fn solve_on_coarser_grid(
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
 ) -> Result<RelaxReport, Cancelled> {
     let (coarse_cols, coarse_rows) = (coarser_side(cols), coarser_side(rows));
-    let mut coarse = Vec::with_capacity(coarse_cols * coarse_rows);
-    for l in 0..coarse_rows {
-        for k in 0..coarse_cols {
-            coarse.push(sample_mirrored(positions, cols, rows, (k, coarse_cols), (l, coarse_rows)));
-        }
-    }
+    let mut coarse = resample(positions, (cols, rows), (coarse_cols, coarse_rows));
     let coarse_pinned =
         pin_coarse_points(positions, (cols, rows), pinned, params, &mut coarse, (coarse_cols, coarse_rows));
     let ratio_u = (cols - 1) as f64 / (coarse_cols - 1) as f64;
@@ -461,6 +452,18 @@ fn pin_coarse_points(
 fn nearest_index(at: usize, from: usize, to: usize) -> usize {
     let near = |at: usize| (2 * at * (to - 1) + (from - 1)) / (2 * (from - 1));
     if 2 * at < from { near(at) } else { to - 1 - near(from - 1 - at) }
+}
+
+/// A `cols × rows` grid sampled bilinearly on a `to_cols × to_rows` grid
+/// spanning the same cloth ([`sample_mirrored`] at each of its points).
+fn resample(positions: &[DVec3], (cols, rows): (usize, usize), (to_cols, to_rows): (usize, usize)) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(to_cols * to_rows);
+    for l in 0..to_rows {
+        for k in 0..to_cols {
+            out.push(sample_mirrored(positions, cols, rows, (k, to_cols), (l, to_rows)));
+        }
+    }
+    out
 }
 
 /// The grid sampled where point `k` of a `samples`-point side falls, along
