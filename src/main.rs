@@ -402,8 +402,9 @@ fn check(path: &Path) -> Result<()> {
         let crossings = shape.self_crossings();
         if crossings > 0 {
             say!(
-                "      warning: the rest shape passes through itself ({crossings} edge{} cross the cloth); Drape does not yet keep folds apart",
-                if crossings == 1 { "" } else { "s" }
+                "      warning: the rest shape passes through itself ({crossings} edge{} the cloth); {}",
+                if crossings == 1 { " crosses" } else { "s cross" },
+                drape::shape::contact::crossing_advice(key.thickness, report.converged)
             );
         }
         let (warnings, taut_pairs) = stretched_pin_warnings(&scene, key);

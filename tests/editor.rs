@@ -278,25 +278,30 @@ fn a_scene_that_fails_to_load_leaves_the_work_alone() {
     assert!(harness.query_by_label_contains("broken.ron:2:").is_none());
 }
 
-/// A curtain gathered to a tenth of its width relaxes through itself
-/// (`drape check` warns of it): the Cloth panel says so too, once the worker
-/// has counted; the bundled carpet, which does not, shows no such warning.
+/// A curtain gathered to a tenth of its width with no thickness relaxes
+/// through itself (`drape check` warns of it): the Cloth panel says so too,
+/// once the worker has counted; at the default thickness it folds without
+/// crossing and no such warning shows.
 #[test]
 fn the_cloth_panel_says_when_the_rest_shape_passes_through_itself() {
     let workspace = Workspace::new();
-    let gathered = scene::parse(
-        "(version: 1, cloth: (size: (1.0, 1.0), grid: (17, 17)), keys: [(frame: 0, pins: [\
-         (grid: (0, 0), pos: (-0.05, 2.0, 0.0)), (grid: (16, 0), pos: (0.05, 2.0, 0.0))])])",
-        "gathered.ron",
-    )
-    .unwrap();
-    let harness = open_editor(&workspace, gathered, None);
+    let gathered = |thickness: &str| {
+        let text = format!(
+            "(version: 1, cloth: (size: (1.0, 1.0), grid: (17, 17)), keys: [(frame: 0, {thickness} pins: [\
+             (grid: (0, 0), pos: (-0.05, 2.0, 0.0)), (grid: (16, 0), pos: (0.05, 2.0, 0.0))])])"
+        );
+        scene::parse(&text, "gathered.ron").unwrap()
+    };
+    // With no thickness the gathered folds pass through the cloth: said, with why.
+    let harness = open_editor(&workspace, gathered("thickness: 0.0,"), None);
     let warning = harness.query_by_label_contains("Passes through itself").map(|node| node.accesskit_node().value());
     let Some(Some(line)) = warning else { panic!("no warning in the Cloth panel") };
     assert!(line.contains("Settled"), "the verdict stays beside it: {line}");
     drop(harness);
-    let harness = open_carpet(&workspace);
+    // At the default thickness they fold without crossing.
+    let harness = open_editor(&workspace, gathered(""), None);
     assert!(harness.query_by_label_contains("Passes through itself").is_none());
+    assert!(harness.query_by_label_contains("Settled").is_some());
 }
 
 #[test]

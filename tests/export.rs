@@ -1035,27 +1035,34 @@ fn check_takes_several_scenes_and_every_bundled_key_settles() {
     assert!(stderr.contains("1 of 3 scenes are not valid"), "{stderr}");
 }
 
-/// `drape check` says when a rest shape passes through itself (a curtain
-/// gathered to a tenth of its width folds through itself until Drape keeps
-/// folds apart) and stays quiet for one that does not (the bundled curtain).
+/// `drape check` says when a rest shape passes through itself, and why: a
+/// curtain gathered to a tenth of its width folds without crossing itself
+/// at the default thickness, and through itself with none.
 #[test]
 fn check_warns_when_a_rest_shape_passes_through_itself() {
     let dir = tempfile::tempdir().unwrap();
-    let gathered = dir.path().join("gathered.ron");
-    fs::write(
-        &gathered,
-        "(version: 1, cloth: (size: (1.0, 1.0), grid: (17, 17)), keys: [(frame: 0, pins: [\
-         (grid: (0, 0), pos: (-0.05, 2.0, 0.0)), (grid: (16, 0), pos: (0.05, 2.0, 0.0))])])",
-    )
-    .unwrap();
+    let gathered = |thickness: &str| {
+        let path = dir.path().join(format!("gathered{thickness}.ron"));
+        fs::write(
+            &path,
+            format!(
+                "(version: 1, cloth: (size: (1.0, 1.0), grid: (17, 17)), keys: [(frame: 0, {thickness} pins: [\
+                 (grid: (0, 0), pos: (-0.05, 2.0, 0.0)), (grid: (16, 0), pos: (0.05, 2.0, 0.0))])])"
+            ),
+        )
+        .unwrap();
+        path
+    };
     let drape = env!("CARGO_BIN_EXE_drape");
     let check = |path: &Path| {
         let run = Command::new(drape).arg("check").arg(path).output().unwrap();
         assert!(run.status.success(), "check failed: {}", String::from_utf8_lossy(&run.stderr));
         String::from_utf8_lossy(&run.stdout).into_owned()
     };
-    let report = check(&gathered);
-    assert!(report.contains("passes through itself ("), "check says: {report}");
-    let report = check(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/curtain.ron")));
+    let report = check(&gathered(""));
     assert!(!report.contains("passes through itself"), "check says: {report}");
+    assert!(report.contains("settled in"), "check says: {report}");
+    let report = check(&gathered("thickness: 0.0,"));
+    assert!(report.contains("passes through itself ("), "check says: {report}");
+    assert!(report.contains("Thickness is 0"), "the advice names the cause: {report}");
 }

@@ -127,6 +127,9 @@ pub fn relaxed_inbetween(
         rest_u_m: grid.spacing_u_m * elasticity,
         rest_v_m: grid.spacing_v_m * elasticity,
         stiffness: mix(key_a.stiffness, key_b.stiffness),
+        // Contact costs a pair search per frame; blends of drapes that never
+        // reach themselves have nothing to keep apart.
+        thickness_m: if a.rest.kept_apart || b.rest.kept_apart { mix(key_a.thickness, key_b.thickness) } else { 0.0 },
         max_iterations: sweeps,
         tolerance: key_a.relax.tolerance.min(key_b.relax.tolerance),
     };

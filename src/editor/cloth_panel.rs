@@ -21,6 +21,7 @@ use crate::scene::{
     ClothTexture, Follow, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
     MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Pin, Scene,
 };
+use crate::shape::contact::crossing_advice;
 
 /// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
 const ADD_KEY_WIDTH: f32 = 96.0;
@@ -260,7 +261,8 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         // Only where there is something to rest on, so other scenes' panels keep their rows.
         if !w.doc.scene().colliders.is_empty() {
             let mut thickness_mm = key.thickness * 1000.0;
-            let hint = "How far the cloth keeps from the colliders' surfaces (a collider may set its own).";
+            let hint = "How far the cloth keeps from the colliders' surfaces (a collider may set its own) and between its own \
+                folds; 0 lets a fold pass through the cloth.";
             let label = ui.label("Thickness").on_hover_text(hint).id;
             let field = number_field(&mut thickness_mm).range(0.0..=MAX_THICKNESS_M * 1000.0).speed(0.1).suffix(" mm");
             let r = ui.add(field).labelled_by(label);
@@ -287,14 +289,13 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         Some(report) => (report.summary(), ui.visuals().warn_fg_color, format!("Rest shape {}", report.verdict())),
         None => ("Relaxing…".to_owned(), ui.visuals().weak_text_color(), "The rest shape is being relaxed.".to_owned()),
     };
-    if let Some(crossings @ 1..) = shape.and_then(|shape| shape.self_crossings_if_counted()) {
+    if let Some(crossings @ 1..) = shape.as_ref().and_then(|shape| shape.self_crossings_if_counted()) {
         let edges = if crossings == 1 { "edge crosses" } else { "edges cross" };
         text = format!("Passes through itself · {text}");
         color = ui.visuals().warn_fg_color;
-        full = format!(
-            "The rest shape passes through itself: {crossings} {edges} the cloth. Drape does not yet keep folds \
-             apart: pins that gather the cloth less fold it less.\n{full}"
-        );
+        let advice =
+            crossing_advice(key.thickness, shape.as_ref().is_some_and(|shape| shape.rest.relax_report.converged));
+        full = format!("The rest shape passes through itself: {crossings} {edges} the cloth; {advice}.\n{full}");
     }
     ui.add(egui::Label::new(egui::RichText::new(text).color(color)).truncate()).on_hover_text(full);
 }

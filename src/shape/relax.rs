@@ -53,6 +53,12 @@
 //! them): after a sweep whose largest move was near an edge, one more sweep
 //! over just the points near the edges, without momentum, follows.
 //!
+//! With a thickness ([`RelaxParams::thickness_m`]), every sweep is followed
+//! by the self-contact check (`self_contact`): parts of the cloth that are
+//! not grid neighbours are kept apart, and no sweep carries one through
+//! another. A key is relaxed with it only where its drape without it passes
+//! through itself (`RestShape::build_among`).
+//!
 //! Convergence: a level stops after `max_iterations` sweeps, or once no
 //! constraint asks any point to move by more than `tolerance` × the smaller
 //! rest spacing in a sweep. The carried momentum is not counted, so a slow
@@ -67,6 +73,7 @@ use glam::DVec3;
 mod drape;
 mod kernel;
 mod layout;
+mod self_contact;
 mod sweeper;
 
 pub use drape::{DrapeReport, drape_among};
@@ -81,6 +88,11 @@ pub struct RelaxParams {
     pub rest_v_m: f64,
     /// Bending resistance in [0, 1].
     pub stiffness: f64,
+    /// How far apart parts of the cloth that are not grid neighbours stay
+    /// (metres; at most a quarter of the rest spacing on each grid level),
+    /// so no sweep carries one through another; 0 lets the cloth pass
+    /// through itself (see `self_contact`).
+    pub thickness_m: f64,
     /// Sweep cap per grid level, after the coarsest level's fixed settling
     /// sweeps: it stops a relaxation that has not converged and never
     /// changes one that has.
@@ -540,7 +552,14 @@ mod tests {
         pinned[0] = true;
         pinned[cols - 1] = true;
         pinned[(rows / 2) * cols + cols / 3] = true;
-        let params = RelaxParams { rest_u_m: 0.1, rest_v_m: 0.1, stiffness: 0.6, max_iterations: 40, tolerance: 0.0 };
+        let params = RelaxParams {
+            rest_u_m: 0.1,
+            rest_v_m: 0.1,
+            stiffness: 0.6,
+            thickness_m: 0.0,
+            max_iterations: 40,
+            tolerance: 0.0,
+        };
         (positions, pinned, params)
     }
 
@@ -659,8 +678,14 @@ mod tests {
     fn stretched_and_squeezed_edges_pull_back_towards_rest() {
         // Three points in a row, the outer two pinned: the middle one is moved
         // towards the rest distance of whichever neighbour is off.
-        let params =
-            RelaxParams { rest_u_m: 1.0, rest_v_m: 1.0, stiffness: 0.0, max_iterations: 2000, tolerance: 1e-7 };
+        let params = RelaxParams {
+            rest_u_m: 1.0,
+            rest_v_m: 1.0,
+            stiffness: 0.0,
+            thickness_m: 0.0,
+            max_iterations: 2000,
+            tolerance: 1e-7,
+        };
         let mut positions = vec![DVec3::ZERO, DVec3::new(0.3, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0)];
         let report = refine(&mut positions, 3, 1, &[true, false, true], &params);
         assert!(report.converged, "{report:?}");
@@ -673,8 +698,14 @@ mod tests {
         // One cell pinned along its bottom edge: the top edge may lean either
         // way, and the cell keeps any shear up to the limit. (Beyond it, the
         // diagonals and edges of a lone cell settle on a compromise near the limit.)
-        let params =
-            RelaxParams { rest_u_m: 1.0, rest_v_m: 1.0, stiffness: 0.0, max_iterations: 2000, tolerance: 1e-9 };
+        let params = RelaxParams {
+            rest_u_m: 1.0,
+            rest_v_m: 1.0,
+            stiffness: 0.0,
+            thickness_m: 0.0,
+            max_iterations: 2000,
+            tolerance: 1e-9,
+        };
         let pinned = [true, true, false, false];
         let sheared = |deg: f64| {
             let (s, c) = deg.to_radians().sin_cos();
@@ -706,8 +737,14 @@ mod tests {
         // A 9 × 9 sheet hung by two corners: the same as relaxing the 33 × 33
         // sheet with the same pins and reading every fourth point.
         let (cols, rows) = (9, 9);
-        let params =
-            RelaxParams { rest_u_m: 0.1, rest_v_m: 0.1, stiffness: 0.2, max_iterations: 4000, tolerance: 1e-5 };
+        let params = RelaxParams {
+            rest_u_m: 0.1,
+            rest_v_m: 0.1,
+            stiffness: 0.2,
+            thickness_m: 0.0,
+            max_iterations: 4000,
+            tolerance: 1e-5,
+        };
         let flat = |cols: usize, rows: usize, spacing: f64| -> Vec<DVec3> {
             (0..cols * rows)
                 .map(|k| DVec3::new((k % cols) as f64 * spacing * 0.8, 2.0, (k / cols) as f64 * spacing * 0.8))

@@ -5,6 +5,7 @@ use std::ops::ControlFlow;
 use glam::DVec3;
 
 use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Placement, approximate};
+use super::contact::count_crossings;
 use super::lay_flat::{flat_at, lay_flat};
 use super::relax::{Cancelled, DrapeReport, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_resolved};
 use crate::scene::{Cloth, Key};
@@ -21,6 +22,10 @@ pub struct RestShape {
     pub placement: Vec<Placement>,
     pub relaxed: Vec<DVec3>,
     pub relax_report: RelaxReport,
+    /// Relaxed keeping the fabric's thickness between its folds, because
+    /// the drape without it passed through itself; in-betweens next to such
+    /// a key keep it too.
+    pub kept_apart: bool,
 }
 
 impl RestShape {
@@ -63,8 +68,9 @@ impl RestShape {
         let Approximation { network, positions, placement } = approximate(grid, &pins, key.elasticity);
         let pinned: Vec<bool> = placement.iter().map(|p| *p == Placement::Pin).collect();
         let mut relaxed = positions.clone();
-        let relax_report = relax_resolved(&mut relaxed, grid.cols, grid.rows, &pinned, &params, control)?;
-        let plain = RestShape {
+        let free_params = RelaxParams { thickness_m: 0.0, ..params };
+        let relax_report = relax_resolved(&mut relaxed, grid.cols, grid.rows, &pinned, &free_params, control)?;
+        let mut plain = RestShape {
             grid,
             elasticity: key.elasticity,
             network,
@@ -72,7 +78,26 @@ impl RestShape {
             placement,
             relaxed,
             relax_report,
+            kept_apart: false,
         };
+        // Relaxed without contact first: most drapes never come near
+        // themselves, and a catenary approximation can start with folded rows
+        // (the flag's top edge) that only passing through itself unfolds.
+        // Where that drape settles through itself, it is relaxed again from
+        // the approximation keeping the fabric's thickness. Not where it did
+        // not settle (pins out of reach keep it moving, and contact would
+        // sweep to the cap again; the verdict says what to change first), nor
+        // where it falls onto colliders (from flat, below).
+        if params.thickness_m > 0.0
+            && plain.relax_report.converged
+            && !plain.touches_obstacles(obstacles)
+            && count_crossings(&plain.relaxed, grid.cols, grid.rows) > 0
+        {
+            let mut relaxed = plain.approximated.clone();
+            if let Some(relax_report) = relax_kept_apart(&mut relaxed, grid, &pinned, &params, control)? {
+                plain = RestShape { relaxed, relax_report, kept_apart: true, ..plain };
+            }
+        }
         RestShape::among_from(plain, key, obstacles, control)
     }
 
@@ -98,7 +123,7 @@ impl RestShape {
         lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
         let fall =
             drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
-        Ok(RestShape { relaxed, relax_report: fall_report(fall, &params), ..plain })
+        Ok(RestShape { relaxed, relax_report: fall_report(fall, &params), kept_apart: false, ..plain })
     }
 
     /// Whether this shape, built without colliders, comes within one of
@@ -143,6 +168,7 @@ impl RestShape {
             placement: vec![Placement::Draped; grid.point_count()],
             relaxed,
             relax_report,
+            kept_apart: false,
         })
     }
 
@@ -185,12 +211,53 @@ fn touches(positions: &[DVec3], (cols, rows): (usize, usize), obstacles: &[Obsta
     })
 }
 
+/// Sweeps each grid level may take, after its settling, to settle keeping
+/// the cloth's folds apart. Gathered curtains, pleated headings and crossed
+/// pins settle well within it (a pleated heading's coarse level needs more
+/// than 3000; BENCHMARKS.md, session 27); a crumpled cloth
+/// whose stacked folds cannot all keep the thickness can push and pull
+/// without end, and is left as the drape without contact (which passes
+/// through itself, and says so) instead of sweeping to the key's cap level
+/// after level.
+pub const KEPT_APART_SWEEPS: u32 = 10_000;
+
+/// [`relax_resolved`] keeping the fabric's thickness between its folds, from
+/// the approximation in `positions`: its report where every level settled
+/// before [`KEPT_APART_SWEEPS`] (or the key's cap, if lower), `None` where
+/// one did not.
+fn relax_kept_apart(
+    positions: &mut [DVec3],
+    grid: GridSpec,
+    pinned: &[bool],
+    params: &RelaxParams,
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<Option<RelaxReport>, Cancelled> {
+    let params = RelaxParams { max_iterations: params.max_iterations.min(KEPT_APART_SWEEPS), ..*params };
+    let mut gave_up = false;
+    let mut watch = |progress: RelaxProgress| {
+        // A level at its last allowed sweep has not settled in time, and is
+        // not worth the finer levels' time.
+        if progress.iteration >= progress.max_iterations {
+            gave_up = true;
+            return ControlFlow::Break(());
+        }
+        control(progress)
+    };
+    match relax_resolved(positions, grid.cols, grid.rows, pinned, &params, &mut watch) {
+        Ok(report) if report.converged => Ok(Some(report)),
+        Ok(_) => Ok(None),
+        Err(Cancelled) if gave_up => Ok(None),
+        Err(Cancelled) => Err(Cancelled),
+    }
+}
+
 /// The relaxation's numbers for `key` on `grid`.
 fn key_params(grid: GridSpec, key: &Key) -> RelaxParams {
     RelaxParams {
         rest_u_m: grid.spacing_u_m * key.elasticity,
         rest_v_m: grid.spacing_v_m * key.elasticity,
         stiffness: key.stiffness,
+        thickness_m: key.thickness,
         max_iterations: key.relax.iterations,
         tolerance: key.relax.tolerance,
     }

@@ -2,6 +2,7 @@
 //! grid over their bounding boxes, rebuilt from positions when needed.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::DVec3;
 
@@ -35,11 +36,43 @@ pub fn grid_edges(cols: usize, rows: usize) -> Vec<[u32; 2]> {
     edges
 }
 
+/// A multiply–rotate hash for cell coordinates: the keys are small integers
+/// made here, not input an attacker picks, and the default SipHash was most
+/// of the cost of counting crossings.
+#[derive(Default, Clone, Copy)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for chunk in &mut chunks {
+            let mut word = [0u8; 8];
+            word.copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(word));
+        }
+        for &byte in chunks.remainder() {
+            self.write_u64(u64::from(byte));
+        }
+    }
+
+    fn write_u64(&mut self, n: u64) {
+        self.0 = (self.0.rotate_left(5) ^ n).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_usize(&mut self, n: usize) {
+        self.write_u64(n as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
 /// Items (triangles or edges, as vertex lists) hashed by the cells their
 /// padded bounding boxes touch.
 pub struct BoxGrid {
     cell_m: f64,
-    cells: HashMap<[i64; 3], Vec<u32>>,
+    cells: HashMap<[i64; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
     /// Per item, the last query that met it, so a query lists each once.
     seen: Vec<u32>,
     query: u32,
@@ -49,7 +82,7 @@ impl BoxGrid {
     /// Hashes `items` of `positions`, each box grown by `pad_m`, in cells of
     /// `cell_m` (positive). Items with a non-finite corner are left out.
     pub fn new<const K: usize>(positions: &[DVec3], items: &[[u32; K]], cell_m: f64, pad_m: f64) -> BoxGrid {
-        let mut grid = BoxGrid { cell_m, cells: HashMap::new(), seen: vec![u32::MAX; items.len()], query: 0 };
+        let mut grid = BoxGrid { cell_m, cells: HashMap::default(), seen: vec![u32::MAX; items.len()], query: 0 };
         for (t, item) in items.iter().enumerate() {
             let corners = item.map(|k| positions[k as usize]);
             if !corners.iter().all(|p| p.is_finite()) {

@@ -6,6 +6,7 @@ use std::ops::ControlFlow;
 
 use super::kernel::{Bound, apply, coast, move_point, nudge, point_steps, run_steps};
 use super::layout::{BorderChunk, EdgeRun, LANES, Lanes, NEIGHBOURS, Run, STEPS, Split};
+use super::self_contact::SelfContact;
 use glam::DVec3;
 
 use super::{
@@ -29,6 +30,8 @@ pub(super) struct Sweeper {
     /// This colour's steps: interior runs first, then edge runs, then chunks;
     /// one vector's worth of spare room for the last run's throwaway lanes.
     steps: [Vec<f64>; 3],
+    /// The cloth's thickness between its layers, kept after every sweep.
+    contact: Option<SelfContact>,
 }
 
 impl Sweeper {
@@ -128,6 +131,7 @@ impl Sweeper {
             edge_runs,
             border,
             steps: [vec![0.0; most + LANES], vec![0.0; most + LANES], vec![0.0; most + LANES]],
+            contact: SelfContact::new(cols, rows, pinned, params.thickness_m, u.min(v)),
         }
     }
 
@@ -215,6 +219,9 @@ impl Sweeper {
         let settle_sweeps = if settle == Settle::Yes { SETTLE_SWEEPS } else { 0 };
         for iteration in 0..settle_sweeps.saturating_add(params.max_iterations) {
             let settling = iteration < settle_sweeps;
+            if let Some(contact) = &mut self.contact {
+                contact.begin(&self.position, &self.velocity);
+            }
             let gravity =
                 if settling { -GRAVITY_BIAS * min_rest * (1.0 - iteration as f64 / settle_sweeps as f64) } else { 0.0 };
             for colour in 0..4 {
@@ -266,9 +273,13 @@ impl Sweeper {
                     max_edge2 = max_edge2.max(step2);
                 }
             }
+            let held2 = self
+                .contact
+                .as_mut()
+                .and_then(|contact| contact.keep_apart(&mut self.position, &mut self.velocity, MOMENTUM).residual2);
             // The settling sweeps are part of what the shape is, not of the cap's budget.
             report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
-            report.last_move_m = max_step2.max(max_edge2).sqrt();
+            report.last_move_m = held2.unwrap_or(max_step2.max(max_edge2)).sqrt();
             report.last_move = report.last_move_m / min_rest;
             let progress = RelaxProgress {
                 cols: self.cols,
@@ -287,7 +298,13 @@ impl Sweeper {
             // (a lone cell) the extra sweeps would just fight the momentum.
             let has_interior = self.runs.iter().any(|runs| !runs.is_empty());
             if !settling && has_interior && max_edge2 > max_step2 {
+                if let Some(contact) = &mut self.contact {
+                    contact.begin(&self.position, &self.velocity);
+                }
                 self.edge_sweep();
+                if let Some(contact) = &mut self.contact {
+                    contact.keep_apart(&mut self.position, &mut self.velocity, MOMENTUM);
+                }
             }
         }
         Ok(report)
