@@ -5,7 +5,9 @@
 //! reachable layouts and prints the ones that do not settle within the
 //! default sweep cap, then a summary. `--stiffness` gives every layout that
 //! stiffness instead of a random one; `--sides` draws the grid's sides from
-//! MIN..=MAX points instead of 9..=65. The modelling issue asks for every
+//! MIN..=MAX points instead of 9..=65; `--each` prints every layout with its
+//! time, whether it was relaxed again keeping its folds apart, and how many
+//! edges cross the cloth. The modelling issue asks for every
 //! valid scene up to 256² to settle at the default settings; a property test
 //! in `tests/rest_shapes.rs` asserts it for soft cloth (stiffness 0), and this
 //! measures the rest (BENCHMARKS.md has the figures).
@@ -21,6 +23,7 @@ use std::time::Instant;
 
 use drape::scene::{Cloth, DEFAULT_FRICTION, DEFAULT_THICKNESS_M, Ease, Key, Pin, RelaxSettings};
 use drape::shape::RestShape;
+use drape::shape::contact::count_crossings;
 
 /// xorshift64: the same layouts on every machine.
 struct Xorshift(u64);
@@ -92,6 +95,7 @@ fn layout(rng: &mut Xorshift, options: &Options) -> Layout {
 
 fn main() {
     let mut options = Options { stiffness: None, sides: (9, 65) };
+    let mut each = false;
     let mut numbers = Vec::new();
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -105,6 +109,7 @@ fn main() {
                 };
                 options.stiffness = Some(stiffness);
             }
+            "--each" => each = true,
             "--sides" => {
                 let range = args.next().unwrap_or_default();
                 let Some((Ok(min), Ok(max))) = range.split_once("..").map(|(a, b)| (a.parse(), b.parse())) else {
@@ -127,8 +132,20 @@ fn main() {
     let mut unsettled = Vec::new();
     for case in 0..count {
         let Layout { cloth, key, tilt } = layout(&mut rng, &options);
+        let built = Instant::now();
         let shape = RestShape::build(&cloth, &key);
         let report = shape.relax_report;
+        if each {
+            let (cols, rows) = cloth.grid;
+            let crossings = count_crossings(&shape.relaxed, cols as usize, rows as usize);
+            println!(
+                "case {case}: {cols} × {rows}, {} pins, stiffness {:.2}: {:.2} s, {}, {crossings} crossing edges",
+                key.pins.len(),
+                key.stiffness,
+                built.elapsed().as_secs_f64(),
+                if shape.kept_apart { "kept apart" } else { "relaxed once" },
+            );
+        }
         if !report.converged {
             let (cols, rows) = cloth.grid;
             println!(
