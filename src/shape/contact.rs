@@ -4,6 +4,7 @@ mod broad_phase;
 mod closest;
 mod crossings;
 mod geometry;
+mod one_to_one;
 
 pub(crate) use broad_phase::BoxGrid;
 pub use closest::segment_triangle_closest;
