@@ -47,6 +47,11 @@ const FLOOR_SPACING_SHARE: f64 = 0.25;
 /// Margin of the pair list beyond the floor and this sweep's moves, as a
 /// share of the smaller rest spacing.
 const SKIN_SPACING_SHARE: f64 = 0.25;
+/// Most pairs listed at once (about 170 MB with their per-sweep records): a
+/// cloth crumpled so tightly that more are near each other is not kept
+/// apart at all (the sweeps stop, unsettled), rather than the list growing
+/// without bound (a random 256² layout once listed 20 GB).
+const MAX_PAIRS: usize = 1 << 20;
 /// Rounds of pushes after a sweep.
 const PUSH_ROUNDS: u32 = 8;
 /// Rounds, after the pushes, that send a pair whose gap is gone back only as
@@ -78,6 +83,8 @@ pub(super) struct SelfContact {
     segments: Vec<[u32; 2]>,
     triangles: Vec<[u32; 3]>,
     pairs: Vec<Pair>,
+    /// More than [`MAX_PAIRS`] were near each other at the last listing.
+    overwhelmed: bool,
     /// Positions when the pairs were listed (empty before the first listing).
     listed_at: Vec<DVec3>,
     radius_m: f64,
@@ -110,6 +117,9 @@ pub(super) struct Kept {
     /// through, or refused, when contact held some point (the sweep's own
     /// figure would count the moves contact took back).
     pub(super) residual2: Option<f64>,
+    /// Too many pairs were near each other to keep them apart
+    /// ([`MAX_PAIRS`]): the sweep was not checked, and the relaxation must stop.
+    pub(super) overwhelmed: bool,
 }
 
 enum Verdict {
@@ -149,6 +159,7 @@ impl SelfContact {
             segments: both_split_segments(cols, rows),
             triangles: both_split_triangles(cols, rows),
             pairs: Vec::new(),
+            overwhelmed: false,
             listed_at: Vec::new(),
             radius_m: 0.0,
             drift_m: 0.0,
@@ -195,6 +206,9 @@ impl SelfContact {
         }
         if allowance_m < self.floor_m / 2.0 || self.listed_at.is_empty() {
             self.list(2.0 * self.floor_m + self.skin_m + 2.0 * moved_m);
+            if self.overwhelmed {
+                return Kept { residual2: None, overwhelmed: true };
+            }
             allowance_m = (self.radius_m - self.floor_m) / 2.0 - moved_m;
         }
         let limit_m = moved_m + allowance_m;
@@ -281,7 +295,7 @@ impl SelfContact {
             });
         }
         self.drift_m += moved_m.max(if touched.is_empty() { 0.0 } else { limit_m });
-        Kept { residual2 }
+        Kept { residual2, overwhelmed: false }
     }
 
     /// Whether the pair's points have travelled too little since it was last
@@ -434,6 +448,7 @@ impl SelfContact {
     fn list(&mut self, radius_m: f64) {
         let positions: Vec<DVec3> = self.slots.iter().map(|&slot| at(&self.before, slot)).collect();
         let mut pairs = Vec::new();
+        let mut overwhelmed = false;
         // Cells about a triangle's size: a triangle spans a few of them.
         let cell_m = radius_m.max(self.min_rest_m);
         let mut grid = BoxGrid::new(&positions, &self.triangles, cell_m, radius_m);
@@ -456,6 +471,10 @@ impl SelfContact {
                 let [pp, pq, pr] = [p, q, r].map(|k| positions[k as usize]);
                 let (d, _, _) = segment_triangle_closest(pa, pb, pp, pq, pr);
                 if d < radius_m {
+                    if pairs.len() >= MAX_PAIRS {
+                        overwhelmed = true;
+                        return;
+                    }
                     let points = [a, b, p, q, r];
                     // A pair listed before keeps its floor; one nearer than the
                     // floor when first seen may not come nearer than it is.
@@ -465,7 +484,8 @@ impl SelfContact {
                 }
             });
         }
-        self.pairs = pairs;
+        self.overwhelmed = overwhelmed;
+        self.pairs = if overwhelmed { Vec::new() } else { pairs };
         self.listed_at = positions;
         self.radius_m = radius_m;
         self.drift_m = 0.0;

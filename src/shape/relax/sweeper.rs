@@ -273,10 +273,18 @@ impl Sweeper {
                     max_edge2 = max_edge2.max(step2);
                 }
             }
-            let held2 = self
+            let kept = self
                 .contact
                 .as_mut()
-                .and_then(|contact| contact.keep_apart(&mut self.position, &mut self.velocity, MOMENTUM).residual2);
+                .map(|contact| contact.keep_apart(&mut self.position, &mut self.velocity, MOMENTUM));
+            if kept.as_ref().is_some_and(|kept| kept.overwhelmed) {
+                // Folds too crowded to keep apart: stopped, not settled.
+                report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
+                report.last_move_m = f64::INFINITY;
+                report.last_move = f64::INFINITY;
+                break;
+            }
+            let held2 = kept.and_then(|kept| kept.residual2);
             // The settling sweeps are part of what the shape is, not of the cap's budget.
             report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
             report.last_move_m = held2.unwrap_or(max_step2.max(max_edge2)).sqrt();
