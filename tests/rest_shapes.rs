@@ -3,7 +3,7 @@
 
 use drape::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings};
 use drape::shape::contact::count_crossings;
-use drape::shape::relax::{RelaxParams, SOLVER_MIN_SIDE, mean_structural_error, relax};
+use drape::shape::relax::{RelaxParams, mean_structural_error, relax};
 use drape::shape::rest_shape::grid_spec;
 use drape::shape::{Approximation, Catenary, GridSpec, PinLayout, PinPoint, Placement, RestShape, approximate};
 use glam::DVec3;
@@ -457,12 +457,8 @@ proptest! {
         let shape = RestShape::build(&cloth, &k);
         prop_assert!(shape.relax_report.converged, "{cols} × {rows}, pins {pins:?}: {}", shape.relax_report.verdict());
         pin_positions_exact(&shape, &k);
-        // Where the drape was relaxed again keeping its folds apart, none cross
-        // on the grid contact ran on. A cloth under SOLVER_MIN_SIDE points a
-        // side is relaxed with its cells split and read back at its own
-        // points, whose edges are chords of the folds and can cut through one
-        // (15 × 32: 2 edges), so it is not asserted there.
-        if shape.kept_apart && cols.max(rows) as usize >= SOLVER_MIN_SIDE {
+        // Where the drape was relaxed again keeping its folds apart, none cross.
+        if shape.kept_apart {
             prop_assert_eq!(count_crossings(&shape.relaxed, cols as usize, rows as usize), 0);
         }
     }

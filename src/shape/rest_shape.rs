@@ -94,7 +94,12 @@ impl RestShape {
             && count_crossings(&plain.relaxed, grid.cols, grid.rows) > 0
         {
             let mut relaxed = plain.approximated.clone();
-            if let Some(relax_report) = relax_kept_apart(&mut relaxed, grid, &pinned, &params, control)? {
+            // Kept only where it crosses nowhere on the cloth's own grid: contact
+            // cannot part an approximation that starts crossed, and a coarse
+            // cloth's read-back edges are chords that can cut a fold.
+            if let Some(relax_report) = relax_kept_apart(&mut relaxed, grid, &pinned, &params, control)?
+                && count_crossings(&relaxed, grid.cols, grid.rows) == 0
+            {
                 plain = RestShape { relaxed, relax_report, kept_apart: true, ..plain };
             }
         }
