@@ -20,7 +20,7 @@ pub fn crossing_advice(thickness_m: f64, settled: bool) -> &'static str {
     } else if !settled {
         "it has not settled; once it does, its folds are kept apart"
     } else {
-        "Drape does not yet keep folds apart in a fall onto colliders, or where the catenary approximation starts \
-         folded through itself: pins that gather the cloth less fold it less"
+        "Drape could not keep these folds apart (a fall onto colliders, an approximation that starts folded through \
+         itself, or folds too crowded to all keep the thickness): pins that gather the cloth less fold it less"
     }
 }
