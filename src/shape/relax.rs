@@ -674,18 +674,16 @@ mod tests {
         }
     }
 
+    /// Soft cloth with unit rest lengths and no thickness, 2000 sweeps at most.
+    fn soft_unit_params(tolerance: f64) -> RelaxParams {
+        RelaxParams { rest_u_m: 1.0, rest_v_m: 1.0, stiffness: 0.0, thickness_m: 0.0, max_iterations: 2000, tolerance }
+    }
+
     #[test]
     fn stretched_and_squeezed_edges_pull_back_towards_rest() {
         // Three points in a row, the outer two pinned: the middle one is moved
         // towards the rest distance of whichever neighbour is off.
-        let params = RelaxParams {
-            rest_u_m: 1.0,
-            rest_v_m: 1.0,
-            stiffness: 0.0,
-            thickness_m: 0.0,
-            max_iterations: 2000,
-            tolerance: 1e-7,
-        };
+        let params = soft_unit_params(1e-7);
         let mut positions = vec![DVec3::ZERO, DVec3::new(0.3, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0)];
         let report = refine(&mut positions, 3, 1, &[true, false, true], &params);
         assert!(report.converged, "{report:?}");
@@ -698,14 +696,7 @@ mod tests {
         // One cell pinned along its bottom edge: the top edge may lean either
         // way, and the cell keeps any shear up to the limit. (Beyond it, the
         // diagonals and edges of a lone cell settle on a compromise near the limit.)
-        let params = RelaxParams {
-            rest_u_m: 1.0,
-            rest_v_m: 1.0,
-            stiffness: 0.0,
-            thickness_m: 0.0,
-            max_iterations: 2000,
-            tolerance: 1e-9,
-        };
+        let params = soft_unit_params(1e-9);
         let pinned = [true, true, false, false];
         let sheared = |deg: f64| {
             let (s, c) = deg.to_radians().sin_cos();

@@ -277,16 +277,15 @@ impl Sweeper {
                 .contact
                 .as_mut()
                 .map(|contact| contact.keep_apart(&mut self.position, &mut self.velocity, MOMENTUM));
+            // The settling sweeps are part of what the shape is, not of the cap's budget.
+            report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
             if kept.as_ref().is_some_and(|kept| kept.overwhelmed) {
                 // Folds too crowded to keep apart: stopped, not settled.
-                report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
                 report.last_move_m = f64::INFINITY;
                 report.last_move = f64::INFINITY;
                 break;
             }
             let held2 = kept.and_then(|kept| kept.residual2);
-            // The settling sweeps are part of what the shape is, not of the cap's budget.
-            report.iterations = (iteration + 1).saturating_sub(settle_sweeps);
             report.last_move_m = held2.unwrap_or(max_step2.max(max_edge2)).sqrt();
             report.last_move = report.last_move_m / min_rest;
             let progress = RelaxProgress {
