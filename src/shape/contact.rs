@@ -6,7 +6,7 @@ mod crossings;
 mod geometry;
 mod one_to_one;
 
-pub(crate) use broad_phase::BoxGrid;
+pub(crate) use broad_phase::{BoxGrid, CellHasher};
 pub use closest::segment_triangle_closest;
 pub use crossings::count_crossings;
 

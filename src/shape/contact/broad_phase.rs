@@ -36,11 +36,11 @@ pub fn grid_edges(cols: usize, rows: usize) -> Vec<[u32; 2]> {
     edges
 }
 
-/// A multiply–rotate hash for cell coordinates: the keys are small integers
-/// made here, not input an attacker picks, and the default SipHash was most
-/// of the cost of counting crossings.
+/// A multiply–rotate hash for cell coordinates and grid point indices: the
+/// keys are small integers made here, not input an attacker picks, and the
+/// default SipHash was most of the cost of counting crossings.
 #[derive(Default, Clone, Copy)]
-struct CellHasher(u64);
+pub(crate) struct CellHasher(u64);
 
 impl Hasher for CellHasher {
     fn write(&mut self, bytes: &[u8]) {

@@ -36,10 +36,13 @@
 //! floor, and within a sweep only once one of its points has moved since it
 //! was last looked at.
 
+use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
+
 use glam::DVec3;
 
 use super::layout::Split;
-use crate::shape::contact::{BoxGrid, segment_triangle_closest};
+use crate::shape::contact::{BoxGrid, CellHasher, segment_triangle_closest};
 
 /// Largest floor, as a share of the smaller rest spacing: a flat grid's
 /// nearest pairs that share no vertex are half a diagonal apart.
@@ -242,6 +245,10 @@ impl SelfContact {
                     self.measured_m[i] = f64::NAN;
                     continue;
                 }
+                if let Some(bound_m) = self.boxed_gap(&self.pairs[i], position) {
+                    self.measured_m[i] = bound_m;
+                    continue;
+                }
                 let (verdict, gap_m) = self.verdict(i, position, round);
                 self.measured_m[i] = gap_m;
                 match verdict {
@@ -305,6 +312,20 @@ impl SelfContact {
         let segment = travel(0).max(travel(1));
         let triangle = travel(2).max(travel(3)).max(travel(4));
         pair.gap_m - segment - triangle > pair.floor_m
+    }
+
+    /// A lower bound of the pair's distance now, where it shows the pair
+    /// clear of its floor without finding its axis (most of a falling
+    /// cloth's listed pairs): the distance of its points' boxes where the
+    /// sweep started them (at most their distance, which is their gap along
+    /// the axis), less each side's largest move since. Where this is at least
+    /// the floor, so is the gap along the axis: the verdict would be Clear.
+    fn boxed_gap(&self, pair: &Pair, position: &[Split; 3]) -> Option<f64> {
+        let slots = pair.points.map(|k| self.slots[k as usize]);
+        let start = slots.map(|slot| at(&self.before, slot));
+        let moved = |n: usize| at_split(position, slots[n]).distance(start[n]);
+        let bound_m = box_distance(&start) - moved(0).max(moved(1)) - moved(2).max(moved(3)).max(moved(4));
+        (bound_m >= pair.floor_m).then_some(bound_m)
     }
 
     /// Pair `i` checked along the axis that separated it when the sweep
@@ -452,7 +473,7 @@ impl SelfContact {
         // Cells about a triangle's size: a triangle spans a few of them.
         let cell_m = radius_m.max(self.min_rest_m);
         let mut grid = BoxGrid::new(&positions, &self.triangles, cell_m, radius_m);
-        let floors: std::collections::HashMap<[u32; 5], f64> =
+        let floors: HashMap<[u32; 5], f64, BuildHasherDefault<CellHasher>> =
             self.pairs.iter().map(|pair| (pair.points, pair.floor_m)).collect();
         for &[a, b] in &self.segments {
             let (pa, pb) = (positions[a as usize], positions[b as usize]);
@@ -469,6 +490,10 @@ impl SelfContact {
                     return;
                 }
                 let [pp, pq, pr] = [p, q, r].map(|k| positions[k as usize]);
+                // Their boxes' distance is at most theirs (with room for rounding).
+                if box_distance(&[pa, pb, pp, pq, pr]) > radius_m * BOX_MARGIN {
+                    return;
+                }
                 let (d, _, _) = segment_triangle_closest(pa, pb, pp, pq, pr);
                 if d < radius_m {
                     if pairs.len() >= MAX_PAIRS {
@@ -511,6 +536,19 @@ fn share_apart(start: &[DVec3; 5], end: &[DVec3; 5], axis: DVec3, target_m: f64)
         }
     }
     if kept.is_finite() { kept.clamp(0.0, 1.0) } else { 0.0 }
+}
+
+/// How far past the listing radius a pair's boxes must be for it to be left
+/// unmeasured: rounding never puts a pair's measured distance this far below
+/// its boxes'.
+const BOX_MARGIN: f64 = 1.0 + 1e-9;
+
+/// Distance between the box round a pair's segment (points 0, 1) and the box
+/// round its triangle (2, 3, 4): at most the pair's distance.
+fn box_distance(p: &[DVec3; 5]) -> f64 {
+    let (segment_min, segment_max) = (p[0].min(p[1]), p[0].max(p[1]));
+    let (triangle_min, triangle_max) = (p[2].min(p[3]).min(p[4]), p[2].max(p[3]).max(p[4]));
+    (triangle_min - segment_max).max(segment_min - triangle_max).max(DVec3::ZERO).length()
 }
 
 /// Closest points of a pair's segment (points 0, 1) and triangle (2, 3, 4).
