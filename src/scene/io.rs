@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::SceneError;
 use super::format::to_ron_string;
-use super::locate::{locate, tokenize};
+use super::locate::{has_tokens, locate};
 use super::mesh_files::read_meshes;
 use super::read_capped::read_capped;
 use super::reference_files::read_references;
@@ -22,7 +22,7 @@ pub fn parse(text: &str, file_label: &str) -> Result<Scene, SceneError> {
     if text.trim().is_empty() {
         return Err(SceneError::invalid(file_label, None, format!("the file is empty: {SCENE_START}")));
     }
-    if tokenize(text).is_empty() {
+    if !has_tokens(text) {
         return Err(SceneError::invalid(file_label, None, format!("the file holds only comments: {SCENE_START}")));
     }
     // `view: (…)` reads like `view: Some((…))`: an optional block is written the way it looks.
@@ -49,9 +49,9 @@ pub const MAX_SCENE_FILE_BYTES: u64 = 64 * 1024 * 1024;
 
 /// Reads, parses and validates the scene file at `path`, and reads the mesh
 /// files its colliders and references name (relative to it). Messages name the
-/// file as `path` displays (`scenes/tent.ron:14:17: …`). A file larger than
-/// [`MAX_SCENE_FILE_BYTES`] is refused without reading it whole, whatever it
-/// is (`/dev/zero` included).
+/// file as `path` displays (`scenes/tent.ron:14:17: …`). Only a regular file
+/// is read (a FIFO, a device or a folder is refused unopened), and one larger
+/// than [`MAX_SCENE_FILE_BYTES`] is refused without being read whole.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let bytes = read_capped(path, MAX_SCENE_FILE_BYTES)?;
     let mut scene = parse_bytes(&bytes, &path.display().to_string())?;

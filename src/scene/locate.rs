@@ -147,63 +147,6 @@ impl<'a> Scanned<'a> {
         }
         entries
     }
-
-    /// The index of the token where the document's value starts, after any
-    /// `#![enable(…)]` attributes.
-    fn root(&self) -> Option<usize> {
-        let mut i = 0;
-        while self.kind(i) == Some(TokenKind::Other) && self.token_text(i) == "#" {
-            i += 1;
-            if self.kind(i) == Some(TokenKind::Other) && self.token_text(i) == "!" {
-                i += 1;
-            }
-            if let Some(TokenKind::Open(_)) = self.kind(i) {
-                i = self.after_group(i);
-            }
-        }
-        (i < self.tokens.len()).then_some(i)
-    }
-
-    fn field(&self, value: usize, name: &str) -> Option<usize> {
-        let mut value = value;
-        // Step through newtype wrappers such as `Sway((…))` (bounded, no recursion).
-        for _ in 0..8 {
-            let entries = self.entries(self.value_group(value)?);
-            if let Some(entry) = entries.iter().find(|e| e.name == Some(name)) {
-                return Some(entry.value);
-            }
-            match entries.as_slice() {
-                [only] if only.name.is_none() && self.value_group(only.value).is_some() => {
-                    value = only.value;
-                }
-                _ => return None,
-            }
-        }
-        None
-    }
-
-    fn element(&self, value: usize, index: usize) -> Option<usize> {
-        let entries = self.entries(self.value_group(value)?);
-        entries.get(index).map(|e| e.value)
-    }
-
-    /// Where the value at `path` starts; if part of the path is missing, where
-    /// the nearest enclosing value that exists starts. `None` only when the text
-    /// holds no value at all.
-    pub fn locate(&self, path: &str) -> Option<TextPosition> {
-        let mut current = self.root()?;
-        for segment in parse_path(path) {
-            let next = match segment {
-                Segment::Field(name) => self.field(current, name),
-                Segment::Index(index) => self.element(current, index),
-            };
-            match next {
-                Some(next) if next < self.tokens.len() => current = next,
-                _ => break,
-            }
-        }
-        Some(self.tokens[current].pos)
-    }
 }
 
 /// One `name: value` or bare `value` inside a group.
@@ -218,7 +161,145 @@ pub(crate) struct Entry<'a> {
 /// falling back to the nearest enclosing value found; `None` only if the text
 /// holds no value at all.
 pub fn locate(text: &str, path: &str) -> Option<TextPosition> {
-    Scanned::new(text).locate(path)
+    let mut current = root(text)?;
+    for segment in parse_path(path) {
+        let next = match segment {
+            Segment::Field(name) => field(text, current, name),
+            Segment::Index(index) => element(text, current, index),
+        };
+        match next {
+            Some(next) => current = next,
+            None => break,
+        }
+    }
+    Some(current.pos)
+}
+
+/// The token where the document's value starts, after any `#![enable(…)]`
+/// attributes.
+fn root(text: &str) -> Option<Token> {
+    let mut tokens = Tokens::new(text);
+    let mut token = tokens.next()?;
+    while token.kind == TokenKind::Other && token_text(text, &token) == "#" {
+        token = tokens.next()?;
+        if token.kind == TokenKind::Other && token_text(text, &token) == "!" {
+            token = tokens.next()?;
+        }
+        if let TokenKind::Open(open) = token.kind {
+            skip_group(&mut tokens, open);
+            token = tokens.next()?;
+        }
+    }
+    Some(token)
+}
+
+fn token_text<'a>(text: &'a str, token: &Token) -> &'a str {
+    text.get(token.start..token.end).unwrap_or("")
+}
+
+/// The tokens inside the group of the value starting at `value`: the value
+/// itself, or the bracket after a struct or variant name (`Sway(`, `Bezier(`).
+fn group_inside<'a>(text: &'a str, value: &Token) -> Option<Tokens<'a>> {
+    let mut tokens = Tokens::after(text, value);
+    match value.kind {
+        TokenKind::Open(_) => Some(tokens),
+        TokenKind::Ident => matches!(tokens.next()?.kind, TokenKind::Open(_)).then_some(tokens),
+        _ => None,
+    }
+}
+
+/// Moves past the bracket that closes a group opened by `open`, whose
+/// opening bracket `tokens` just gave. A closing bracket of the wrong kind
+/// closes nothing.
+fn skip_group(tokens: &mut Tokens, open: char) {
+    let mut open_brackets = vec![open];
+    for token in tokens {
+        match token.kind {
+            TokenKind::Open(c) => open_brackets.push(c),
+            TokenKind::Close(c) if open_brackets.last().is_some_and(|&o| closing(o) == c) => {
+                open_brackets.pop();
+                if open_brackets.is_empty() {
+                    return;
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Gives each top-level entry of a group (`inside`: its tokens after the
+/// opening bracket) to `visit` as its name, if any, and its first token,
+/// until `visit` returns true or the group ends.
+fn visit_entries(text: &str, mut inside: Tokens, mut visit: impl FnMut(Option<&str>, Token) -> bool) {
+    while let Some(token) = inside.next() {
+        match token.kind {
+            TokenKind::Comma => continue,
+            TokenKind::Close(_) => return,
+            _ => {}
+        }
+        let mut after_name = inside.clone();
+        let (name, value) = match after_name.next() {
+            Some(colon) if token.kind == TokenKind::Ident && colon.kind == TokenKind::Colon => {
+                inside = after_name;
+                let name = token_text(text, &token);
+                let Some(value) = inside.next() else { return };
+                (Some(name.strip_prefix("r#").unwrap_or(name)), value)
+            }
+            _ => (None, token),
+        };
+        if visit(name, value) {
+            return;
+        }
+        // Skip to the comma that ends this entry.
+        let mut at = Some(value);
+        while let Some(token) = at {
+            match token.kind {
+                TokenKind::Comma => break,
+                TokenKind::Close(_) => return,
+                TokenKind::Open(open) => skip_group(&mut inside, open),
+                _ => {}
+            }
+            at = inside.next();
+        }
+    }
+}
+
+fn field(text: &str, value: Token, name: &str) -> Option<Token> {
+    let mut value = value;
+    // Step through newtype wrappers such as `Sway((…))` (bounded, no recursion).
+    for _ in 0..8 {
+        let inside = group_inside(text, &value)?;
+        let (mut found, mut count, mut first) = (None, 0, None);
+        visit_entries(text, inside, |entry_name, entry_value| {
+            count += 1;
+            first = first.or(Some((entry_name.is_none(), entry_value)));
+            if entry_name == Some(name) {
+                found = Some(entry_value);
+            }
+            found.is_some()
+        });
+        if found.is_some() {
+            return found;
+        }
+        match first {
+            Some((true, only)) if count == 1 && group_inside(text, &only).is_some() => value = only,
+            _ => return None,
+        }
+    }
+    None
+}
+
+fn element(text: &str, value: Token, index: usize) -> Option<Token> {
+    let inside = group_inside(text, &value)?;
+    let (mut found, mut count) = (None, 0);
+    visit_entries(text, inside, |_, entry_value| {
+        if count == index {
+            found = Some(entry_value);
+        }
+        count += 1;
+        found.is_some()
+    });
+    found
 }
 
 /// The token at or after a position, for error messages ("found `x`").
@@ -237,28 +318,29 @@ pub(crate) struct Found {
 
 /// What stands at `at` in `text` (the first token starting there or later).
 pub(crate) fn found_at(text: &str, at: TextPosition) -> Option<Found> {
-    let tokens = tokenize(text);
     let offset = byte_offset(text, at)?;
-    // The token that contains the position, else the next one.
-    let index = tokens
-        .iter()
-        .position(|t| t.start <= offset && offset < t.end)
-        .or_else(|| tokens.iter().position(|t| t.start >= offset))?;
-    let token = tokens[index];
-    let full = text.get(token.start..token.end).unwrap_or("");
-    let mut shown: String = full.chars().take(30).collect();
-    if shown.len() < full.len() {
-        shown.push('…');
+    let mut open_brackets = OpenBrackets::default();
+    let mut previous: Option<Token> = None;
+    // The token that contains the position, else the next one: the first that ends past it.
+    for token in Tokens::new(text) {
+        if token.end > offset {
+            let full = token_text(text, &token);
+            let mut shown: String = full.chars().take(30).collect();
+            if shown.len() < full.len() {
+                shown.push('…');
+            }
+            return Some(Found {
+                text: shown,
+                kind: token.kind,
+                pos: token.pos,
+                after_previous: previous.map(|p| position_after(text.get(..p.end).unwrap_or(""))),
+                open_bracket: open_brackets.innermost(),
+            });
+        }
+        open_brackets.step(&token);
+        previous = Some(token);
     }
-    Some(Found {
-        text: shown,
-        kind: token.kind,
-        pos: token.pos,
-        after_previous: index
-            .checked_sub(1)
-            .map(|previous| position_after(text.get(..tokens[previous].end).unwrap_or(""))),
-        open_bracket: innermost_open(&tokens[..index]),
-    })
+    None
 }
 
 /// The byte offset of a position, if it lies within the text (or at its end).
@@ -279,21 +361,29 @@ pub(crate) fn byte_offset(text: &str, at: TextPosition) -> Option<usize> {
 
 /// The innermost bracket left open at the end of `text`.
 pub(crate) fn unclosed_bracket(text: &str) -> Option<(char, TextPosition)> {
-    innermost_open(&tokenize(text))
+    let mut open_brackets = OpenBrackets::default();
+    Tokens::new(text).for_each(|token| open_brackets.step(&token));
+    open_brackets.innermost()
 }
 
-fn innermost_open(tokens: &[Token]) -> Option<(char, TextPosition)> {
-    let mut stack: Vec<(char, TextPosition)> = Vec::new();
-    for token in tokens {
+/// The brackets still open at a point of a walk through the tokens.
+#[derive(Default)]
+struct OpenBrackets(Vec<(char, TextPosition)>);
+
+impl OpenBrackets {
+    fn step(&mut self, token: &Token) {
         match token.kind {
-            TokenKind::Open(c) => stack.push((c, token.pos)),
-            TokenKind::Close(c) if stack.last().is_some_and(|&(open, _)| closing(open) == c) => {
-                stack.pop();
+            TokenKind::Open(c) => self.0.push((c, token.pos)),
+            TokenKind::Close(c) if self.0.last().is_some_and(|&(open, _)| closing(open) == c) => {
+                self.0.pop();
             }
             _ => {}
         }
     }
-    stack.pop()
+
+    fn innermost(&self) -> Option<(char, TextPosition)> {
+        self.0.last().copied()
+    }
 }
 
 /// The closing bracket for an opening one.
@@ -343,165 +433,207 @@ fn is_ident_continue(c: char) -> bool {
 /// Splits RON text into tokens, skipping whitespace and comments. Unterminated
 /// strings and comments run to the end of the text.
 pub(crate) fn tokenize(text: &str) -> Vec<Token> {
-    scan(text).0
+    Tokens::new(text).collect()
+}
+
+/// Whether the text holds anything but whitespace and comments; stops at
+/// the first token.
+pub(crate) fn has_tokens(text: &str) -> bool {
+    Tokens::new(text).next().is_some()
 }
 
 /// Where a `/*` comment starts that is never closed, if any.
 pub(crate) fn unclosed_comment(text: &str) -> Option<TextPosition> {
-    scan(text).1
+    let mut tokens = Tokens::new(text);
+    tokens.by_ref().for_each(drop);
+    tokens.unclosed_comment
 }
 
-/// Tokens, and the start of an unclosed block comment.
-fn scan(text: &str) -> (Vec<Token>, Option<TextPosition>) {
-    let mut unclosed_comment = None;
-    let chars: Vec<(usize, char)> = text.char_indices().collect();
-    let n = chars.len();
-    let at = |i: usize| chars.get(i).map(|&(_, c)| c);
-    let byte = |i: usize| chars.get(i).map_or(text.len(), |&(b, _)| b);
+/// The tokens of a text, scanned one at a time: walking a text holds
+/// nothing but the token at hand, however long the text. Walks byte
+/// offsets, decoding one char at a time.
+#[derive(Clone)]
+pub(crate) struct Tokens<'a> {
+    text: &'a str,
+    /// Byte offset of the next char to scan, and its line and column.
+    offset: usize,
+    line: usize,
+    col: usize,
+    /// Where a `/*` comment that is never closed starts, once scanned.
+    pub unclosed_comment: Option<TextPosition>,
+}
 
-    let mut tokens = Vec::new();
-    let (mut line, mut col) = (1, 1);
-    let mut i = 0;
-    while i < n {
-        let c = chars[i].1;
-        let pos = TextPosition { line, col };
-        let start = i;
-        let (kind, end) = if c.is_whitespace() {
-            (None, i + 1)
-        } else if c == '/' && at(i + 1) == Some('/') {
-            let mut j = i + 2;
-            while j < n && chars[j].1 != '\n' {
-                j += 1;
-            }
-            (None, j)
-        } else if c == '/' && at(i + 1) == Some('*') {
-            let mut depth = 1usize;
-            let mut j = i + 2;
-            while j < n && depth > 0 {
-                if chars[j].1 == '/' && at(j + 1) == Some('*') {
-                    depth += 1;
-                    j += 2;
-                } else if chars[j].1 == '*' && at(j + 1) == Some('/') {
-                    depth -= 1;
-                    j += 2;
-                } else {
-                    j += 1;
-                }
-            }
-            if depth > 0 {
-                unclosed_comment = Some(pos);
-            }
-            (None, j)
-        } else if let Some(end) = scan_string(&chars, i) {
-            (Some(TokenKind::Literal), end)
-        } else if c == '\'' {
-            // A char literal such as 'a' or '\''; a stray quote is one char.
-            let mut j = i + 1;
-            if at(j) == Some('\\') {
-                j += 2;
-            } else {
-                j += 1;
-            }
-            while j < n && j < i + 12 && chars[j].1 != '\'' {
-                j += 1;
-            }
-            if at(j) == Some('\'') { (Some(TokenKind::Literal), j + 1) } else { (Some(TokenKind::Other), i + 1) }
-        } else if c == 'r' && at(i + 1) == Some('#') && at(i + 2).is_some_and(is_ident_start) {
-            // Raw identifier r#name.
-            let mut j = i + 2;
-            while j < n && is_ident_continue(chars[j].1) {
-                j += 1;
-            }
-            (Some(TokenKind::Ident), j)
-        } else if is_ident_start(c) {
-            let mut j = i + 1;
-            while j < n && is_ident_continue(chars[j].1) {
-                j += 1;
-            }
-            (Some(TokenKind::Ident), j)
-        } else if c.is_ascii_digit()
-            || (matches!(c, '+' | '-' | '.')
-                && at(i + 1).is_some_and(|d| d.is_ascii_digit() || d == '.' || is_ident_start(d)))
-        {
-            let mut j = i + 1;
-            while j < n {
-                let d = chars[j].1;
-                let exponent_sign = matches!(d, '+' | '-') && matches!(chars[j - 1].1, 'e' | 'E');
-                if is_ident_continue(d) || d == '.' || exponent_sign {
-                    j += 1;
-                } else {
-                    break;
-                }
-            }
-            (Some(TokenKind::Number), j)
-        } else {
-            let kind = match c {
-                '(' | '[' | '{' => TokenKind::Open(c),
-                ')' | ']' | '}' => TokenKind::Close(c),
-                ',' => TokenKind::Comma,
-                ':' => TokenKind::Colon,
-                _ => TokenKind::Other,
-            };
-            (Some(kind), i + 1)
-        };
-        if let Some(kind) = kind {
-            tokens.push(Token { kind, start: byte(start), end: byte(end), pos });
-        }
-        // Move to `end`, keeping line and column in step.
-        let end = end.clamp(i + 1, n);
-        while i < end {
-            if chars[i].1 == '\n' {
+impl<'a> Tokens<'a> {
+    pub fn new(text: &'a str) -> Self {
+        Tokens { text, offset: 0, line: 1, col: 1, unclosed_comment: None }
+    }
+
+    /// The tokens after `token` (one of this text's).
+    pub fn after(text: &'a str, token: &Token) -> Self {
+        let (mut line, mut col) = (token.pos.line, token.pos.col);
+        for c in text.get(token.start..token.end).unwrap_or("").chars() {
+            if c == '\n' {
                 line += 1;
                 col = 1;
             } else {
                 col += 1;
             }
-            i += 1;
         }
+        Tokens { text, offset: token.end, line, col, unclosed_comment: None }
     }
-    (tokens, unclosed_comment)
 }
 
-/// If a (raw/byte) string starts at char index `i`, the char index just after it.
-fn scan_string(chars: &[(usize, char)], i: usize) -> Option<usize> {
-    let at = |k: usize| chars.get(k).map(|&(_, c)| c);
+impl Iterator for Tokens<'_> {
+    type Item = Token;
+
+    fn next(&mut self) -> Option<Token> {
+        let text = self.text;
+        let n = text.len();
+        let bytes = text.as_bytes();
+        let at = |i: usize| text.get(i..).and_then(|rest| rest.chars().next());
+        // The offset of the char after the one at `i` (`n` at the end).
+        let next = |i: usize| at(i).map_or(n, |c| i + c.len_utf8());
+        let (mut i, mut line, mut col) = (self.offset, self.line, self.col);
+        let mut found = None;
+        while i < n && found.is_none() {
+            let Some(c) = at(i) else { break };
+            let pos = TextPosition { line, col };
+            let start = i;
+            let (kind, end) = if c.is_whitespace() {
+                (None, next(i))
+            } else if c == '/' && at(i + 1) == Some('/') {
+                let end = text[i..].find('\n').map_or(n, |k| i + k);
+                (None, end)
+            } else if c == '/' && at(i + 1) == Some('*') {
+                let mut depth = 1usize;
+                let mut j = i + 2;
+                while j < n && depth > 0 {
+                    if bytes[j] == b'/' && bytes.get(j + 1) == Some(&b'*') {
+                        depth += 1;
+                        j += 2;
+                    } else if bytes[j] == b'*' && bytes.get(j + 1) == Some(&b'/') {
+                        depth -= 1;
+                        j += 2;
+                    } else {
+                        j = next(j);
+                    }
+                }
+                if depth > 0 {
+                    self.unclosed_comment = Some(pos);
+                }
+                (None, j.min(n))
+            } else if let Some(end) = scan_string(text, i) {
+                (Some(TokenKind::Literal), end)
+            } else if c == '\'' {
+                // A char literal such as 'a' or '\''; a stray quote is one char.
+                let escaped = at(next(i)) == Some('\\');
+                let mut j = if escaped { next(next(next(i))) } else { next(next(i)) };
+                // At most 12 chars from the opening quote.
+                let mut looked = if escaped { 3 } else { 2 };
+                while j < n && looked < 12 && bytes[j] != b'\'' {
+                    j = next(j);
+                    looked += 1;
+                }
+                if at(j) == Some('\'') { (Some(TokenKind::Literal), j + 1) } else { (Some(TokenKind::Other), next(i)) }
+            } else if c == 'r' && at(i + 1) == Some('#') && at(i + 2).is_some_and(is_ident_start) {
+                // Raw identifier r#name.
+                (Some(TokenKind::Ident), ident_end(text, i + 2))
+            } else if is_ident_start(c) {
+                (Some(TokenKind::Ident), ident_end(text, i))
+            } else if c.is_ascii_digit()
+                || (matches!(c, '+' | '-' | '.')
+                    && at(i + 1).is_some_and(|d| d.is_ascii_digit() || d == '.' || is_ident_start(d)))
+            {
+                let mut j = i + 1;
+                while let Some(d) = at(j) {
+                    // A char before `j` that is not ASCII ends in a byte that is never `e`.
+                    let exponent_sign = matches!(d, '+' | '-') && matches!(bytes[j - 1], b'e' | b'E');
+                    if is_ident_continue(d) || d == '.' || exponent_sign {
+                        j += d.len_utf8();
+                    } else {
+                        break;
+                    }
+                }
+                (Some(TokenKind::Number), j)
+            } else {
+                let kind = match c {
+                    '(' | '[' | '{' => TokenKind::Open(c),
+                    ')' | ']' | '}' => TokenKind::Close(c),
+                    ',' => TokenKind::Comma,
+                    ':' => TokenKind::Colon,
+                    _ => TokenKind::Other,
+                };
+                (Some(kind), next(i))
+            };
+            if let Some(kind) = kind {
+                found = Some(Token { kind, start, end, pos });
+            }
+            // Move to `end`, keeping line and column in step.
+            let end = end.clamp(next(i), n);
+            for c in text[i..end].chars() {
+                if c == '\n' {
+                    line += 1;
+                    col = 1;
+                } else {
+                    col += 1;
+                }
+            }
+            i = end;
+        }
+        (self.offset, self.line, self.col) = (i, line, col);
+        found
+    }
+}
+
+/// The offset just after the identifier whose first char is at `start`.
+fn ident_end(text: &str, start: usize) -> usize {
+    let mut chars = text[start..].char_indices();
+    chars.next();
+    chars.find(|&(_, c)| !is_ident_continue(c)).map_or(text.len(), |(k, _)| start + k)
+}
+
+/// If a (raw/byte) string starts at byte offset `i`, the offset just after it.
+fn scan_string(text: &str, i: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let at = |k: usize| bytes.get(k).copied();
     let mut j = i;
-    if at(j) == Some('b') {
+    if at(j) == Some(b'b') {
         j += 1;
     }
-    let raw = at(j) == Some('r');
+    let raw = at(j) == Some(b'r');
     if raw {
         j += 1;
         let mut hashes = 0;
-        while at(j) == Some('#') {
+        while at(j) == Some(b'#') {
             hashes += 1;
             j += 1;
         }
-        if at(j) != Some('"') {
+        if at(j) != Some(b'"') {
             return None;
         }
         j += 1;
-        // Find `"` followed by `hashes` × `#`.
-        while j < chars.len() {
-            if chars[j].1 == '"' && (1..=hashes).all(|h| at(j + h) == Some('#')) {
+        // Find `"` followed by `hashes` × `#`; both are ASCII, never inside another char's bytes.
+        while j < bytes.len() {
+            if bytes[j] == b'"' && (1..=hashes).all(|h| at(j + h) == Some(b'#')) {
                 return Some(j + 1 + hashes);
             }
             j += 1;
         }
-        return Some(chars.len());
+        return Some(bytes.len());
     }
-    if at(j) != Some('"') {
+    if at(j) != Some(b'"') {
         return None;
     }
     j += 1;
-    while j < chars.len() {
-        match chars[j].1 {
-            '\\' => j += 2,
-            '"' => return Some(j + 1),
+    while j < bytes.len() {
+        match bytes[j] {
+            // The escaped char may be several bytes: the scan goes on at its next byte, never a quote.
+            b'\\' => j += 2,
+            b'"' => return Some(j + 1),
             _ => j += 1,
         }
     }
-    Some(chars.len())
+    Some(bytes.len())
 }
 
 /// For each opening bracket, the index of its matching closing bracket. A

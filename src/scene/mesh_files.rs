@@ -11,12 +11,13 @@ use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{DMat4, DVec3, Mat4};
+use glam::DVec3;
 
 use super::colliders::{Collider, LoadedMesh};
 use super::error::SceneError;
+use super::gltf_structure::{check_accessors, check_node_trees, scene_nodes};
 use super::locate::locate;
-use super::read_capped::read_capped;
+use super::read_capped::{read_capped, read_prefix};
 use super::types::Scene;
 use crate::world::MeshSolid;
 
@@ -93,10 +94,19 @@ pub fn move_referenced_files(scene: &mut Scene, from: &Path, to: &Path) {
 /// The solid in the mesh file at `path`, or why not, in a user's words.
 pub fn read_mesh(path: &Path) -> Result<MeshSolid, String> {
     let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("obj" | "glb" | "gltf")) {
+        return Err("Drape reads meshes from .obj, .glb and .gltf files".to_owned());
+    }
     let bytes = read_file_bytes(path)?;
-    let (vertices, triangles) = match extension.as_deref() {
-        Some("obj") => obj_triangles(&bytes)?,
-        Some("glb" | "gltf") => gltf_triangles(&bytes, path.parent().unwrap_or(Path::new("")))?,
+    mesh_from_bytes(&bytes, extension.as_deref(), path.parent().unwrap_or(Path::new("")))
+}
+
+/// The solid in a mesh file's `bytes`, read as its `extension` says (`obj`,
+/// `glb` or `gltf`), a glTF's `.bin` buffers looked for in `folder`.
+pub fn mesh_from_bytes(bytes: &[u8], extension: Option<&str>, folder: &Path) -> Result<MeshSolid, String> {
+    let (vertices, triangles) = match extension {
+        Some("obj") => obj_triangles(bytes)?,
+        Some("glb" | "gltf") => gltf_triangles(bytes, folder)?,
         _ => return Err("Drape reads meshes from .obj, .glb and .gltf files".to_owned()),
     };
     MeshSolid::new(&vertices, &triangles).map_err(|why| format!("the mesh is not a solid: {why}"))
@@ -130,10 +140,19 @@ fn obj_triangles(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), String> {
     Ok((vertices, triangles))
 }
 
-/// The bytes of every buffer of `gltf`: its binary chunk, or `.bin` files in `folder`.
+/// The bytes of every buffer of `gltf`: its binary chunk, or `.bin` files in
+/// `folder`, each read only as far as its declared length, all of them
+/// together at most [`MAX_MESH_FILE_BYTES`]; then its structure checked
+/// ([`check_node_trees`], [`check_accessors`]), so walking it is safe.
 pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u8>>, String> {
+    check_node_trees(&gltf.document)?;
     let mut buffers = Vec::new();
+    let mut total_bytes = 0u64;
     for buffer in gltf.document.buffers() {
+        total_bytes = total_bytes.saturating_add(buffer.length() as u64);
+        if total_bytes > MAX_MESH_FILE_BYTES {
+            return Err(format!("its buffers declare over {} MiB", MAX_MESH_FILE_BYTES / (1024 * 1024)));
+        }
         let data = match buffer.source() {
             gltf::buffer::Source::Bin => gltf.blob.clone().ok_or("its binary chunk is missing")?,
             gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
@@ -141,7 +160,10 @@ pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u
             }
             gltf::buffer::Source::Uri(uri) => {
                 let path: PathBuf = folder.join(uri);
-                read_capped(&path, MAX_MESH_FILE_BYTES).map_err(|_| format!("cannot read its buffer {uri:?}"))?
+                read_prefix(&path, buffer.length() as u64).map_err(|error| {
+                    let why = error.message();
+                    format!("cannot read its buffer {uri:?}: {why}")
+                })?
             }
         };
         if data.len() < buffer.length() {
@@ -149,6 +171,7 @@ pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u
         }
         buffers.push(data);
     }
+    check_accessors(&gltf.document, &buffers)?;
     Ok(buffers)
 }
 
@@ -160,10 +183,7 @@ fn gltf_triangles(bytes: &[u8], folder: &Path) -> Result<(Vec<DVec3>, Vec<[u32; 
     let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next()).ok_or("it has no scene")?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
-    let mut nodes: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
-    while let Some((node, parent)) = nodes.pop() {
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
-        nodes.extend(node.children().map(|child| (child, world)));
+    for (node, world) in scene_nodes(&gltf.document, &scene) {
         let Some(mesh) = node.mesh() else { continue };
         for primitive in mesh.primitives() {
             if primitive.mode() != gltf::mesh::Mode::Triangles {

@@ -21,6 +21,7 @@ mod colliders;
 mod display;
 mod error;
 mod format;
+mod gltf_structure;
 mod io;
 mod layers;
 mod locate;
@@ -47,12 +48,14 @@ pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, save};
 pub use layers::*;
 pub use locate::{TextPosition, locate};
-pub use mesh_files::{MAX_MESH_FILE_BYTES, move_referenced_files, read_mesh, read_meshes, relative_path};
+pub use mesh_files::{
+    MAX_MESH_FILE_BYTES, mesh_from_bytes, move_referenced_files, read_mesh, read_meshes, relative_path,
+};
 pub use param::{Ease, Param, ParamKey};
 pub use plate::{MAX_PLATE_DIGITS, MAX_PLATE_FRAME_OFFSET, Plate, PlatePattern};
 pub use plate_files::{PlateFiles, PlateFrame, frame_list, load_plate_image};
 pub use read_capped::read_capped;
-pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig};
+pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig, rig_from_bytes};
 pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use shot_camera::{

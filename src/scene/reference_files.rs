@@ -16,6 +16,7 @@ use std::sync::Arc;
 use glam::{DMat4, DQuat, DVec3};
 
 use super::error::SceneError;
+use super::gltf_structure::scene_nodes;
 use super::locate::locate;
 use super::mesh_files::{gltf_buffers, read_file_bytes};
 use super::references::{Attachment, LoadedRig};
@@ -154,15 +155,21 @@ pub fn read_rig(path: &Path) -> Result<Rig, String> {
         return Err("a reference is a glTF 2.0 file: .glb, or .gltf with its .bin".to_owned());
     }
     let bytes = read_file_bytes(path)?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
+    rig_from_bytes(&bytes, path.parent().unwrap_or(Path::new("")))
+}
+
+/// The rig in a glTF file's `bytes` (JSON or GLB), its `.bin` buffers and
+/// image files looked for in `folder`.
+pub fn rig_from_bytes(bytes: &[u8], folder: &Path) -> Result<Rig, String> {
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
     if let Some(needed) = gltf.document.extensions_required().next() {
         return Err(format!("it needs the extension {needed}, which Drape does not read"));
     }
-    let buffers = gltf_buffers(&gltf, path.parent().unwrap_or(Path::new("")))?;
+    let buffers = gltf_buffers(&gltf, folder)?;
     let document = &gltf.document;
     let nodes = read_nodes(document);
     let skins = read_skins(document, &buffers)?;
-    let images = read_images(document, &buffers, path.parent().unwrap_or(Path::new("")))?;
+    let images = read_images(document, &buffers, folder)?;
     let meshes = read_meshes(document, &buffers, &images)?;
     let clips = read_clips(document, &buffers, &nodes)?;
     let cameras = read_cameras(document);
@@ -178,13 +185,8 @@ fn read_cameras(document: &gltf::Document) -> Vec<RigCamera> {
         return Vec::new();
     };
     let mut in_scene = vec![false; document.nodes().len()];
-    let mut stack: Vec<gltf::Node> = scene.nodes().collect();
-    while let Some(node) = stack.pop() {
-        // A malformed file may list a node twice: walk it once.
-        if std::mem::replace(&mut in_scene[node.index()], true) {
-            continue;
-        }
-        stack.extend(node.children());
+    for (node, _) in scene_nodes(document, &scene) {
+        in_scene[node.index()] = true;
     }
     let mut cameras = Vec::new();
     for node in document.nodes().filter(|n| in_scene[n.index()]) {
@@ -262,9 +264,7 @@ fn read_meshes(
     };
     let mut meshes = Vec::new();
     let mut vertices = 0usize;
-    let mut stack: Vec<gltf::Node> = scene.nodes().collect();
-    while let Some(node) = stack.pop() {
-        stack.extend(node.children());
+    for (node, _) in scene_nodes(document, &scene) {
         let Some(mesh) = node.mesh() else { continue };
         for primitive in mesh.primitives() {
             let Some(rig_mesh) = read_primitive(&node, &mesh, &primitive, buffers, images)? else { continue };
