@@ -6,26 +6,77 @@
 //! exports refused up front past their size limit unless --force; progress
 //! on a terminal only; and the CLI's subcommands refusing the same things
 //! with the same messages.
+//!
+//! Every drape these tests start has SIGINT, SIGTERM and SIGHUP at their
+//! default dispositions and can write at most [`CHILD_FILE_LIMIT_BYTES`]
+//! into a file, however the tests themselves were started.
 
 #![cfg(unix)]
 
 use std::fs;
+use std::io;
 use std::os::unix::fs::FileTypeExt as _;
-use std::os::unix::process::ExitStatusExt as _;
+use std::os::unix::process::{CommandExt as _, ExitStatusExt as _};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use drape::scene::{self, Scene};
 
+/// Most bytes a drape started by these tests may write into one file: a
+/// runaway write (a forced export of hundreds of gigabytes whose interrupt
+/// went unheard) fails instead of filling the disk.
+const CHILD_FILE_LIMIT_BYTES: u64 = 256 << 20;
+
 /// The `drape` binary Cargo built, or `$DRAPE_BIN` when set (a copy kept
 /// aside where several checkouts share one target directory and overwrite
-/// each other's `target/release/drape`).
+/// each other's `target/release/drape`), prepared by [`prepare_child`].
 fn drape() -> Command {
+    drape_with(CHILD_FILE_LIMIT_BYTES, libc::SIG_DFL)
+}
+
+/// [`drape`] with SIGINT set to `sigint` and files capped at `limit_bytes`.
+fn drape_with(limit_bytes: u64, sigint: libc::sighandler_t) -> Command {
     let binary = std::env::var_os("DRAPE_BIN").unwrap_or_else(|| env!("CARGO_BIN_EXE_drape").into());
     let mut command = Command::new(binary);
     command.current_dir(env!("CARGO_MANIFEST_DIR"));
+    // SAFETY: the hook only makes system calls (signal, getrlimit, setrlimit),
+    // which are safe between fork and exec.
+    unsafe { command.pre_exec(move || prepare_child(limit_bytes, sigint)) };
     command
+}
+
+/// Runs in the child before drape starts. Tests run as a background job
+/// (`cargo test &` in a script) start with SIGINT ignored, and drape keeps
+/// a signal ignored as a background process should, so a test that
+/// interrupts drape sets the dispositions it means: `sigint`, and the
+/// default for SIGTERM and SIGHUP. Files are capped at `limit_bytes`, with
+/// SIGXFSZ ignored so that a write past the cap fails with EFBIG, which
+/// drape reports (removing its temporaries), rather than killing it.
+fn prepare_child(limit_bytes: u64, sigint: libc::sighandler_t) -> io::Result<()> {
+    let set = |signal, disposition| {
+        // SAFETY: signal(2) with a valid signal number and disposition.
+        if unsafe { libc::signal(signal, disposition) } == libc::SIG_ERR {
+            return Err(io::Error::last_os_error());
+        }
+        Ok(())
+    };
+    set(libc::SIGINT, sigint)?;
+    set(libc::SIGTERM, libc::SIG_DFL)?;
+    set(libc::SIGHUP, libc::SIG_DFL)?;
+    set(libc::SIGXFSZ, libc::SIG_IGN)?;
+    let mut limit = libc::rlimit { rlim_cur: 0, rlim_max: 0 };
+    // SAFETY: getrlimit and setrlimit on a valid rlimit structure.
+    unsafe {
+        if libc::getrlimit(libc::RLIMIT_FSIZE, &mut limit) != 0 {
+            return Err(io::Error::last_os_error());
+        }
+        limit.rlim_cur = limit.rlim_max.min(limit_bytes as libc::rlim_t);
+        if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
+            return Err(io::Error::last_os_error());
+        }
+    }
+    Ok(())
 }
 
 fn run(args: &[&str]) -> Output {
@@ -556,7 +607,12 @@ fn temporaries_in(dir: &Path) -> Vec<String> {
 /// Starts `drape` with `args` in `dir` and waits until a temporary file or
 /// staging directory of it shows in `dir` (the write under way).
 fn start_writing(dir: &Path, args: &[&str]) -> Child {
-    let mut child = drape().args(args).current_dir(dir).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    start_writing_with(drape(), dir, args)
+}
+
+/// [`start_writing`] with `command` as prepared.
+fn start_writing_with(mut command: Command, dir: &Path, args: &[&str]) -> Child {
+    let mut child = command.args(args).current_dir(dir).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
     let started = Instant::now();
     while temporaries_in(dir).is_empty() {
         if let Some(status) = child.try_wait().unwrap() {
@@ -681,6 +737,23 @@ fn a_killed_exports_leftovers_go_with_the_next_write() {
     let output = drape().args(["export", "scenes/curtain.ron", "-o"]).arg(dir.path().join("y.obj")).output().unwrap();
     assert!(output.status.success(), "{}", stderr(&output));
     assert_eq!(names_in(dir.path()), [live, "y.obj".to_string()], "the dead processes' leftovers are gone");
+}
+
+/// A background job (`drape … &` from a script) starts with SIGINT ignored
+/// and keeps ignoring it, as POSIX has background processes do; a write
+/// past the file-size cap it was started with then fails, said in the
+/// error, with nothing left behind.
+#[test]
+fn drape_started_with_ctrl_c_ignored_keeps_ignoring_it_and_stays_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let big = huge_curtain(dir.path());
+    let command = drape_with(16 << 20, libc::SIG_IGN);
+    let child = start_writing_with(command, dir.path(), &["export", big.to_str().unwrap(), "-o", "x.usda", "--force"]);
+    send(&child, libc::SIGINT);
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(1), "{} {}", output.status, stderr(&output));
+    assert_eq!(stderr(&output), "error: cannot write x.usda: File too large\n");
+    assert_eq!(names_in(dir.path()), ["big.ron"]);
 }
 
 /// A mesh collider whose file is missing or broken stops every command with
