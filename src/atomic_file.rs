@@ -8,15 +8,21 @@
 //!   straight into, never replaced.
 //! - [`StagedFiles`] writes a set of files (a frame sequence) into a hidden
 //!   staging directory and moves them into place together.
-//! - Temporary files and staging directories are registered while they exist:
+//! - Temporaries are registered while they exist:
 //!   [`remove_temporaries_on_signals`] removes them on SIGINT, SIGTERM or
 //!   SIGHUP before the process exits, and the first write into a directory
 //!   removes those a Drape process that is no longer running left there
 //!   (killed with SIGKILL, or a crash).
 //!
-//! Temporary names: `.NAME.drape-PID-N.tmp` for files and
-//! `.NAME.drape-PID-N.staging` for directories, PID being the writing
-//! process and N a counter.
+//! Every temporary is a hidden directory, `.NAME.drape-PID-N.tmp` holding
+//! one file on its way to NAME, or `.NAME.drape-PID-N.staging` holding a
+//! sequence, PID being the writing process and N a counter. NAME is cut
+//! short (on a character boundary) so the whole name fits the 255 bytes a
+//! file name may take. Its first file is a marker naming the process and
+//! the directory's own device and inode: the clean-up of dead processes'
+//! temporaries removes a directory only when its name has exactly that form
+//! and its marker matches, so a user's file or folder of a similar name,
+//! or a copy of a temporary, is never touched.
 
 use std::collections::HashSet;
 use std::fs::{self, File};
@@ -79,13 +85,21 @@ impl PendingFile {
     fn commit_with(self, companions: Vec<PendingFile>) -> io::Result<()> {
         let dir = parent_dir(&self.target).to_path_buf();
         let mut registry = registry();
-        self.commit_locked(&mut registry)?;
+        let mut result = self.commit_locked(&mut registry);
         for companion in companions {
-            companion.commit_locked(&mut registry)?;
+            // After a failure the rest are removed, under the same hold (a
+            // drop would wait for the lock held here).
+            result = match result {
+                Ok(()) => companion.commit_locked(&mut registry),
+                Err(error) => {
+                    companion.abandon_locked(&mut registry);
+                    Err(error)
+                }
+            };
         }
         drop(registry);
         sync_dir(&dir);
-        Ok(())
+        result
     }
 
     fn commit_locked(self, registry: &mut Vec<PathBuf>) -> io::Result<()> {
@@ -93,6 +107,12 @@ impl PendingFile {
         match temp {
             Some(temp) => temp.rename_locked(&target, registry),
             None => Ok(()),
+        }
+    }
+
+    fn abandon_locked(self, registry: &mut Vec<PathBuf>) {
+        if let Some(mut temp) = self.temp {
+            temp.remove_locked(registry);
         }
     }
 }
@@ -242,8 +262,15 @@ impl StagedFiles {
         &self.staging.path
     }
 
-    /// Writes the file `file_name` into the staging directory (fsynced).
+    /// Writes the file `file_name` (a plain name, not a path) into the
+    /// staging directory (fsynced).
     pub fn write(&mut self, file_name: &str, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
+        if !is_plain_file_name(file_name) || file_name == MARKER_NAME {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{file_name:?} is not a file name to stage"),
+            ));
+        }
         let file = {
             // Created under the lock, so that a signal's clean-up, once it
             // holds the lock, empties the staging directory for good.
@@ -261,82 +288,189 @@ impl StagedFiles {
     /// final paths in the order the files were written. A signal arriving
     /// meanwhile is handled once every file is in place.
     pub fn commit(self) -> io::Result<Vec<PathBuf>> {
+        self.commit_replacing(&[]).map(|committed| committed.files)
+    }
+
+    /// [`StagedFiles::commit`], first removing the files named `old` from
+    /// the target directory (an earlier sequence's frames that the new one
+    /// does not replace), all under the same hold of a signal's clean-up.
+    /// A file already gone is passed over; one that is also being written
+    /// is replaced, not removed. A removal that fails stops the commit
+    /// before any new file moves in.
+    pub fn commit_replacing(self, old: &[String]) -> io::Result<Committed> {
+        if let Some(bad) = old.iter().find(|name| !is_plain_file_name(name)) {
+            return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("{bad:?} is not a file name to remove")));
+        }
         let hold_signals = registry();
-        let mut moved = Vec::with_capacity(self.names.len());
-        let mut renamed = Ok(());
-        for name in &self.names {
-            let target = self.target_dir.join(name);
-            renamed = fs::rename(self.staging.path.join(name), &target);
-            if renamed.is_err() {
-                break;
+        let mut committed = Committed::default();
+        let mut result = self.remove_old(old, &mut committed.removed);
+        if result.is_ok() {
+            committed.files.reserve(self.names.len());
+            for name in &self.names {
+                let target = self.target_dir.join(name);
+                result = fs::rename(self.staging.path.join(name), &target);
+                if result.is_err() {
+                    break;
+                }
+                committed.files.push(target);
             }
-            moved.push(target);
         }
         drop(hold_signals);
         sync_dir(&self.target_dir);
         // Removes the staging directory, emptied unless a rename failed.
         drop(self);
-        renamed.map(|()| moved)
+        result.map(|()| committed)
+    }
+
+    fn remove_old(&self, old: &[String], removed: &mut Vec<PathBuf>) -> io::Result<()> {
+        for name in old.iter().filter(|name| !self.names.contains(name)) {
+            let path = self.target_dir.join(name);
+            match fs::remove_file(&path) {
+                Ok(()) => removed.push(path),
+                Err(error) if error.kind() == io::ErrorKind::NotFound => {}
+                Err(error) => return Err(error),
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What [`StagedFiles::commit_replacing`] did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Committed {
+    /// The files moved into place, in the order they were written.
+    pub files: Vec<PathBuf>,
+    /// The earlier files removed.
+    pub removed: Vec<PathBuf>,
+}
+
+/// A name of a file in a directory: no separator, not `.` or `..`.
+fn is_plain_file_name(name: &str) -> bool {
+    !name.is_empty()
+        && name != "."
+        && name != ".."
+        && !name.contains('\0')
+        && !name.chars().any(std::path::is_separator)
+}
+
+// ---------------------------------------------------------- file identity
+
+/// A regular file as the disk knows it (device and inode on Unix): two
+/// paths with the same identity are one file, whatever their names, hard
+/// links or symlinks.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FileIdentity {
+    #[cfg(unix)]
+    id: (u64, u64),
+    #[cfg(not(unix))]
+    id: PathBuf,
+}
+
+impl FileIdentity {
+    /// The identity of the regular file `path` leads to (through
+    /// symlinks); `None` when it leads to none (nothing there, a directory,
+    /// a device or FIFO).
+    pub fn of(path: &Path) -> Option<FileIdentity> {
+        let meta = fs::metadata(path).ok().filter(fs::Metadata::is_file)?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt as _;
+            Some(FileIdentity { id: (meta.dev(), meta.ino()) })
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = meta;
+            Some(FileIdentity { id: path.canonicalize().ok()? })
+        }
     }
 }
 
 // ------------------------------------------------------------ temporaries
 
-/// Temporary files and staging directories that exist now, to be removed if
-/// a signal ends the process. Holding the lock defers that removal.
+/// Temporaries that exist now, to be removed if a signal ends the process.
+/// Holding the lock defers that removal.
 static REGISTRY: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// Directories already swept of dead processes' temporaries by this process.
 static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
+
+/// The longest file name most file systems take, in bytes.
+const MAX_FILE_NAME_BYTES: usize = 255;
+/// The marker each temporary directory holds, written before anything else.
+const MARKER_NAME: &str = ".drape-temporary";
+/// The file inside a `.tmp` directory that becomes the written file.
+const TEMPORARY_FILE_NAME: &str = "file";
+/// A marker is a few short lines; anything longer is not one.
+const MAX_MARKER_BYTES: u64 = 256;
 
 fn registry() -> MutexGuard<'static, Vec<PathBuf>> {
     REGISTRY.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// A temporary file or staging directory that is removed when dropped,
-/// unless renamed into place first.
+/// What a temporary directory holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TemporaryKind {
+    /// One file on its way to its name: `.NAME.drape-PID-N.tmp`.
+    File,
+    /// A sequence's files: `.NAME.drape-PID-N.staging`.
+    Staging,
+}
+
+impl TemporaryKind {
+    fn suffix(self) -> &'static str {
+        match self {
+            TemporaryKind::File => "tmp",
+            TemporaryKind::Staging => "staging",
+        }
+    }
+}
+
+/// A temporary directory with its marker, removed with everything in it
+/// when dropped.
 struct Temporary {
     path: PathBuf,
-    is_dir: bool,
-    renamed: bool,
+    /// Moved into place or removed already.
+    gone: bool,
 }
 
 impl Temporary {
-    /// Creates `.NAME.drape-PID-N.tmp` in `dir`, never reusing an existing file.
+    /// Creates a `.tmp` directory in `dir` for the file `name` and the file
+    /// inside it, never reusing an existing one.
     fn create_file(dir: &Path, name: &str) -> io::Result<(Temporary, File)> {
-        let mut file = None;
-        let temp = Temporary::create(dir, name, "tmp", false, |path| {
-            file = Some(File::options().write(true).create_new(true).open(path)?);
-            Ok(())
-        })?;
-        Ok((temp, file.expect("created with the temporary")))
+        let temp = Temporary::create(dir, name, TemporaryKind::File)?;
+        let file = {
+            // Created under the lock, so that a signal's clean-up, once it
+            // holds the lock, empties the directory for good.
+            let _registry = registry();
+            File::options().write(true).create_new(true).open(temp.file_path())?
+        };
+        Ok((temp, file))
     }
 
-    /// Creates the directory `.NAME.drape-PID-N.staging` in `dir`.
+    /// Creates the staging directory `.NAME.drape-PID-N.staging` in `dir`.
     fn create_dir(dir: &Path, name: &str) -> io::Result<Temporary> {
-        Temporary::create(dir, name, "staging", true, |path| fs::create_dir(path))
+        Temporary::create(dir, name, TemporaryKind::Staging)
     }
 
-    fn create(
-        dir: &Path,
-        name: &str,
-        suffix: &str,
-        is_dir: bool,
-        mut make: impl FnMut(&Path) -> io::Result<()>,
-    ) -> io::Result<Temporary> {
+    fn create(dir: &Path, name: &str, kind: TemporaryKind) -> io::Result<Temporary> {
         static COUNTER: AtomicU64 = AtomicU64::new(0);
         remove_stale_temporaries(dir);
         let pid = std::process::id();
         let mut attempts = 0;
         loop {
             let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-            let path = dir.join(format!(".{name}.drape-{pid}-{n}.{suffix}"));
-            // Created and registered under the lock, so a signal's clean-up
-            // sees every temporary that exists.
+            let path = dir.join(temporary_name(name, pid, n, kind));
+            // Created, marked and registered under the lock, so a signal's
+            // clean-up sees every temporary that exists.
             let mut registry = registry();
-            match make(&path) {
+            match fs::create_dir(&path) {
                 Ok(()) => {
                     registry.push(path.clone());
-                    return Ok(Temporary { path, is_dir, renamed: false });
+                    let mut temp = Temporary { path, gone: false };
+                    if let Err(error) = write_marker(&temp.path, pid) {
+                        temp.remove_locked(&mut registry);
+                        return Err(error);
+                    }
+                    return Ok(temp);
                 }
                 Err(error) if error.kind() == io::ErrorKind::AlreadyExists && attempts < 100 => attempts += 1,
                 Err(error) => return Err(error),
@@ -344,50 +478,132 @@ impl Temporary {
         }
     }
 
-    /// Renames the temporary file over `target`.
-    /// Moves the temporary to `target`, with the registry held by the caller.
+    /// The file a `.tmp` directory holds.
+    fn file_path(&self) -> PathBuf {
+        self.path.join(TEMPORARY_FILE_NAME)
+    }
+
+    /// Moves the file this `.tmp` directory holds to `target` and removes
+    /// the directory (also when the move fails), with the registry held by
+    /// the caller.
     fn rename_locked(mut self, target: &Path, registry: &mut Vec<PathBuf>) -> io::Result<()> {
-        fs::rename(&self.path, target)?;
-        self.renamed = true;
+        let renamed = fs::rename(self.file_path(), target);
+        self.remove_locked(registry);
+        renamed
+    }
+
+    /// Removes the directory and what is left in it, with the registry held.
+    fn remove_locked(&mut self, registry: &mut Vec<PathBuf>) {
+        let _ = fs::remove_dir_all(&self.path);
         registry.retain(|p| *p != self.path);
-        Ok(())
+        self.gone = true;
     }
 }
 
 impl Drop for Temporary {
     fn drop(&mut self) {
-        if self.renamed {
+        if self.gone {
             return;
         }
         let mut registry = registry();
-        remove_path(&self.path, self.is_dir);
-        registry.retain(|p| *p != self.path);
+        self.remove_locked(&mut registry);
     }
 }
 
-fn remove_path(path: &Path, is_dir: bool) {
-    let _ = if is_dir { fs::remove_dir_all(path) } else { fs::remove_file(path) };
+/// `.NAME.drape-PID-N.SUFFIX`, NAME cut at a character boundary so the
+/// whole name takes at most [`MAX_FILE_NAME_BYTES`].
+fn temporary_name(name: &str, pid: u32, n: u64, kind: TemporaryKind) -> String {
+    let tail = format!(".drape-{pid}-{n}.{}", kind.suffix());
+    let room = MAX_FILE_NAME_BYTES - 1 - tail.len();
+    let mut cut = name.len().min(room);
+    while !name.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    format!(".{}{tail}", &name[..cut])
 }
 
-/// The writing process's id in a temporary's name, and whether it names a
-/// directory: `.NAME.drape-PID-N.tmp` (a file) or `.NAME.drape-PID-N.staging`.
-fn temporary_owner(file_name: &str) -> Option<(u32, bool)> {
-    let (rest, is_dir) = match file_name.strip_suffix(".tmp") {
-        Some(rest) => (rest, false),
-        None => (file_name.strip_suffix(".staging")?, true),
-    };
-    if !rest.starts_with('.') {
+/// The writing process's id in a temporary directory's name, and what it
+/// holds, when the name has exactly the form [`temporary_name`] gives it:
+/// `.NAME.drape-PID-N.tmp` or `.NAME.drape-PID-N.staging`, NAME not empty,
+/// PID and N decimal numbers without leading zeros.
+fn temporary_owner(file_name: &str) -> Option<(u32, TemporaryKind)> {
+    if file_name.len() > MAX_FILE_NAME_BYTES {
         return None;
     }
-    let (_, ids) = rest.rsplit_once(".drape-")?;
+    let (rest, kind) = match file_name.strip_suffix(".tmp") {
+        Some(rest) => (rest, TemporaryKind::File),
+        None => (file_name.strip_suffix(".staging")?, TemporaryKind::Staging),
+    };
+    let (name, ids) = rest.strip_prefix('.')?.rsplit_once(".drape-")?;
     let (pid, n) = ids.split_once('-')?;
+    if name.is_empty() || !is_plain_number(pid) || !is_plain_number(n) {
+        return None;
+    }
     n.parse::<u64>().ok()?;
-    Some((pid.parse().ok()?, is_dir))
+    let pid = pid.parse().ok().filter(|&pid| pid > 0)?;
+    Some((pid, kind))
 }
 
-/// Removes from `dir` the temporaries of Drape processes that no longer run.
-/// Once per directory per process, best effort (unreadable directories and
-/// files that cannot be removed are left).
+/// Digits only, and no leading zero unless it is `0`.
+fn is_plain_number(text: &str) -> bool {
+    !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit()) && (text == "0" || !text.starts_with('0'))
+}
+
+/// What the marker in the temporary directory `dir` of process `pid` says:
+/// the process and the directory's own device and inode, so that a copy of
+/// the directory, or a marker put into another one, does not match.
+fn marker_text(pid: u32, dir: &fs::Metadata) -> String {
+    format!(
+        "Drape's temporary directory, removed by Drape once its process has ended\npid {pid}\ndirectory {}\n",
+        directory_identity(dir)
+    )
+}
+
+fn directory_identity(dir: &fs::Metadata) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        format!("{}:{}", dir.dev(), dir.ino())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        String::new()
+    }
+}
+
+/// Writes the marker into the directory `dir`, just made by process `pid`.
+fn write_marker(dir: &Path, pid: u32) -> io::Result<()> {
+    let text = marker_text(pid, &fs::symlink_metadata(dir)?);
+    let mut marker = File::options().write(true).create_new(true).open(dir.join(MARKER_NAME))?;
+    marker.write_all(text.as_bytes())
+}
+
+/// Whether `dir` (seen as `meta`, not through a symlink) holds the marker
+/// process `pid` wrote into it, proving it is that process's temporary.
+fn has_marker(dir: &Path, meta: &fs::Metadata, pid: u32) -> bool {
+    let mut options = File::options();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    let Ok(file) = options.open(dir.join(MARKER_NAME)) else { return false };
+    if !file.metadata().is_ok_and(|m| m.is_file()) {
+        return false;
+    }
+    let mut text = Vec::new();
+    if io::Read::read_to_end(&mut io::Read::take(file, MAX_MARKER_BYTES + 1), &mut text).is_err() {
+        return false;
+    }
+    text == marker_text(pid, meta).as_bytes()
+}
+
+/// Removes from `dir` the temporaries of Drape processes that no longer
+/// run: directories named exactly as Drape names them and holding the
+/// marker their process wrote. Once per directory per process, best effort
+/// (unreadable directories and what cannot be removed are left).
 fn remove_stale_temporaries(dir: &Path) {
     {
         let mut swept = SWEPT.lock().unwrap_or_else(PoisonError::into_inner);
@@ -399,10 +615,12 @@ fn remove_stale_temporaries(dir: &Path) {
     let own_pid = std::process::id();
     for entry in entries.flatten() {
         let name = entry.file_name();
-        let Some((pid, is_dir)) = name.to_str().and_then(temporary_owner) else { continue };
-        let Ok(file_type) = entry.file_type() else { continue };
-        if pid != own_pid && file_type.is_dir() == is_dir && !file_type.is_symlink() && !process_is_running(pid) {
-            remove_path(&entry.path(), is_dir);
+        let Some((pid, _)) = name.to_str().and_then(temporary_owner) else { continue };
+        // Not followed through a symlink: a link named like a temporary is left alone.
+        let Ok(meta) = entry.metadata() else { continue };
+        let path = entry.path();
+        if pid != own_pid && meta.is_dir() && !process_is_running(pid) && has_marker(&path, &meta, pid) {
+            let _ = fs::remove_dir_all(&path);
         }
     }
 }
@@ -525,7 +743,7 @@ mod signals {
         // Held until the process ends: nothing new is created meanwhile.
         let registry = super::registry();
         for path in registry.iter() {
-            let _ = std::fs::remove_file(path).or_else(|_| std::fs::remove_dir_all(path));
+            let _ = std::fs::remove_dir_all(path);
         }
         // SAFETY: _exit ends the process at once, without running other threads' code
         // (a render in progress, atexit handlers) that could hang.
@@ -605,42 +823,143 @@ mod tests {
     }
 
     #[test]
-    fn temporary_names_are_recognised() {
-        assert_eq!(temporary_owner(".carpet.usda.drape-4242-7.tmp"), Some((4242, false)));
-        assert_eq!(temporary_owner(".magic_carpet.drape-17-0.staging"), Some((17, true)));
-        assert_eq!(temporary_owner(".a.b.drape-1-2.drape-3-4.tmp"), Some((3, false)));
-        for other in ["carpet.usda.drape-1-2.tmp", ".x.1-2.tmp", ".x.drape-1.tmp", ".x.drape-a-2.tmp", ".x.drape-1-2"] {
+    fn temporary_names_are_recognised_exactly() {
+        assert_eq!(temporary_owner(".carpet.usda.drape-4242-7.tmp"), Some((4242, TemporaryKind::File)));
+        assert_eq!(temporary_owner(".magic_carpet.drape-17-0.staging"), Some((17, TemporaryKind::Staging)));
+        assert_eq!(temporary_owner(".a.b.drape-1-2.drape-3-4.tmp"), Some((3, TemporaryKind::File)));
+        for other in [
+            "carpet.usda.drape-1-2.tmp",
+            ".x.1-2.tmp",
+            ".x.drape-1.tmp",
+            ".x.drape-a-2.tmp",
+            ".x.drape-1-2",
+            "..drape-1-2.tmp",
+            ".x.drape-01-2.tmp",
+            ".x.drape-1-02.tmp",
+            ".x.drape-0-2.tmp",
+            ".x.drape-+1-2.tmp",
+            ".x.drape-1-2-3.tmp",
+            ".x.drape-99999999999-2.tmp",
+        ] {
             assert_eq!(temporary_owner(other), None, "{other}");
         }
+    }
+
+    #[test]
+    fn temporary_names_fit_any_output_name() {
+        for name in ["a".repeat(255), "é".repeat(127) + "x", "carpet.usda".to_string()] {
+            for kind in [TemporaryKind::File, TemporaryKind::Staging] {
+                let temp = temporary_name(&name, u32::MAX, u64::MAX, kind);
+                assert!(temp.len() <= MAX_FILE_NAME_BYTES, "{} bytes: {temp}", temp.len());
+                assert_eq!(temporary_owner(&temp), Some((u32::MAX, kind)), "{temp}");
+                let kept = &temp[1..temp.rfind(".drape-").unwrap()];
+                assert!(name.starts_with(kept) && !kept.is_empty(), "{temp}");
+            }
+        }
+        assert_eq!(temporary_name("carpet.usda", 42, 7, TemporaryKind::File), ".carpet.usda.drape-42-7.tmp");
+    }
+
+    #[test]
+    fn an_output_name_of_255_bytes_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["n".repeat(251) + ".obj", "é".repeat(125) + "x.obj"] {
+            let path = dir.path().join(&name);
+            write_atomically(&path, |w| w.write_all(b"whole")).unwrap();
+            assert_eq!(fs::read_to_string(&path).unwrap(), "whole");
+            let mut staged = StagedFiles::new(dir.path(), &name).unwrap();
+            staged.write("frame_0000.obj", |w| w.write_all(b"frame")).unwrap();
+            staged.commit().unwrap();
+        }
+        assert_eq!(names_in(dir.path()).len(), 3, "two outputs and a frame: {:?}", names_in(dir.path()));
+    }
+
+    /// A process id no process has now: a child that has ended (its id is
+    /// free until reused, which a fresh id this soon after is not).
+    #[cfg(unix)]
+    fn dead_pid() -> u32 {
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let pid = child.id();
+        child.wait().unwrap();
+        pid
+    }
+
+    /// What a Drape process `pid` killed mid-write leaves in `dir`: its
+    /// marked temporary directory with a file in it.
+    #[cfg(unix)]
+    fn leftover(dir: &Path, name: &str, pid: u32, kind: TemporaryKind) -> String {
+        let temp = temporary_name(name, pid, 3, kind);
+        fs::create_dir(dir.join(&temp)).unwrap();
+        write_marker(&dir.join(&temp), pid).unwrap();
+        fs::write(dir.join(&temp).join("seq_0001.obj"), "stale").unwrap();
+        temp
     }
 
     #[cfg(unix)]
     #[test]
     fn temporaries_of_dead_processes_are_removed_on_the_next_write() {
         let dir = tempfile::tempdir().unwrap();
-        // A process that has ended: its id is free (until reused, which a
-        // fresh id this soon after is not).
-        let mut child = std::process::Command::new("true").spawn().unwrap();
-        let dead = child.id();
-        child.wait().unwrap();
+        let dead = dead_pid();
         let live = std::process::id();
         let parent = std::os::unix::process::parent_id();
-        fs::write(dir.path().join(format!(".out.txt.drape-{dead}-0.tmp")), "stale").unwrap();
-        fs::create_dir(dir.path().join(format!(".seq.drape-{dead}-3.staging"))).unwrap();
-        fs::write(dir.path().join(format!(".seq.drape-{dead}-3.staging/seq_0001.obj")), "stale").unwrap();
-        fs::write(dir.path().join(format!(".other.drape-{parent}-0.tmp")), "in use").unwrap();
-        fs::write(dir.path().join(format!(".own.drape-{live}-99999.tmp")), "ours").unwrap();
-        fs::write(dir.path().join(format!(".not-ours.{dead}-0.tmp")), "someone else's").unwrap();
+        leftover(dir.path(), "out.txt", dead, TemporaryKind::File);
+        leftover(dir.path(), "seq", dead, TemporaryKind::Staging);
+        leftover(dir.path(), &"s".repeat(255), dead, TemporaryKind::Staging);
+        let other = leftover(dir.path(), "other", parent, TemporaryKind::File);
+        let own = leftover(dir.path(), "own", live, TemporaryKind::File);
         write_atomically(&dir.path().join("out.txt"), |w| w.write_all(b"x")).unwrap();
-        assert_eq!(
-            names_in(dir.path()),
-            [
-                format!(".not-ours.{dead}-0.tmp"),
-                format!(".other.drape-{parent}-0.tmp"),
-                format!(".own.drape-{live}-99999.tmp"),
-                "out.txt".to_string()
-            ]
-        );
+        assert_eq!(names_in(dir.path()), [other, own, "out.txt".to_string()]);
+    }
+
+    /// Files and folders that only look like a dead process's temporaries
+    /// are the user's: a name alone proves nothing.
+    #[cfg(unix)]
+    #[test]
+    fn what_drape_cannot_prove_it_wrote_is_never_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let dead = dead_pid();
+        let notes = format!(".notes.drape-{dead}-0.tmp");
+        fs::write(dir.path().join(&notes), "my notes").unwrap();
+        let work = format!(".work.drape-{dead}-1.staging");
+        fs::create_dir(dir.path().join(&work)).unwrap();
+        fs::write(dir.path().join(&work).join("draft.txt"), "my draft").unwrap();
+        // A folder with a marker that names another directory: a copy of a
+        // temporary, or a marker put there by hand.
+        let copy = format!(".copy.drape-{dead}-2.tmp");
+        let real = leftover(dir.path(), "real", dead, TemporaryKind::File);
+        fs::create_dir(dir.path().join(&copy)).unwrap();
+        fs::copy(dir.path().join(&real).join(MARKER_NAME), dir.path().join(&copy).join(MARKER_NAME)).unwrap();
+        fs::write(dir.path().join(&copy).join("kept.txt"), "kept").unwrap();
+        // A marker of another process than the name says.
+        let other_pid = format!(".mixed.drape-{}-3.tmp", dead_pid());
+        fs::create_dir(dir.path().join(&other_pid)).unwrap();
+        write_marker(&dir.path().join(&other_pid), dead).unwrap();
+        // A symlink named like a temporary, to a marked directory elsewhere.
+        let elsewhere = tempfile::tempdir().unwrap();
+        let target = leftover(elsewhere.path(), "target", dead, TemporaryKind::File);
+        let link = format!(".link.drape-{dead}-4.tmp");
+        std::os::unix::fs::symlink(elsewhere.path().join(&target), dir.path().join(&link)).unwrap();
+
+        write_atomically(&dir.path().join("out.txt"), |w| w.write_all(b"x")).unwrap();
+        let mut expected = vec![notes, work.clone(), copy.clone(), other_pid, link, "out.txt".to_string()];
+        expected.sort();
+        assert_eq!(names_in(dir.path()), expected, "only the real leftover {real} is gone");
+        assert_eq!(fs::read_to_string(dir.path().join(&work).join("draft.txt")).unwrap(), "my draft");
+        assert_eq!(names_in(&dir.path().join(&copy)), [MARKER_NAME, "kept.txt"]);
+        assert_eq!(names_in(elsewhere.path()), [target]);
+    }
+
+    #[test]
+    fn a_temporary_holds_its_marker_while_it_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut inside = Vec::new();
+        write_atomically(&dir.path().join("out.txt"), |w| {
+            let temp = names_in(dir.path()).into_iter().find(|n| n.starts_with(".out.txt.drape-")).unwrap();
+            inside = names_in(&dir.path().join(temp));
+            w.write_all(b"x")
+        })
+        .unwrap();
+        assert_eq!(inside, [MARKER_NAME, TEMPORARY_FILE_NAME]);
+        assert_eq!(names_in(dir.path()), ["out.txt"]);
     }
 
     #[test]
@@ -661,5 +980,47 @@ mod tests {
         assert_eq!(files, [dir.path().join("f_1.txt"), dir.path().join("f_2.txt")]);
         assert_eq!(names_in(dir.path()), ["f_1.txt", "f_2.txt"]);
         assert_eq!(fs::read_to_string(dir.path().join("f_1.txt")).unwrap(), "new 1");
+    }
+
+    #[test]
+    fn a_commit_can_remove_an_earlier_sequence_s_other_frames() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["f_1.txt", "f_2.txt", "f_3.txt", "notes.txt"] {
+            fs::write(dir.path().join(name), "old").unwrap();
+        }
+        let mut staged = StagedFiles::new(dir.path(), "f").unwrap();
+        staged.write("f_1.txt", |w| w.write_all(b"new 1")).unwrap();
+        let old = ["f_1.txt", "f_2.txt", "f_3.txt", "f_9.txt"].map(String::from);
+        let committed = staged.commit_replacing(&old).unwrap();
+        assert_eq!(committed.files, [dir.path().join("f_1.txt")]);
+        assert_eq!(committed.removed, [dir.path().join("f_2.txt"), dir.path().join("f_3.txt")], "f_9 was not there");
+        assert_eq!(names_in(dir.path()), ["f_1.txt", "notes.txt"]);
+        assert_eq!(fs::read_to_string(dir.path().join("f_1.txt")).unwrap(), "new 1");
+
+        let staged = StagedFiles::new(dir.path(), "f").unwrap();
+        let error = staged.commit_replacing(&["../notes.txt".to_string()]).unwrap_err();
+        assert_eq!(error.kind(), io::ErrorKind::InvalidInput);
+        let mut staged = StagedFiles::new(dir.path(), "f").unwrap();
+        assert_eq!(staged.write(MARKER_NAME, |w| w.write_all(b"x")).unwrap_err().kind(), io::ErrorKind::InvalidInput);
+        drop(staged);
+        assert_eq!(names_in(dir.path()), ["f_1.txt", "notes.txt"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn file_identity_sees_through_links_and_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("scene.ron");
+        fs::write(&scene, "scene").unwrap();
+        fs::hard_link(&scene, dir.path().join("hard.obj")).unwrap();
+        std::os::unix::fs::symlink("scene.ron", dir.path().join("soft.obj")).unwrap();
+        fs::write(dir.path().join("other.ron"), "scene").unwrap();
+        let id = FileIdentity::of(&scene).unwrap();
+        assert_eq!(FileIdentity::of(&dir.path().join("hard.obj")), Some(id.clone()));
+        assert_eq!(FileIdentity::of(&dir.path().join("soft.obj")), Some(id.clone()));
+        assert_eq!(FileIdentity::of(&dir.path().join(".").join("scene.ron")), Some(id.clone()));
+        assert_ne!(FileIdentity::of(&dir.path().join("other.ron")), Some(id));
+        assert_eq!(FileIdentity::of(dir.path()), None, "a directory");
+        assert_eq!(FileIdentity::of(&dir.path().join("missing")), None);
     }
 }

@@ -1,11 +1,12 @@
 //! "Nothing blown up, nothing lost": the `drape` binary writing to special
 //! files (no side file beside a device or FIFO), stdout and symlinks,
-//! interrupted by signals or killed, leaving no temporary file behind;
-//! hostile scene files (a name that injects OBJ lines, an endless timeline,
-//! an endless file, too many pins); bounded memory (a 1000-pin key) and
-//! exports refused up front past their size limit unless --force; progress
-//! on a terminal only; and the CLI's subcommands refusing the same things
-//! with the same messages.
+//! interrupted by signals or killed, leaving no temporary file behind and
+//! removing only what it can prove it wrote; output names as long as a
+//! file name may be; hostile scene files (a name that injects OBJ lines, an
+//! endless timeline, an endless file, too many pins); bounded memory (a
+//! 1000-pin key) and exports refused up front past their size limit unless
+//! --force; progress on a terminal only; and the CLI's subcommands refusing
+//! the same things with the same messages.
 //!
 //! Every drape these tests start has SIGINT, SIGTERM and SIGHUP at their
 //! default dispositions and can write at most [`CHILD_FILE_LIMIT_BYTES`]
@@ -694,7 +695,8 @@ fn an_interrupted_render_sequence_leaves_the_directory_as_it_was() {
     let staged = loop {
         if let Some(staging) = temporaries_in(&frames).first() {
             let staging = frames.join(staging);
-            if fs::read_dir(&staging).map(|d| d.count()).unwrap_or(0) >= 2 {
+            let pngs = fs::read_dir(&staging).map(|d| d.flatten().filter(|e| is_png(&e.file_name())).count());
+            if pngs.unwrap_or(0) >= 2 {
                 break true;
             }
         }
@@ -713,30 +715,82 @@ fn an_interrupted_render_sequence_leaves_the_directory_as_it_was() {
     assert_eq!(fs::read_to_string(frames.join("curtain_0000.png")).unwrap(), "an earlier frame");
 }
 
+fn is_png(name: &std::ffi::OsStr) -> bool {
+    name.to_string_lossy().ends_with(".png")
+}
+
+/// A process id no process has now: a child that has ended (its id is free
+/// until reused, which a fresh id this soon after is not).
+fn dead_pid() -> u32 {
+    let mut gone = Command::new("true").spawn().unwrap();
+    let pid = gone.id();
+    gone.wait().unwrap();
+    pid
+}
+
+/// A killed export's temporary goes with the next write into its folder —
+/// also for an output name as long as a name may be, whose temporary's name
+/// is cut short to fit — while files and folders that only look like a
+/// dead process's temporaries stay: they are the user's.
 #[test]
 fn a_killed_exports_leftovers_go_with_the_next_write() {
     let dir = tempfile::tempdir().unwrap();
     let carpet = scene_path("magic_carpet.ron");
-    let child = start_writing(dir.path(), &["export", carpet.to_str().unwrap(), "--frames", "0..120", "-o", "x.usda"]);
+    let long = "k".repeat(250) + ".usda";
+    let child = start_writing(dir.path(), &["export", carpet.to_str().unwrap(), "--frames", "0..120", "-o", &long]);
     send(&child, libc::SIGKILL);
     let output = child.wait_with_output().unwrap();
     assert_eq!(output.status.signal(), Some(libc::SIGKILL));
     let left = temporaries_in(dir.path());
     assert_eq!(left.len(), 1, "SIGKILL cannot be caught: {left:?}");
-    // A staging directory of a dead process, and a temporary of a live one (ours).
-    let dead = {
-        let mut gone = Command::new("true").spawn().unwrap();
-        let pid = gone.id();
-        gone.wait().unwrap();
-        pid
-    };
-    fs::create_dir(dir.path().join(format!(".seq.drape-{dead}-0.staging"))).unwrap();
-    fs::write(dir.path().join(format!(".seq.drape-{dead}-0.staging/seq_0000.obj")), "stale").unwrap();
+    assert!(left[0].len() <= 255 && left[0].starts_with(".kkkk"), "{left:?}");
+    // Named like a dead process's temporaries, but not Drape's.
+    let dead = dead_pid();
+    let notes = format!(".notes.drape-{dead}-0.tmp");
+    fs::write(dir.path().join(&notes), "my notes").unwrap();
+    let work = format!(".work.drape-{dead}-1.staging");
+    fs::create_dir(dir.path().join(&work)).unwrap();
+    fs::write(dir.path().join(&work).join("draft.obj"), "my draft").unwrap();
+    // A temporary of a live process (ours).
     let live = format!(".other.obj.drape-{}-0.tmp", std::process::id());
     fs::write(dir.path().join(&live), "still being written").unwrap();
     let output = drape().args(["export", "scenes/curtain.ron", "-o"]).arg(dir.path().join("y.obj")).output().unwrap();
     assert!(output.status.success(), "{}", stderr(&output));
-    assert_eq!(names_in(dir.path()), [live, "y.obj".to_string()], "the dead processes' leftovers are gone");
+    let mut expected = vec![notes, live, work.clone(), "y.obj".to_string()];
+    expected.sort();
+    assert_eq!(names_in(dir.path()), expected, "the killed export's leftover is gone, the rest stays");
+    assert_eq!(fs::read_to_string(dir.path().join(&work).join("draft.obj")).unwrap(), "my draft");
+}
+
+/// Output names up to the 255 bytes a file name may take are written, by
+/// every kind of write: one file, a file with its side file, a sequence's
+/// frames and a rendered picture.
+#[test]
+fn an_output_name_as_long_as_a_file_name_may_be_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let in_dir = |args: &[&str]| drape().args(args).current_dir(dir.path()).output().unwrap();
+    let usda = "u".repeat(244) + ".usda";
+    let pc2 = "c".repeat(251) + ".pc2";
+    let frames = "s".repeat(241) + ".obj";
+    let png = "p".repeat(251) + ".png";
+    let curtain = scene_path("curtain.ron");
+    let curtain = curtain.to_str().unwrap();
+    for args in [
+        vec!["export", curtain, "--frames", "0..2", "-o", &usda],
+        vec!["export", curtain, "--frames", "0..2", "-o", &pc2],
+        vec!["export", curtain, "--frames", "0..2", "-o", &frames],
+        vec!["render", curtain, "--size", "32x24", "-o", &png],
+    ] {
+        let output = in_dir(&args);
+        assert!(output.status.success(), "{:?}: {}", &args[..4], stderr(&output));
+    }
+    let stem = &frames[..frames.len() - 4];
+    let mut expected = vec![usda.clone(), pc2.clone(), "c".repeat(251) + ".obj", png.clone()];
+    expected.extend((0..3).map(|frame| format!("{stem}_{frame:04}.obj")));
+    expected.sort();
+    assert_eq!(names_in(dir.path()), expected);
+    assert_eq!(usda.len(), 249);
+    assert!([&pc2, &png].iter().all(|name| name.len() == 255));
 }
 
 /// A background job (`drape … &` from a script) starts with SIGINT ignored
