@@ -5,12 +5,12 @@
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::{Result, bail};
+use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
 use drape::animate::{self, Evaluator};
 use drape::export::{
-    AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, SizeEstimate, check_frames,
-    export_animation_using, write_atomically, write_obj,
+    AnimationFormat, ExportError, ExportOptions, ExportSummary, FrameSource, InputFiles, SizeEstimate, check_frames,
+    check_output, export_animation_using, write_atomically, write_obj,
 };
 use drape::scene::{self, Key, Scene};
 
@@ -75,6 +75,8 @@ pub struct ExportRequest {
     pub layers: bool,
     /// Write even when the size estimate is over the limit or the free space.
     pub force: bool,
+    /// Remove an earlier sequence's frames that the new sequence does not write.
+    pub replace_sequence: bool,
 }
 
 pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> {
@@ -102,11 +104,26 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
         },
     };
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame").to_string();
-    let options = ExportOptions { stage: request.stage.into(), layers: request.layers, sequence_name: Some(stem) };
+    let options = ExportOptions {
+        stage: request.stage.into(),
+        layers: request.layers,
+        sequence_name: Some(stem),
+        scene_path: Some(path.to_path_buf()),
+        replace_sequence: request.replace_sequence,
+    };
+    let one_obj = format == AnimationFormat::ObjSequence && request.frames.is_none();
+    if request.replace_sequence && (one_obj || format != AnimationFormat::ObjSequence) {
+        bail!(
+            "--replace-sequence applies to an OBJ sequence (--frames into a directory, or OUT.obj with --frames); \
+             {} is one file",
+            output.display()
+        );
+    }
 
-    if format == AnimationFormat::ObjSequence && request.frames.is_none() {
+    if one_obj {
         let frame = request.frame.unwrap_or(scene.timeline.start);
         check_frames(&scene, frame, frame)?;
+        InputFiles::of_scene(&scene, Some(path)).check(output, None)?;
         crate::check_size(&SizeEstimate::obj(&scene), output, request.force)?;
         let evaluator = evaluator_with_key_shapes(&scene, request.stage, frame, frame);
         return export_one_obj(&scene, frame, output, &options, evaluator);
@@ -117,8 +134,9 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
         // An animation format without a range: the whole timeline.
         (None, None) => (scene.timeline.start, scene.timeline.end),
     };
-    // Nothing is written, and no key relaxed, before the range and the size are known to be fine.
+    // Nothing is written, and no key relaxed, before the range, the output and the size are known to be fine.
     check_frames(&scene, first, last)?;
+    check_output(&scene, first..=last, output, format, &options).map_err(replace_hint)?;
     let frame_count = (i64::from(last) - i64::from(first) + 1) as u64;
     crate::check_size(&SizeEstimate::animation(&scene, format, frame_count), output, request.force)?;
     let started = Instant::now();
@@ -133,8 +151,25 @@ pub fn export(path: &Path, output: &Path, request: ExportRequest) -> Result<()> 
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    report(&summary?, output, &describe(&scene, &options, first), started);
+    report(&summary.map_err(replace_hint)?, output, &describe(&scene, &options, first), started);
     Ok(())
+}
+
+/// A refusal of an earlier sequence's frames says how to replace them.
+pub fn replace_hint(error: ExportError) -> anyhow::Error {
+    match error {
+        ExportError::OldFrames { .. } => anyhow!("{error} with --replace-sequence, which removes exactly those files"),
+        other => anyhow!(other),
+    }
+}
+
+/// The summary's line for an earlier sequence's frames removed, if any.
+pub fn removed_line(removed: &[std::path::PathBuf]) -> Option<String> {
+    let name = |p: &std::path::PathBuf| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let (first, last) = (removed.first()?, removed.last()?);
+    let count = removed.len();
+    let files = if count == 1 { name(first) } else { format!("{} … {}", name(first), name(last)) };
+    Some(format!("  removed {count} frame{} of the earlier sequence: {files}", if count == 1 { "" } else { "s" }))
 }
 
 /// An evaluator holding the rest shapes the frames `first..=last` need
@@ -207,6 +242,9 @@ fn report(summary: &ExportSummary, output: &Path, what: &str, started: Instant) 
             first.map(|f| name(f)).unwrap_or_default(),
             last.map(|f| name(f)).unwrap_or_default(),
         );
+        if let Some(line) = removed_line(&summary.removed) {
+            say!("{line}");
+        }
         return;
     }
     let files: Vec<String> = summary.files.iter().map(|f| f.display().to_string()).collect();

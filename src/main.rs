@@ -101,6 +101,10 @@ enum Command {
         /// Write even when the estimated size is over 8 GiB or over the free space on the disk.
         #[arg(long)]
         force: bool,
+        /// An OBJ sequence into a folder holding frames of an earlier sequence of the same name that this
+        /// one does not write: remove exactly those files as the new frames go in (else it is refused).
+        #[arg(long)]
+        replace_sequence: bool,
     },
     /// Draw the cloth: a PNG of one frame, a numbered PNG sequence (--frames into a directory) or an animated GIF.
     Render {
@@ -162,6 +166,10 @@ enum Command {
         /// Write a sequence or GIF even when its estimated size is over 8 GiB or over the free space on the disk.
         #[arg(long)]
         force: bool,
+        /// A PNG sequence into a folder holding frames of an earlier sequence of the same name that this
+        /// one does not write: remove exactly those files as the new frames go in (else it is refused).
+        #[arg(long)]
+        replace_sequence: bool,
     },
 }
 
@@ -214,8 +222,10 @@ fn main() -> ExitCode {
     }
     let result = match command {
         Command::Check { scenes } => check_all(&scenes),
-        Command::Export { scene, output, frame, frames, format, stage, no_layers, force } => {
-            let request = export_command::ExportRequest { frame, frames, format, stage, layers: !no_layers, force };
+        Command::Export { scene, output, frame, frames, format, stage, no_layers, force, replace_sequence } => {
+            let layers = !no_layers;
+            let request =
+                export_command::ExportRequest { frame, frames, format, stage, layers, force, replace_sequence };
             export_command::export(&scene, &output, request)
         }
         Command::Render {
@@ -237,6 +247,7 @@ fn main() -> ExitCode {
             pass,
             style,
             force,
+            replace_sequence,
         } => {
             let overlays = SceneOverlays {
                 wireframe,
@@ -256,7 +267,16 @@ fn main() -> ExitCode {
                 (_, true) => Some(false),
                 _ => None,
             };
-            let request = render_command::RenderRequest { frame, frames, size_px: size, overlays, shot, plate, force };
+            let request = render_command::RenderRequest {
+                frame,
+                frames,
+                size_px: size,
+                overlays,
+                shot,
+                plate,
+                force,
+                replace_sequence,
+            };
             render_command::render(&scene, &output, request)
         }
     };

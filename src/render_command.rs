@@ -26,6 +26,8 @@ pub struct RenderRequest {
     pub plate: Option<bool>,
     /// Write a sequence or GIF even when its size estimate is over the limit or the free space.
     pub force: bool,
+    /// Remove an earlier sequence's frames that the new sequence does not write.
+    pub replace_sequence: bool,
 }
 
 /// How a render draws the cloth (`--style`).
@@ -102,6 +104,9 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
             );
         }
     }
+    if request.replace_sequence && kind != RenderKind::Sequence {
+        bail!("--replace-sequence applies to a PNG sequence (-o DIR --frames); {} is one file", output.display());
+    }
     if request.shot && scene.camera.is_none() {
         bail!("--camera shot: the scene has no shot camera (`camera: (position: …, target: …)`)");
     }
@@ -128,6 +133,7 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
         overlays: request.overlays,
         plate: scene.plate.is_some() && request.plate.unwrap_or(through_shot),
         force: request.force,
+        replace_sequence: request.replace_sequence,
     };
     let plan = RenderPlan::new(&scene, Some(path), job).map_err(with_force_hint)?;
     for warning in plan.warnings() {
@@ -145,10 +151,12 @@ pub fn render(path: &Path, output: &Path, request: RenderRequest) -> Result<()> 
     Ok(())
 }
 
-/// A refusal of the output's size says how to write it anyway.
+/// A refusal of the output's size says how to write it anyway, one of an
+/// earlier sequence's frames how to replace them.
 fn with_force_hint(error: RenderJobError) -> anyhow::Error {
     match error {
         RenderJobError::TooLarge(error) => crate::force_hint(error),
+        RenderJobError::OldFrames(error) => crate::export_command::replace_hint(error),
         other => anyhow!(other),
     }
 }
@@ -172,6 +180,9 @@ fn report(summary: &RenderSummary) {
         summary.elapsed.as_secs_f64(),
         summary.frames_per_sec(),
     );
+    if let Some(line) = crate::export_command::removed_line(&summary.removed) {
+        say!("{line}");
+    }
 }
 
 #[cfg(test)]

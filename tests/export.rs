@@ -875,6 +875,84 @@ fn unwritable_paths_say_which_and_why() {
     assert_eq!(left, Vec::<String>::new());
 }
 
+/// An OBJ sequence into a folder holding more frames of an earlier one is
+/// refused before any frame is evaluated, naming the old frames; allowed
+/// to replace them, it removes exactly those as its own move in. The same
+/// for a sequence named by `OUT.obj`.
+#[test]
+fn an_earlier_sequence_s_other_frames_are_refused_or_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, _) = flag();
+    let seq = dir.path().join("seq");
+    let mut options = ExportOptions { sequence_name: Some("flag".into()), ..ExportOptions::default() };
+    let export_frames = |frames, output: &Path, options: &ExportOptions| {
+        let mut reports = 0;
+        let result =
+            export_animation_with(&scene, frames, output, AnimationFormat::ObjSequence, options, &mut |_, _| {
+                reports += 1;
+                true
+            });
+        (result, reports)
+    };
+    export_frames(0..=9, &seq, &options).0.unwrap();
+    fs::write(seq.join("flag_notes.txt"), "mine").unwrap();
+    let (result, reports) = export_frames(0..=3, &seq, &options);
+    let Err(ExportError::OldFrames { count, frames, files, .. }) = result else { panic!("not refused: {result:?}") };
+    assert_eq!((count, frames.as_str(), files.as_str()), (6, "4–9", "flag_0004.obj … flag_0009.obj"));
+    assert_eq!(reports, 0, "refused before any frame");
+    assert_eq!(files_in(&seq).len(), 11);
+
+    options.replace_sequence = true;
+    let summary = export_frames(0..=3, &seq, &options).0.unwrap();
+    let old: Vec<PathBuf> = (4..=9).map(|frame| seq.join(format!("flag_{frame:04}.obj"))).collect();
+    assert_eq!(summary.removed, old);
+    assert_eq!(files_in(&seq), ["flag_0000.obj", "flag_0001.obj", "flag_0002.obj", "flag_0003.obj", "flag_notes.txt"]);
+
+    let shot = dir.path().join("shot.obj");
+    export_frames(0..=12, &shot, &ExportOptions::default()).0.unwrap();
+    let (result, _) = export_frames(2..=5, &shot, &ExportOptions::default());
+    let Err(ExportError::OldFrames { frames, files, .. }) = result else { panic!("not refused: {result:?}") };
+    assert_eq!((frames.as_str(), files.as_str()), ("0, 1, 6–12", "shot_0000.obj … shot_0012.obj"));
+}
+
+/// The scene's own file and the files it names are never written over,
+/// whatever the output is called: the export is refused before it starts.
+#[test]
+fn an_export_never_writes_over_the_files_its_scene_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    fs::copy(manifest.join("tests/data/meshes/table.obj"), dir.path().join("table.obj")).unwrap();
+    let text = fs::read_to_string(manifest.join("scenes/curtain.ron")).unwrap();
+    let with_table = text.trim_end().strip_suffix(')').unwrap().to_owned()
+        + "    colliders: [Mesh((name: \"table\", file: \"table.obj\"))],\n)\n";
+    let scene_file = dir.path().join("curtain.ron");
+    fs::write(&scene_file, &with_table).unwrap();
+    let scene = scene::load(&scene_file).unwrap();
+    let options = ExportOptions { scene_path: Some(scene_file.clone()), ..ExportOptions::default() };
+    let table = dir.path().join("table.obj");
+    for (output, format, path, what, input, role) in [
+        (scene_file.clone(), AnimationFormat::Usda, &scene_file, "", &scene_file, "the scene file"),
+        (
+            dir.path().join("table.pc2"),
+            AnimationFormat::Pc2,
+            &table,
+            " (the base mesh beside ",
+            &table,
+            "a file the scene reads",
+        ),
+    ] {
+        let error = export_animation_with(&scene, 0..=2, &output, format, &options, &mut |_, _| true).unwrap_err();
+        assert!(matches!(error, ExportError::OverwritesInput { .. }), "{error}");
+        let text = error.to_string();
+        let want = format!("cannot write {}{what}", path.display());
+        assert!(text.starts_with(&want), "{text}");
+        let want = format!("it is the same file on disk as {}, {role}, which would be lost", input.display());
+        assert!(text.contains(&want), "{text}");
+    }
+    assert_eq!(files_in(dir.path()), ["curtain.ron", "table.obj"]);
+    assert_eq!(fs::read_to_string(&scene_file).unwrap(), with_table);
+}
+
 /// A .glb cannot hold more than 4 GiB: 700 frames of a 512 × 512 cloth are
 /// refused before any frame is evaluated (relaxing that key alone would
 /// take half a minute), and nothing is written.

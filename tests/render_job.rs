@@ -120,3 +120,57 @@ fn bad_requests_are_refused_before_anything_is_drawn() {
     assert!(refused(RenderRequest::new(RenderKind::Png, dir.path().join("z.png"), 0..=0, (0, 10))).contains("0×10"));
     assert!(names_in(dir.path()).is_empty(), "nothing written");
 }
+
+/// A sequence into a folder holding more frames of an earlier one is held
+/// back before anything is drawn, naming them; allowed to replace them, it
+/// removes exactly those and says so.
+#[test]
+fn an_earlier_sequence_s_other_frames_are_held_back_or_replaced() {
+    let (scene, path) = flag();
+    let dir = tempfile::tempdir().unwrap();
+    let frames = dir.path().join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    for frame in 0..5 {
+        std::fs::write(frames.join(format!("flag_{frame:04}.png")), "old").unwrap();
+    }
+    std::fs::write(frames.join("flag_0009.png.txt"), "mine").unwrap();
+    let never = AtomicBool::new(false);
+    let mut request = RenderRequest::new(RenderKind::Sequence, frames.clone(), 0..=1, SIZE);
+    let mut nothing_drawn = |_, _| panic!("nothing is drawn for a refused render");
+    let error = render_to_files(&scene, Some(&path), &request, None, &mut nothing_drawn, &never).unwrap_err();
+    assert!(matches!(error, RenderJobError::OldFrames(_)), "{error}");
+    assert!(error.to_string().contains("(frames 2–4: flag_0002.png … flag_0004.png)"), "{error}");
+    assert_eq!(names_in(&frames).len(), 6);
+
+    request.replace_sequence = true;
+    let summary = render(&scene, &path, &request, &mut |_, _| {}, &never).unwrap_or_else(|error| panic!("{error}"));
+    assert_eq!(summary.removed, ["flag_0002.png", "flag_0003.png", "flag_0004.png"].map(|n| frames.join(n)));
+    assert_eq!(names_in(&frames), ["flag_0000.png", "flag_0001.png", "flag_0009.png.txt"]);
+}
+
+/// A render never writes over the scene file or a plate picture it shows,
+/// whatever the output is called.
+#[test]
+fn a_render_never_writes_over_what_it_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scene_file = dir.path().join("flag.png");
+    std::fs::copy(manifest.join("scenes/flag.ron"), &scene_file).unwrap();
+    let scene = scene::load(&scene_file).unwrap();
+    let never = AtomicBool::new(false);
+    let mut nothing_drawn = |_, _| panic!("nothing is drawn for a refused render");
+    let request = RenderRequest::new(RenderKind::Png, scene_file.clone(), 0..=0, SIZE);
+    let error = render_to_files(&scene, Some(&scene_file), &request, None, &mut nothing_drawn, &never).unwrap_err();
+    assert!(error.to_string().contains("the scene file, which would be lost"), "{error}");
+
+    let mut carpet = scene::load(&manifest.join("scenes/magic_carpet.ron")).unwrap();
+    let plate = dir.path().join("plate.png");
+    std::fs::copy(manifest.join("assets/magic_carpet_plate.png"), &plate).unwrap();
+    carpet.plate.as_mut().expect("the carpet has a plate").file = "plate.png".into();
+    let carpet_file = dir.path().join("carpet.ron");
+    let mut request = RenderRequest::new(RenderKind::Png, plate.clone(), 0..=0, SIZE);
+    request.plate = true;
+    let error = render_to_files(&carpet, Some(&carpet_file), &request, None, &mut nothing_drawn, &never).unwrap_err();
+    assert!(error.to_string().contains("a file the scene reads, which would be lost"), "{error}");
+    assert_eq!(names_in(dir.path()), ["flag.png", "plate.png"]);
+}

@@ -1,12 +1,13 @@
 //! "Nothing blown up, nothing lost": the `drape` binary writing to special
 //! files (no side file beside a device or FIFO), stdout and symlinks,
 //! interrupted by signals or killed, leaving no temporary file behind and
-//! removing only what it can prove it wrote; output names as long as a
-//! file name may be; hostile scene files (a name that injects OBJ lines, an
-//! endless timeline, an endless file, too many pins); bounded memory (a
-//! 1000-pin key) and exports refused up front past their size limit unless
-//! --force; progress on a terminal only; and the CLI's subcommands refusing
-//! the same things with the same messages.
+//! removing only what it can prove it wrote; never writing over the scene
+//! it reads, nor leaving an earlier sequence's frames among a new one's;
+//! output names as long as a file name may be; hostile scene files (a name
+//! that injects OBJ lines, an endless timeline, an endless file, too many
+//! pins); bounded memory (a 1000-pin key) and exports refused up front past
+//! their size limit unless --force; progress on a terminal only; and the
+//! CLI's subcommands refusing the same things with the same messages.
 //!
 //! Every drape these tests start has SIGINT, SIGTERM and SIGHUP at their
 //! default dispositions and can write at most [`CHILD_FILE_LIMIT_BYTES`]
@@ -408,6 +409,142 @@ fn render_refuses_a_sequence_into_missing_parents_as_export_does() {
     assert_eq!(stderr(&export), want);
     assert_eq!(stderr(&render), want);
     assert_eq!(names_in(dir.path()), Vec::<String>::new(), "no directory was made");
+}
+
+// ------------------------------------------------ outputs that lose files
+
+/// Every file in `dir` with its bytes.
+fn contents_of(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    names_in(dir).into_iter().map(|name| (name.clone(), fs::read(dir.join(&name)).unwrap())).collect()
+}
+
+/// A shorter sequence into the folder of a longer one would leave the old
+/// frames after the new ones, which a `$F4` loader plays on: refused,
+/// naming them, unless --replace-sequence, which removes exactly those.
+#[test]
+fn a_sequence_never_leaves_an_earlier_one_s_frames_among_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::copy(scene_path("curtain.ron"), dir.path().join("curtain.ron")).unwrap();
+    let in_dir = |args: &[&str]| drape().args(args).current_dir(dir.path()).output().unwrap();
+    let seq = dir.path().join("seq");
+    let first = in_dir(&["export", "curtain.ron", "--frames", "0..9", "-o", "seq/"]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    // The user's files beside the frames, some named much like them.
+    for name in ["notes.txt", "curtain_final.obj", "curtain_0004.obj.bak", "other_0005.obj", "curtain_012.obj"] {
+        fs::write(seq.join(name), "the user's").unwrap();
+    }
+    let before = contents_of(&seq);
+
+    let shorter = in_dir(&["export", "curtain.ron", "--frames", "0..3", "-o", "seq/"]);
+    assert_eq!(shorter.status.code(), Some(1));
+    assert_eq!(
+        stderr(&shorter),
+        "error: seq/ already holds 6 frames of a curtain_####.obj sequence that the new one does not replace \
+         (frames 4–9: curtain_0004.obj … curtain_0009.obj): a loader would play them mixed with the new frames; \
+         write the sequence into another folder, or replace the old one with --replace-sequence, which removes \
+         exactly those files\n"
+    );
+    assert!(contents_of(&seq) == before, "nothing written or removed");
+    let one_file = in_dir(&["export", "curtain.ron", "-o", "one.usda", "--replace-sequence"]);
+    assert_eq!(one_file.status.code(), Some(1));
+    assert!(stderr(&one_file).contains("--replace-sequence applies to an OBJ sequence"), "{}", stderr(&one_file));
+
+    let replaced = in_dir(&["export", "curtain.ron", "--frames", "0..3", "-o", "seq/", "--replace-sequence"]);
+    assert!(replaced.status.success(), "{}", stderr(&replaced));
+    let summary = String::from_utf8_lossy(&replaced.stdout);
+    assert!(summary.starts_with("wrote 4 files to seq ("), "{summary}");
+    assert!(
+        summary.ends_with("\n  removed 6 frames of the earlier sequence: curtain_0004.obj … curtain_0009.obj\n"),
+        "{summary}"
+    );
+    let mut expected: Vec<String> = (0..4).map(|frame| format!("curtain_{frame:04}.obj")).collect();
+    expected.extend(
+        ["notes.txt", "curtain_final.obj", "curtain_0004.obj.bak", "other_0005.obj", "curtain_012.obj"]
+            .map(String::from),
+    );
+    expected.sort();
+    assert_eq!(names_in(&seq), expected);
+    for (name, bytes) in &before {
+        if !name.starts_with("curtain_00") || name.ends_with(".bak") {
+            assert!(fs::read(seq.join(name)).unwrap() == *bytes, "{name} untouched");
+        }
+    }
+
+    // The same for a PNG sequence.
+    let render = |frames: &str, replace: bool| {
+        let mut args = vec!["render", "curtain.ron", "--size", "32x24", "--frames", frames, "-o", "pictures"];
+        args.extend(replace.then_some("--replace-sequence"));
+        in_dir(&args)
+    };
+    let pictures = dir.path().join("pictures");
+    assert!(render("0..4", false).status.success());
+    let before = contents_of(&pictures);
+    let shorter = render("0..1", false);
+    assert_eq!(shorter.status.code(), Some(1));
+    assert_eq!(
+        stderr(&shorter),
+        "error: pictures already holds 3 frames of a curtain_####.png sequence that the new one does not replace \
+         (frames 2–4: curtain_0002.png … curtain_0004.png): a loader would play them mixed with the new frames; \
+         write the sequence into another folder, or replace the old one with --replace-sequence, which removes \
+         exactly those files\n"
+    );
+    assert!(contents_of(&pictures) == before, "nothing written or removed");
+    let replaced = render("0..1", true);
+    assert!(replaced.status.success(), "{}", stderr(&replaced));
+    let summary = String::from_utf8_lossy(&replaced.stdout);
+    assert!(
+        summary.ends_with("\n  removed 3 frames of the earlier sequence: curtain_0002.png … curtain_0004.png\n"),
+        "{summary}"
+    );
+    assert_eq!(names_in(&pictures), ["curtain_0000.png", "curtain_0001.png"]);
+}
+
+/// An output that is the scene file itself — by name, hard link or
+/// symlink, or as a side file or a sequence's frame — is refused, and the
+/// scene stays as it was.
+#[test]
+fn an_export_or_render_never_writes_over_its_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = fs::read_to_string(scene_path("curtain.ron")).unwrap();
+    for scene in ["self.ron", "cache.obj", "look.bin", "shot.png", "seq/s_0001.obj"] {
+        fs::create_dir_all(dir.path().join(scene).parent().unwrap()).unwrap();
+        fs::write(dir.path().join(scene), &text).unwrap();
+    }
+    fs::hard_link(dir.path().join("self.ron"), dir.path().join("linked.usda")).unwrap();
+    std::os::unix::fs::symlink("self.ron", dir.path().join("pointer.obj")).unwrap();
+    std::os::unix::fs::symlink("shot.png", dir.path().join("pointer.png")).unwrap();
+    let names = names_in(dir.path());
+    for (args, path, input) in [
+        (vec!["export", "self.ron", "-o", "self.ron", "--format", "obj"], "self.ron", "self.ron"),
+        (vec!["export", "self.ron", "-o", "self.ron", "--format", "pc2"], "self.ron", "self.ron"),
+        (vec!["export", "self.ron", "-o", "linked.usda"], "linked.usda", "self.ron"),
+        (vec!["export", "self.ron", "-o", "pointer.obj"], "pointer.obj", "self.ron"),
+        (vec!["export", "cache.obj", "-o", "cache.pc2"], "cache.obj (the base mesh beside cache.pc2)", "cache.obj"),
+        (vec!["export", "look.bin", "-o", "look.gltf"], "look.bin (the buffer beside look.gltf)", "look.bin"),
+        (
+            vec!["export", "seq/s_0001.obj", "--frames", "0..3", "-o", "seq/s.obj"],
+            "seq/s_0001.obj (a frame of the sequence)",
+            "seq/s_0001.obj",
+        ),
+        (vec!["render", "shot.png", "-o", "shot.png"], "shot.png", "shot.png"),
+        (vec!["render", "shot.png", "-o", "pointer.png"], "pointer.png", "shot.png"),
+    ] {
+        let output = drape().args(&args).current_dir(dir.path()).output().unwrap();
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {}", stderr(&output));
+        assert_eq!(
+            stderr(&output),
+            format!(
+                "error: cannot write {path}: it is the same file on disk as {input}, the scene file, which would be \
+                 lost: choose another output\n"
+            ),
+            "{args:?}"
+        );
+    }
+    assert_eq!(names_in(dir.path()), names, "nothing written beside");
+    for scene in ["self.ron", "cache.obj", "look.bin", "shot.png", "seq/s_0001.obj"] {
+        assert_eq!(fs::read_to_string(dir.path().join(scene)).unwrap(), text, "{scene} is the scene still");
+    }
+    assert_eq!(names_in(&dir.path().join("seq")), ["s_0001.obj"]);
 }
 
 // ------------------------------------------------- bounds and size estimates

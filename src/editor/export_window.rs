@@ -3,7 +3,11 @@
 //! bar and Cancel, through the same exporter as `drape export`. The window
 //! shows the export's estimated size; one past 8 GiB or the free disk space
 //! is held back with the reason until the user asks to export anyway (the
-//! command line's `--force`).
+//! command line's `--force`). An OBJ sequence into a folder holding frames
+//! of an earlier sequence that it would leave mixed with its own is held
+//! back, naming them, until the user asks to replace the old sequence (the
+//! command line's `--replace-sequence`); an output that is the scene's own
+//! file, or one the scene reads, is refused.
 
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
@@ -18,12 +22,46 @@ use super::number_field::number_field;
 use super::worker_job::WorkerJob;
 use super::workspace::Workspace;
 use crate::export::{
-    AnimationFormat, ExportError, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, export_animation,
+    AnimationFormat, ExportError, ExportOptions, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size,
+    check_output, export_animation_with,
 };
 use crate::scene::{Scene, readable_bytes};
 
-/// An export running on its worker.
-type Job = WorkerJob<Result<ExportSummary, ExportError>>;
+/// An export running on its worker, and what it was started with.
+struct Job {
+    worker: WorkerJob<Result<ExportSummary, ExportError>>,
+    settings: Settings,
+    allowed: Allowed,
+}
+
+/// What the user allowed an export held back: to go past the size limit
+/// or the free space, to replace an earlier sequence's frames.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Allowed {
+    force: bool,
+    replace: bool,
+}
+
+/// Why an export was held back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Hold {
+    /// Its size: "Export anyway" goes ahead.
+    Size,
+    /// An earlier sequence's frames: "Replace the old sequence" goes ahead.
+    OldFrames,
+    /// The output cannot be written (a file the scene reads): only other settings help.
+    Output,
+}
+
+/// Why the last Export was held back, for the settings it was for; shown
+/// with the button that goes ahead until the settings change.
+struct Refusal {
+    reason: String,
+    hold: Hold,
+    settings: Settings,
+    /// What the user had allowed already, kept when allowing more.
+    allowed: Allowed,
+}
 
 /// The Export window's settings and the running export.
 pub(super) struct ExportWindow {
@@ -34,9 +72,7 @@ pub(super) struct ExportWindow {
     output: String,
     dialog: Option<FileDialog>,
     job: Option<Job>,
-    /// Why the last Export was held back, and the settings it was for; shown
-    /// with an "Export anyway" button until the settings change.
-    refused: Option<(String, Settings)>,
+    refused: Option<Refusal>,
 }
 
 /// What an export writes: format, frames and file.
@@ -57,21 +93,46 @@ impl Default for ExportWindow {
     }
 }
 
-/// Starts exporting `scene` on a worker thread.
-fn start(
-    scene: Scene,
-    frames: RangeInclusive<i32>,
-    output: PathBuf,
-    format: AnimationFormat,
-    ctx: egui::Context,
-) -> Job {
-    WorkerJob::start(ctx, move |progress, cancel| {
+/// The export's options: the full animation, never over `scene_path` or
+/// the files the scene names, replacing an earlier sequence when allowed.
+fn options(scene_path: Option<&Path>, allowed: Allowed) -> ExportOptions {
+    ExportOptions {
+        scene_path: scene_path.map(Path::to_path_buf),
+        replace_sequence: allowed.replace,
+        ..ExportOptions::default()
+    }
+}
+
+/// Starts exporting `scene` (saved at `scene_path`) on a worker thread.
+fn start(scene: Scene, scene_path: Option<PathBuf>, settings: Settings, allowed: Allowed, ctx: egui::Context) -> Job {
+    let (format, first, last, output) = settings.clone();
+    let worker = WorkerJob::start(ctx, move |progress, cancel| {
         let mut progress = |done: usize, total: usize| {
             progress(done as u64, total.max(1) as u64);
             !cancel.load(Ordering::Relaxed)
         };
-        export_animation(&scene, frames, &output, format, &mut progress)
-    })
+        let options = options(scene_path.as_deref(), allowed);
+        let output = PathBuf::from(output.trim());
+        export_animation_with(&scene, first..=last, &output, format, &options, &mut progress)
+    });
+    Job { worker, settings, allowed }
+}
+
+/// Why the export `settings` describe should not go ahead with what the
+/// user has `allowed`: a file the scene reads in the way; an earlier
+/// sequence's frames it would leave mixed with its own (unless replacing);
+/// its size (unless forced). `None` when it may go ahead.
+fn refusal(scene: &Scene, scene_path: Option<&Path>, settings: &Settings, allowed: Allowed) -> Option<(Hold, String)> {
+    let (format, first, last, output) = settings;
+    let (frames, output) = (*first..=*last, Path::new(output.trim()));
+    if let Err(error) = check_output(scene, frames.clone(), output, *format, &options(scene_path, allowed)) {
+        let hold = if matches!(error, ExportError::OldFrames { .. }) { Hold::OldFrames } else { Hold::Output };
+        return Some((hold, error.to_string()));
+    }
+    if allowed.force {
+        return None;
+    }
+    size_refusal(scene, &frames, output, *format).map(|reason| (Hold::Size, reason))
 }
 
 /// Why exporting `frames` of `scene` as `format` to `output` should not go
@@ -121,7 +182,8 @@ impl ExportWindow {
         let timeline = w.doc.scene().timeline.clone();
         let mut open = true;
         let mut start_now = false;
-        let mut force_now = false;
+        // Set by "Export anyway" or "Replace the old sequence": what the user allows now.
+        let mut allow_now: Option<Allowed> = None;
         let mut choose = false;
         let busy = self.job.is_some();
         let scene = w.doc.scene();
@@ -177,21 +239,19 @@ impl ExportWindow {
             });
             ui.separator();
             match &window.job {
-                Some(job) => job.progress_ui(ui, "frame evaluations", "Starting"),
+                Some(job) => job.worker.progress_ui(ui, "frame evaluations", "Starting"),
                 None => {
-                    let settings = (window.format, window.first, window.last, window.output.clone());
-                    if window.refused.as_ref().is_some_and(|(_, held)| *held != settings) {
+                    let settings = window.settings();
+                    if window.refused.as_ref().is_some_and(|refusal| refusal.settings != settings) {
                         window.refused = None;
                     }
-                    if let Some((reason, _)) = &window.refused {
-                        ui.colored_label(ui.visuals().warn_fg_color, format!("Not exported: {reason}."));
+                    if let Some(refusal) = &window.refused {
+                        ui.colored_label(ui.visuals().warn_fg_color, format!("Not exported: {}.", refusal.reason));
                     }
                     ui.horizontal(|ui| {
                         let ready = !window.output.trim().is_empty();
                         start_now = ui.add_enabled(ready, egui::Button::new("Export")).clicked();
-                        if window.refused.is_some() && ui.button("Export anyway").clicked() {
-                            force_now = true;
-                        }
+                        allow_now = window.refused.as_ref().and_then(|refusal| go_ahead_ui(ui, refusal));
                     });
                 }
             }
@@ -209,26 +269,13 @@ impl ExportWindow {
             }
             self.dialog = None;
         }
-        if start_now || force_now {
-            let output = PathBuf::from(self.output.trim());
-            let frames = self.first..=self.last;
-            let format = self.format;
-            let refusal = if force_now { None } else { size_refusal(w.doc.scene(), &frames, &output, format) };
-            match refusal {
-                Some(reason) => {
-                    let settings = (format, self.first, self.last, self.output.clone());
-                    self.refused = Some((reason, settings));
-                }
-                None => {
-                    self.refused = None;
-                    self.job = Some(start(w.doc.scene().clone(), frames, output, format, ctx.clone()));
-                }
-            }
+        if start_now || allow_now.is_some() {
+            self.export_or_hold(w, allow_now.unwrap_or_default(), ctx);
         }
         if !open {
             // Closing the window cancels an export in progress.
             if let Some(job) = &self.job {
-                job.cancel();
+                job.worker.cancel();
             }
             self.open = false;
         }
@@ -237,22 +284,65 @@ impl ExportWindow {
         }
     }
 
+    /// The settings as they are: format, frames and file.
+    fn settings(&self) -> Settings {
+        (self.format, self.first, self.last, self.output.clone())
+    }
+
+    /// Starts the export the settings describe, with what the user has
+    /// `allowed` now and before for these settings, or holds it back with
+    /// the reason.
+    fn export_or_hold(&mut self, w: &Workspace, allowed: Allowed, ctx: &egui::Context) {
+        let settings = self.settings();
+        let before = self.refused.as_ref().filter(|r| r.settings == settings).map_or(Allowed::default(), |r| r.allowed);
+        let allowed = Allowed { force: allowed.force || before.force, replace: allowed.replace || before.replace };
+        match refusal(w.doc.scene(), w.doc.path(), &settings, allowed) {
+            Some((hold, reason)) => self.refused = Some(Refusal { reason, hold, settings, allowed }),
+            None => {
+                self.refused = None;
+                let path = w.doc.path().map(Path::to_path_buf);
+                self.job = Some(start(w.doc.scene().clone(), path, settings, allowed, ctx.clone()));
+            }
+        }
+    }
+
     /// Reports a finished export.
     fn finish(&mut self, w: &mut Workspace) {
-        let Some(job) = self.job.take_if(|job| job.is_finished()) else { return };
-        let (result, elapsed) = job.join();
+        let Some(job) = self.job.take_if(|job| job.worker.is_finished()) else { return };
+        let Job { worker, settings, allowed } = job;
+        let (result, elapsed) = worker.join();
         match result {
             Ok(Ok(summary)) => {
                 let file = summary.files.first().map(|f| f.display().to_string()).unwrap_or_default();
                 let seconds = elapsed.as_secs_f64();
-                w.report(format!("Exported {} frames to {file} in {seconds:.1} s", summary.frame_count), false);
+                let removed = match summary.removed.len() {
+                    0 => String::new(),
+                    count => format!("; removed {count} frames of the earlier sequence"),
+                };
+                let count = summary.frame_count;
+                w.report(format!("Exported {count} frames to {file} in {seconds:.1} s{removed}"), false);
                 self.open = false;
+            }
+            // The folder changed while the frames were evaluated.
+            Ok(Err(error @ ExportError::OldFrames { .. })) => {
+                self.refused = Some(Refusal { reason: error.to_string(), hold: Hold::OldFrames, settings, allowed });
             }
             Ok(Err(ExportError::Cancelled)) => w.report("Export cancelled; nothing was written.".to_owned(), false),
             Ok(Err(error)) => w.alert = Some(format!("Could not export:\n{error}")),
             Err(_) => w.alert = Some("The export stopped unexpectedly; nothing was written.".to_owned()),
         }
     }
+}
+
+/// The button that lets a held-back export go ahead, if one can: what it
+/// allows when clicked.
+fn go_ahead_ui(ui: &mut egui::Ui, refusal: &Refusal) -> Option<Allowed> {
+    let (label, allowed) = match refusal.hold {
+        Hold::Size => ("Export anyway", Allowed { force: true, replace: false }),
+        Hold::OldFrames => ("Replace the old sequence", Allowed { force: false, replace: true }),
+        Hold::Output => return None,
+    };
+    ui.button(label).clicked().then_some(allowed)
 }
 
 /// The folder and file name of a typed output path (the working directory for a bare name).
@@ -266,6 +356,7 @@ fn split_output(output: &str) -> (PathBuf, String) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::editor::ui_driver::UiDriver;
 
     #[test]
     fn changing_the_format_changes_the_extension() {
@@ -289,6 +380,95 @@ mod tests {
                     8.0 GiB limit: export fewer frames or a coarser grid",
             "{reason}"
         );
+    }
+
+    #[test]
+    fn an_old_sequence_is_held_back_until_it_may_be_replaced() {
+        let scene = crate::scene::parse(include_str!("../../scenes/curtain.ron"), "curtain.ron").unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        for frame in 0..10 {
+            std::fs::write(dir.path().join(format!("curtain_{frame:04}.obj")), "old").unwrap();
+        }
+        let settings = (AnimationFormat::ObjSequence, 0, 3, dir.path().display().to_string());
+        let (hold, reason) = refusal(&scene, None, &settings, Allowed::default()).expect("held back");
+        assert_eq!(hold, Hold::OldFrames);
+        assert!(reason.contains("6 frames of a curtain_####.obj sequence"), "{reason}");
+        assert!(reason.contains("(frames 4–9: curtain_0004.obj … curtain_0009.obj)"), "{reason}");
+        assert_eq!(refusal(&scene, None, &settings, Allowed { force: false, replace: true }), None);
+        let longer = (AnimationFormat::ObjSequence, 0, 12, dir.path().display().to_string());
+        assert_eq!(refusal(&scene, None, &longer, Allowed::default()), None, "every old frame is replaced");
+    }
+
+    #[test]
+    fn the_scene_s_own_file_is_never_an_output() {
+        let scene = crate::scene::parse(include_str!("../../scenes/curtain.ron"), "curtain.ron").unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("curtain.usda");
+        std::fs::write(&path, "the scene").unwrap();
+        let settings = (AnimationFormat::Usda, 0, 3, path.display().to_string());
+        let allowed = Allowed { force: true, replace: true };
+        let (hold, reason) = refusal(&scene, Some(&path), &settings, allowed).expect("refused");
+        assert_eq!(hold, Hold::Output);
+        assert!(reason.contains("the same file on disk as"), "{reason}");
+        assert_eq!(refusal(&scene, None, &settings, Allowed::default()), None, "an unsaved scene has no file");
+    }
+
+    /// The Export window in an editor with `scene_file` open.
+    struct Editor {
+        window: ExportWindow,
+        workspace: Workspace,
+    }
+
+    /// One frame of the window: what the status bar or an alert says once
+    /// there is something.
+    fn show(editor: &mut Editor, ctx: &egui::Context) -> Option<String> {
+        editor.window.window_ui(ctx, &mut editor.workspace);
+        let message = editor.workspace.message.as_ref().map(|message| message.text.clone());
+        message.or_else(|| editor.workspace.alert.clone())
+    }
+
+    fn old_curtain_frames(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> =
+            std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn file_export_holds_an_old_sequence_back_until_it_is_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene_file = dir.path().join("curtain.ron");
+        std::fs::write(&scene_file, include_str!("../../scenes/curtain.ron")).unwrap();
+        let folder = dir.path().join("seq");
+        std::fs::create_dir(&folder).unwrap();
+        for frame in 0..10 {
+            std::fs::write(folder.join(format!("curtain_{frame:04}.obj")), "old").unwrap();
+        }
+        let workspace = Workspace::new(crate::scene::load(&scene_file).unwrap(), Some(scene_file));
+        let mut window = ExportWindow { format: AnimationFormat::ObjSequence, ..ExportWindow::default() };
+        window.open_for(&workspace.doc);
+        (window.first, window.last, window.output) = (0, 3, folder.display().to_string());
+        let mut driver = UiDriver::new(Editor { window, workspace }, show);
+
+        assert_eq!(driver.click("Export"), None);
+        assert!(driver.shows("Not exported: "), "the refusal is shown in the window");
+        assert!(driver.shows("(frames 4–9: curtain_0004.obj … curtain_0009.obj)"));
+        assert!(driver.state.window.job.is_none(), "nothing started");
+        assert_eq!(old_curtain_frames(&folder).len(), 10);
+
+        driver.click("Replace the old sequence");
+        let deadline = std::time::Instant::now() + Duration::from_secs(120);
+        let message = loop {
+            if let Some(message) = driver.frame(Vec::new()) {
+                break message;
+            }
+            assert!(std::time::Instant::now() < deadline, "the export did not finish");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        assert!(message.ends_with("; removed 6 frames of the earlier sequence"), "{message}");
+        let expected: Vec<String> = (0..4).map(|frame| format!("curtain_{frame:04}.obj")).collect();
+        assert_eq!(old_curtain_frames(&folder), expected);
+        assert_ne!(std::fs::read_to_string(folder.join("curtain_0000.obj")).unwrap(), "old");
     }
 
     #[test]

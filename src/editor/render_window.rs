@@ -4,7 +4,10 @@
 //! the same [`crate::render_job`] as `drape render`. The window shows the
 //! progress with Cancel, then what was written or why not; a render past
 //! 8 GiB or the free disk space is held back until the user asks to render
-//! anyway. A cancelled or failed render leaves no file behind.
+//! anyway, and a sequence into a folder holding frames of an earlier
+//! sequence that it would leave mixed with its own until the user asks to
+//! replace the old sequence. A cancelled or failed render leaves no file
+//! behind.
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -34,8 +37,33 @@ struct Job {
 struct Outcome {
     text: String,
     tone: Tone,
-    /// The request it came from.
+    /// The request it came from, without what the user allowed.
     request: RenderRequest,
+    /// What the user had allowed it (past the size, replacing old frames),
+    /// kept when allowing more.
+    allowed: Allowed,
+}
+
+/// What the user allowed a render held back.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Allowed {
+    force: bool,
+    replace: bool,
+}
+
+impl Allowed {
+    fn of(request: &RenderRequest) -> Allowed {
+        Allowed { force: request.force, replace: request.replace_sequence }
+    }
+
+    fn and(self, more: Allowed) -> Allowed {
+        Allowed { force: self.force || more.force, replace: self.replace || more.replace }
+    }
+
+    /// `request` with nothing allowed, as the settings make it.
+    fn cleared(request: RenderRequest) -> RenderRequest {
+        RenderRequest { force: false, replace_sequence: false, ..request }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -45,6 +73,8 @@ enum Tone {
     Error,
     /// Held back for its size, until the user renders anyway.
     HeldBack,
+    /// Held back for an earlier sequence's frames, until the user replaces them.
+    OldFrames,
 }
 
 /// The Render window's settings and the running render.
@@ -186,7 +216,9 @@ impl RenderWindow {
             self.size_px = default_size_px(scene, self.kind, !(self.shot && scene.camera.is_some()));
         }
         let mut open = true;
-        let (mut render_now, mut force_now, mut choose) = (false, false, false);
+        let (mut render_now, mut choose) = (false, false);
+        // Set by "Render anyway" or "Replace the old sequence": what the user allows now.
+        let mut allow_now: Option<Allowed> = None;
         let busy = self.job.is_some();
         egui::Window::new("Render").open(&mut open).collapsible(false).resizable(false).show(ctx, |ui| {
             ui.add_enabled_ui(!busy, |ui| {
@@ -213,10 +245,7 @@ impl RenderWindow {
                     ui.horizontal(|ui| {
                         let ready = !self.output.trim().is_empty();
                         render_now = ui.add_enabled(ready, egui::Button::new("Render")).clicked();
-                        let held_back = self.outcome.as_ref().is_some_and(|outcome| outcome.tone == Tone::HeldBack);
-                        if held_back && ui.button("Render anyway").clicked() {
-                            force_now = true;
-                        }
+                        allow_now = self.outcome.as_ref().and_then(|outcome| go_ahead_ui(ui, outcome.tone));
                     });
                 }
             }
@@ -232,10 +261,14 @@ impl RenderWindow {
             }
             self.dialog = None;
         }
-        if render_now || force_now {
+        if render_now || allow_now.is_some() {
             let scene = w.doc.scene();
             let mut request = self.request(scene, playhead);
-            request.force = force_now;
+            if let Some(more) = allow_now {
+                // The outcome is for these settings (it is cleared when they change).
+                let allowed = self.outcome.as_ref().map_or(Allowed::default(), |outcome| outcome.allowed).and(more);
+                (request.force, request.replace_sequence) = (allowed.force, allowed.replace);
+            }
             self.outcome = None;
             self.job = Some(start(scene.clone(), w.doc.path().map(Path::to_path_buf), request, ctx.clone()));
         }
@@ -407,12 +440,14 @@ impl RenderWindow {
             }
             Ok(Err(RenderJobError::Cancelled)) => ("Cancelled; nothing was written.".to_owned(), Tone::Note),
             Ok(Err(RenderJobError::TooLarge(reason))) => (format!("Not rendered: {reason}."), Tone::HeldBack),
+            Ok(Err(RenderJobError::OldFrames(reason))) => (format!("Not rendered: {reason}."), Tone::OldFrames),
             Ok(Err(error)) => (format!("Could not render: {error}."), Tone::Error),
             Err(_) => ("The render stopped unexpectedly; nothing was written.".to_owned(), Tone::Error),
         };
-        // Compared with the settings as they are next frame: held without `force`.
-        let request = RenderRequest { force: false, ..job.request };
-        self.outcome = Some(Outcome { text, tone, request });
+        // Compared with the settings as they are next frame, which allow nothing.
+        let allowed = Allowed::of(&job.request);
+        let request = Allowed::cleared(job.request);
+        self.outcome = Some(Outcome { text, tone, request, allowed });
     }
 }
 
@@ -423,11 +458,26 @@ fn summary_text(summary: &RenderSummary) -> String {
         1 => format!("frame {}", summary.frames.start()),
         count => format!("{count} frames ({}..{})", summary.frames.start(), summary.frames.end()),
     };
+    let removed = match summary.removed.len() {
+        0 => String::new(),
+        count => format!("; removed {count} frames of the earlier sequence"),
+    };
     format!(
-        "Rendered {frames} at {width}×{height} to {} in {:.1} s",
+        "Rendered {frames} at {width}×{height} to {} in {:.1} s{removed}",
         summary.output.display(),
         summary.elapsed.as_secs_f64()
     )
+}
+
+/// The button that lets a held-back render go ahead, if its outcome has
+/// one: what it allows when clicked.
+fn go_ahead_ui(ui: &mut egui::Ui, tone: Tone) -> Option<Allowed> {
+    let (label, allowed) = match tone {
+        Tone::HeldBack => ("Render anyway", Allowed { force: true, replace: false }),
+        Tone::OldFrames => ("Replace the old sequence", Allowed { force: false, replace: true }),
+        Tone::Note | Tone::Error => return None,
+    };
+    ui.button(label).clicked().then_some(allowed)
 }
 
 /// The last render's result: a note in the text colour, a problem in the error colour.
@@ -436,7 +486,7 @@ fn outcome_ui(ui: &mut egui::Ui, outcome: Option<&Outcome>) {
     let color = match tone {
         Tone::Note => ui.visuals().text_color(),
         Tone::Error => ui.visuals().error_fg_color,
-        Tone::HeldBack => ui.visuals().warn_fg_color,
+        Tone::HeldBack | Tone::OldFrames => ui.visuals().warn_fg_color,
     };
     ui.colored_label(color, text);
 }
@@ -444,6 +494,7 @@ fn outcome_ui(ui: &mut egui::Ui, outcome: Option<&Outcome>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::editor::ui_driver::UiDriver;
 
     #[test]
     fn changing_the_kind_changes_the_extension() {
@@ -477,5 +528,71 @@ mod tests {
         let overlays = window.request(&scene, 0).overlays;
         assert!(overlays.wireframe && !overlays.pins && overlays.catenaries && !overlays.triangulation);
         assert!(!RenderWindow::default().request(&scene, 0).overlays.wireframe, "none by default");
+    }
+
+    /// The Render window in an editor.
+    struct Editor {
+        window: RenderWindow,
+        workspace: Workspace,
+    }
+
+    /// One frame of the window: what the status bar or an alert says once
+    /// there is something.
+    fn show(editor: &mut Editor, ctx: &egui::Context) -> Option<String> {
+        editor.window.window_ui(ctx, &mut editor.workspace);
+        let message = editor.workspace.message.as_ref().map(|message| message.text.clone());
+        message.or_else(|| editor.workspace.alert.clone())
+    }
+
+    /// Runs frames until the render under way has finished; returns what the
+    /// status bar says by then.
+    fn until_finished(driver: &mut UiDriver<Editor, String>) -> Option<String> {
+        let deadline = std::time::Instant::now() + Duration::from_secs(300);
+        loop {
+            let message = driver.frame(Vec::new());
+            if driver.state.window.job.is_none() {
+                return message;
+            }
+            assert!(std::time::Instant::now() < deadline, "the render did not finish");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn names_in(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> =
+            std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn file_render_holds_an_old_sequence_back_until_it_is_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene_file = dir.path().join("curtain.ron");
+        std::fs::write(&scene_file, include_str!("../../scenes/curtain.ron")).unwrap();
+        let folder = dir.path().join("frames");
+        std::fs::create_dir(&folder).unwrap();
+        for frame in 0..6 {
+            std::fs::write(folder.join(format!("curtain_{frame:04}.png")), "old").unwrap();
+        }
+        let workspace = Workspace::new(crate::scene::load(&scene_file).unwrap(), Some(scene_file));
+        let mut window = RenderWindow::default();
+        window.open_for(&workspace.doc, false);
+        window.kind = RenderKind::Sequence;
+        (window.first, window.last, window.size_px, window.size_auto) = (0, 2, (32, 24), false);
+        window.output = folder.display().to_string();
+        let mut driver = UiDriver::new(Editor { window, workspace }, show);
+
+        driver.click("Render");
+        assert_eq!(until_finished(&mut driver), None, "nothing rendered");
+        assert!(driver.shows("Not rendered: "), "the refusal is shown in the window");
+        assert!(driver.shows("(frames 3–5: curtain_0003.png … curtain_0005.png)"));
+        assert_eq!(names_in(&folder).len(), 6);
+
+        driver.click("Replace the old sequence");
+        let message = until_finished(&mut driver).expect("rendered");
+        assert!(message.ends_with("; removed 3 frames of the earlier sequence"), "{message}");
+        assert_eq!(names_in(&folder), ["curtain_0000.png", "curtain_0001.png", "curtain_0002.png"]);
+        assert_ne!(std::fs::read(folder.join("curtain_0000.png")).unwrap(), b"old");
     }
 }

@@ -20,6 +20,14 @@
 //! Frames must lie within the scene's timeline (`start..=end`, both ends
 //! included); a range reaching outside it is an error that names both
 //! ranges. Without an explicit range the CLI exports the whole timeline.
+//!
+//! [`check_output`] refuses, before anything is evaluated, an export that
+//! would write over a file it reads (the scene file, the files the scene
+//! names: compared by identity on disk, not by name), and an OBJ sequence
+//! into a folder holding frames of an earlier sequence of the same name
+//! that the new one would leave mixed with its own — unless
+//! [`ExportOptions::replace_sequence`], which removes exactly those files
+//! as the new frames move in.
 
 use std::fs;
 use std::ops::RangeInclusive;
@@ -28,8 +36,8 @@ use std::path::{Path, PathBuf};
 use super::error::ExportError;
 use super::job::{FrameSource, Job};
 use super::obj::write_obj;
-use super::output::{check_directory, sibling, write_around};
-use super::sequence::{ensure_sequence_dir, file_stem_for, sequence_file_name};
+use super::output::{InputFiles, check_directory, sibling, write_around};
+use super::sequence::{SequenceFiles, ensure_sequence_dir, file_stem_for};
 use super::{gltf, mdd, pc2, usd};
 use crate::animate::{Evaluator, Stage};
 use crate::atomic_file::{StagedFiles, is_special_file, write_atomically};
@@ -38,7 +46,7 @@ use crate::scene::Scene;
 /// A file format for an exported frame range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AnimationFormat {
-    /// One Wavefront OBJ per frame, `NAME_0000.obj`, … (see [`sequence_file_name`]).
+    /// One Wavefront OBJ per frame, `NAME_0000.obj`, … (see [`super::sequence_file_name`]).
     ObjSequence,
     /// PC2 point cache (little-endian) plus the base mesh as OBJ beside it.
     Pc2,
@@ -113,11 +121,24 @@ pub struct ExportOptions {
     /// (`NAME_0000.obj`); default: the scene's name in lower case with
     /// underscores (`magic_carpet`), or `frame` for an unnamed scene.
     pub sequence_name: Option<String>,
+    /// The file the scene was read from: the export never writes over it,
+    /// nor over the files the scene names (whatever the output's name).
+    pub scene_path: Option<PathBuf>,
+    /// An OBJ sequence into a folder holding frames of an earlier sequence
+    /// of the same name that the new one does not write: remove exactly
+    /// those files as the new frames move in (else the export is refused).
+    pub replace_sequence: bool,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { stage: Stage::Animated, layers: true, sequence_name: None }
+        ExportOptions {
+            stage: Stage::Animated,
+            layers: true,
+            sequence_name: None,
+            scene_path: None,
+            replace_sequence: false,
+        }
     }
 }
 
@@ -136,6 +157,9 @@ pub struct ExportSummary {
     /// Files the format usually writes that were left out, each with why: a
     /// point cache streamed into a device or FIFO gets no base OBJ beside it.
     pub left_out: Vec<String>,
+    /// Frames of an earlier sequence removed as the new one moved in
+    /// ([`ExportOptions::replace_sequence`]), in frame order.
+    pub removed: Vec<PathBuf>,
 }
 
 /// Writes the frames `frames` (both ends included) of `scene`'s animation to
@@ -195,11 +219,13 @@ pub fn export_animation_using(
     if !options.layers && options.stage != Stage::Animated {
         return Err(ExportError::LayersWithoutAnimation { stage: options.stage });
     }
+    check_output(scene, frames.clone(), output, format, options)?;
     let source = FrameSource::with_evaluator(scene, options.stage, options.layers, evaluator);
     let mut job = Job::start(source, frames, format.passes(), progress)?;
     let mut left_out = Vec::new();
+    let mut removed = Vec::new();
     let files = match format {
-        AnimationFormat::ObjSequence => write_obj_sequence(&mut job, output, options)?,
+        AnimationFormat::ObjSequence => write_obj_sequence(&mut job, output, options, &mut removed)?,
         AnimationFormat::Pc2 | AnimationFormat::Mdd => write_point_cache(&mut job, output, format, &mut left_out)?,
         AnimationFormat::Glb | AnimationFormat::Gltf => gltf::write(&mut job, output, format == AnimationFormat::Glb)?,
         AnimationFormat::Usda => {
@@ -220,7 +246,44 @@ pub fn export_animation_using(
         triangle_count: mesh.triangle_count(),
         fps: scene.timeline.fps,
         left_out,
+        removed,
     })
+}
+
+/// Checks, before anything is evaluated or written, where the export of
+/// `frames` to `output` goes: none of the files it writes over (side files
+/// and a sequence's frames included) is one it reads — the scene file
+/// `options.scene_path` or a file the scene names, compared by identity on
+/// disk — and an OBJ sequence's folder holds no frames of an earlier
+/// sequence of its name that it does not write, unless
+/// `options.replace_sequence`. [`export_animation_using`] checks this
+/// itself; `drape export` and the editor call it first, before relaxing any
+/// key.
+pub fn check_output(
+    scene: &Scene,
+    frames: RangeInclusive<i32>,
+    output: &Path,
+    format: AnimationFormat,
+    options: &ExportOptions,
+) -> Result<(), ExportError> {
+    let inputs = InputFiles::of_scene(scene, options.scene_path.as_deref());
+    inputs.check(output, None)?;
+    let beside = |what: &str| Some(format!("{what} beside {}", output.display()));
+    match format {
+        AnimationFormat::ObjSequence => {
+            obj_sequence_files(scene, output, options, frames)?.check_directory(&inputs, options.replace_sequence)?;
+        }
+        AnimationFormat::Pc2 | AnimationFormat::Mdd if !is_special_file(output) => {
+            inputs.check(&sibling(output, "obj"), beside("the base mesh"))?;
+        }
+        AnimationFormat::Gltf => {
+            let (bin, texture) = gltf::side_files(output);
+            inputs.check(&bin, beside("the buffer"))?;
+            inputs.check(&texture, beside("the texture"))?;
+        }
+        AnimationFormat::Pc2 | AnimationFormat::Mdd | AnimationFormat::Glb | AnimationFormat::Usda => {}
+    }
+    Ok(())
 }
 
 /// Checks that `first..=last` is a non-empty range within the scene's timeline.
@@ -271,43 +334,89 @@ fn write_point_cache(
     Ok(vec![output.to_path_buf(), base_obj])
 }
 
-/// One OBJ per frame, written into a hidden staging directory beside the
-/// final files ([`StagedFiles`]) and moved into place once every frame is
-/// written: an error, a cancel or an interrupt leaves the directory as it was.
-fn write_obj_sequence(job: &mut Job, output: &Path, options: &ExportOptions) -> Result<Vec<PathBuf>, ExportError> {
-    let named_files = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    // A directory this export made is removed again if the export fails.
-    let mut created_dir = false;
-    let (dir, name) = if named_files {
-        check_directory(output)?;
+/// The files of an OBJ sequence to `output`: `DIR/NAME_0000.obj …` into a
+/// directory (NAME from [`ExportOptions::sequence_name`], else the scene's
+/// name), or `DIR/OUT_0000.obj …` beside a path `DIR/OUT.obj`. A path that
+/// exists and is neither is [`ExportError::NotADirectory`].
+fn obj_sequence_files(
+    scene: &Scene,
+    output: &Path,
+    options: &ExportOptions,
+    frames: RangeInclusive<i32>,
+) -> Result<SequenceFiles, ExportError> {
+    if names_files(output) {
         let dir = match output.parent() {
-            Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-            _ => PathBuf::from("."),
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
         };
         let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        (dir, stem)
+        return Ok(SequenceFiles::new(dir, &stem, "obj", frames));
+    }
+    if output.exists() && !output.is_dir() {
+        return Err(ExportError::NotADirectory { path: output.to_path_buf() });
+    }
+    let name = options.sequence_name.clone().unwrap_or_else(|| file_stem_for(&scene.name));
+    Ok(SequenceFiles::new(output, &name, "obj", frames))
+}
+
+/// Whether an OBJ sequence's `output` names its files (`DIR/OUT.obj`)
+/// rather than the directory they go into.
+fn names_files(output: &Path) -> bool {
+    output.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+}
+
+/// One OBJ per frame, written into a hidden staging directory beside the
+/// final files ([`StagedFiles`]) and moved into place once every frame is
+/// written: an error, a cancel or an interrupt leaves the directory as it
+/// was. Frames of an earlier sequence that the new one does not write are
+/// removed in the same step when the options allow it (into `removed`),
+/// else the export is refused.
+fn write_obj_sequence(
+    job: &mut Job,
+    output: &Path,
+    options: &ExportOptions,
+    removed: &mut Vec<PathBuf>,
+) -> Result<Vec<PathBuf>, ExportError> {
+    let scene = job.source.scene();
+    let sequence = obj_sequence_files(scene, output, options, job.frames())?;
+    let inputs = InputFiles::of_scene(scene, options.scene_path.as_deref());
+    // A directory this export made is removed again if the export fails.
+    let created_dir = if names_files(output) {
+        check_directory(output)?;
+        false
     } else {
-        if output.exists() && !output.is_dir() {
-            return Err(ExportError::NotADirectory { path: output.to_path_buf() });
-        }
-        created_dir = ensure_sequence_dir(output)?;
-        let name = options.sequence_name.clone().unwrap_or_else(|| file_stem_for(&job.source.scene().name));
-        (output.to_path_buf(), name)
+        ensure_sequence_dir(output)?
     };
-    let object_name = job.name_or("cloth").to_string();
-    let frames = job.frames();
-    let written = StagedFiles::new(&dir, &name).and_then(|mut staged| {
-        job.for_each_frame(|_, frame, mesh| {
-            staged.write(&sequence_file_name(&name, frame, frames.clone()), |w| write_obj(mesh, &object_name, w))
-        })?;
-        staged.commit()
-    });
-    written.map_err(|error| {
-        if created_dir {
-            let _ = fs::remove_dir(&dir);
+    let dir = sequence.dir.clone();
+    let written = write_staged_objs(job, &sequence, &inputs, options.replace_sequence);
+    match written {
+        Ok(committed) => {
+            *removed = committed.removed;
+            Ok(committed.files)
         }
-        ExportError::write(&dir, error)
-    })
+        Err(error) => {
+            if created_dir {
+                let _ = fs::remove_dir(&dir);
+            }
+            Err(error)
+        }
+    }
+}
+
+fn write_staged_objs(
+    job: &mut Job,
+    sequence: &SequenceFiles,
+    inputs: &InputFiles,
+    replace: bool,
+) -> Result<crate::atomic_file::Committed, ExportError> {
+    let dir = &sequence.dir;
+    let object_name = job.name_or("cloth").to_string();
+    let mut staged = StagedFiles::new(dir, &sequence.name).map_err(|e| ExportError::write(dir, e))?;
+    job.for_each_frame(|_, frame, mesh| staged.write(&sequence.file_name(frame), |w| write_obj(mesh, &object_name, w)))
+        .map_err(|e| ExportError::write(dir, e))?;
+    // The folder may have changed while the frames were written.
+    let old = sequence.check_directory(inputs, replace)?;
+    staged.commit_replacing(&old.names()).map_err(|e| ExportError::write(dir, e))
 }
 
 #[cfg(test)]

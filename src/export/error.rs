@@ -59,6 +59,40 @@ pub enum ExportError {
         path.display()
     )]
     SideFilesBesideSpecialFile { path: PathBuf },
+    #[error(
+        "{} already holds {count} frame{} of a {pattern} sequence that the new one does not replace ({} {frames}: \
+         {files}): a loader would play them mixed with the new frames; write the sequence into another folder, \
+         or replace the old one",
+        dir.display(),
+        if *count == 1 { "" } else { "s" },
+        if *count == 1 { "frame" } else { "frames" }
+    )]
+    OldFrames {
+        dir: PathBuf,
+        /// The sequence's names, e.g. `curtain_####.obj`.
+        pattern: String,
+        count: usize,
+        /// The old frames' numbers, e.g. `4–9`.
+        frames: String,
+        /// The first and last old file, e.g. `curtain_0004.obj … curtain_0009.obj`.
+        files: String,
+    },
+    #[error(
+        "cannot write {}{}: it is the same file on disk as {}, {input_role}, which would be lost: choose another \
+         output",
+        path.display(),
+        what.as_deref().map(|what| format!(" ({what})")).unwrap_or_default(),
+        input.display()
+    )]
+    OverwritesInput {
+        path: PathBuf,
+        /// What `path` is to the output, when it is not the output itself:
+        /// `the base mesh beside x.pc2`.
+        what: Option<String>,
+        input: PathBuf,
+        /// `the scene file`, `a file the scene reads`.
+        input_role: &'static str,
+    },
     #[error("the export was cancelled; nothing was written")]
     Cancelled,
 }

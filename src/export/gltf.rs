@@ -126,9 +126,7 @@ pub(crate) fn write(job: &mut Job, output: &Path, binary: bool) -> Result<Vec<Pa
         return Err(ExportError::TooLarge { path: output.to_path_buf(), size_bytes: layout.total as u64 });
     }
     let measured = measure(job).map_err(|e| ExportError::write(output, e))?;
-    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "cloth".into());
-    let bin_path = output.with_file_name(format!("{stem}.bin"));
-    let png_path = output.with_file_name(format!("{stem}_texture.png"));
+    let (bin_path, png_path) = side_files(output);
     let (buffer_uri, image_uri) =
         if binary { (None, None) } else { (Some(uri_of(&bin_path)), png.map(|_| uri_of(&png_path))) };
     let document = document(job, &measured, &layout, buffer_uri, image_uri);
@@ -167,6 +165,13 @@ pub(crate) fn write(job: &mut Job, output: &Path, binary: bool) -> Result<Vec<Pa
     let mut files = vec![output.to_path_buf(), bin_path];
     files.extend(png.map(|_| png_path));
     Ok(files)
+}
+
+/// The files beside a `.gltf`: its buffer `NAME.bin` and its texture
+/// `NAME_texture.png` (written when the cloth has a texture).
+pub(crate) fn side_files(output: &Path) -> (PathBuf, PathBuf) {
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "cloth".into());
+    (output.with_file_name(format!("{stem}.bin")), output.with_file_name(format!("{stem}_texture.png")))
 }
 
 /// First pass: the base mesh and the bounds of every target's position deltas.

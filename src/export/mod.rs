@@ -8,7 +8,9 @@
 //! [`animation`] for its guarantees and each format's module for its layout.
 //! [`size`] estimates an export's size before it starts, and
 //! [`check_export_size`] refuses one past [`MAX_EXPORT_BYTES`] or the free
-//! space on its disk (the CLI's `--force` skips that check).
+//! space on its disk (the CLI's `--force` skips that check). [`check_output`]
+//! refuses one that would write over a file it reads ([`InputFiles`]) or
+//! leave an earlier sequence's frames mixed with its own ([`SequenceFiles`]).
 //!
 //! The files stack in one direction, none importing one that imports it
 //! back: [`error`] at the bottom; [`job`] (the frames of an export, its
@@ -52,13 +54,14 @@ pub mod usd;
 
 pub use crate::atomic_file::write_atomically;
 pub use animation::{
-    AnimationFormat, ExportOptions, ExportSummary, check_frames, export_animation, export_animation_using,
-    export_animation_with,
+    AnimationFormat, ExportOptions, ExportSummary, check_frames, check_output, export_animation,
+    export_animation_using, export_animation_with,
 };
 pub use error::ExportError;
 pub use gif::GifWriter;
 pub use job::FrameSource;
 pub use obj::write_obj;
+pub use output::InputFiles;
 pub use png::write_png;
-pub use sequence::{check_sequence_dir, ensure_sequence_dir, sequence_file_name};
+pub use sequence::{OldFrames, SequenceFiles, check_sequence_dir, ensure_sequence_dir, sequence_file_name};
 pub use size::{MAX_EXPORT_BYTES, SizeEstimate, check_export_size};

@@ -1,10 +1,67 @@
 //! Where an export's files go: the directory that must exist, the names of
-//! side files, and a side file written atomically around the main one.
+//! side files, a side file written atomically around the main one, and the
+//! files an export reads, which it never writes over.
 
 use std::path::{Path, PathBuf};
 
 use super::error::ExportError;
-use crate::atomic_file::{stage_companion, unstage_companions, write_pending};
+use crate::atomic_file::{FileIdentity, stage_companion, unstage_companions, write_pending};
+use crate::scene::{Collider, Scene};
+
+/// The files an export or a render reads — the scene file and the files
+/// the scene names — by identity on disk, so that an output that is one of
+/// them under another name, a hard link or a symlink is refused too.
+#[derive(Clone, Debug, Default)]
+pub struct InputFiles {
+    files: Vec<(FileIdentity, PathBuf, &'static str)>,
+}
+
+impl InputFiles {
+    /// The scene file `scene_path` (none for a scene never saved) and the
+    /// files its mesh colliders, references and plate (a single picture)
+    /// name, relative to its folder.
+    pub fn of_scene(scene: &Scene, scene_path: Option<&Path>) -> InputFiles {
+        let mut inputs = InputFiles::default();
+        if let Some(path) = scene_path {
+            inputs.add(path, "the scene file");
+        }
+        let folder = scene_path.and_then(Path::parent).unwrap_or(Path::new(""));
+        let named = scene
+            .colliders
+            .iter()
+            .filter_map(|collider| match collider {
+                Collider::Mesh(mesh) => Some(&mesh.file),
+                _ => None,
+            })
+            .chain(scene.references.iter().map(|reference| &reference.file))
+            .chain(scene.plate.iter().map(|plate| &plate.file));
+        for file in named {
+            inputs.add(&folder.join(file), "a file the scene reads");
+        }
+        inputs
+    }
+
+    /// Adds `path` when it leads to a regular file; `role` says what it is
+    /// (`a file the scene reads`).
+    pub fn add(&mut self, path: &Path, role: &'static str) {
+        if let Some(identity) = FileIdentity::of(path) {
+            self.files.push((identity, path.to_path_buf(), role));
+        }
+    }
+
+    /// Refuses writing over (or removing) `path` when it is one of the
+    /// inputs; `what` says what `path` is to the output when it is not the
+    /// output itself (`the base mesh beside x.pc2`).
+    pub fn check(&self, path: &Path, what: Option<String>) -> Result<(), ExportError> {
+        let Some(identity) = FileIdentity::of(path) else { return Ok(()) };
+        match self.files.iter().find(|(input, _, _)| *input == identity) {
+            Some((_, input, input_role)) => {
+                Err(ExportError::OverwritesInput { path: path.to_path_buf(), what, input: input.clone(), input_role })
+            }
+            None => Ok(()),
+        }
+    }
+}
 
 /// The directory `path` will be written into must exist.
 pub(crate) fn check_directory(path: &Path) -> Result<(), ExportError> {

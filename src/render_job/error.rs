@@ -31,6 +31,11 @@ pub enum RenderJobError {
     /// unless the request forces it.
     #[error(transparent)]
     TooLarge(ExportError),
+    /// The folder holds frames of an earlier sequence that the new one
+    /// would leave mixed with its own: held back unless the request
+    /// replaces the old sequence.
+    #[error(transparent)]
+    OldFrames(ExportError),
     #[error("{} is not a directory: a PNG sequence is written into a directory", .0.display())]
     NotADirectory(PathBuf),
     #[error(transparent)]
@@ -49,6 +54,15 @@ impl RenderJobError {
         match ExportError::write(path, error) {
             ExportError::Cancelled => RenderJobError::Cancelled,
             ExportError::Write { reason, .. } => RenderJobError::Write { path: path.to_path_buf(), reason },
+            other => RenderJobError::Output(other),
+        }
+    }
+
+    /// A sequence's folder refused: [`RenderJobError::OldFrames`] for an
+    /// earlier sequence's frames, else [`RenderJobError::Output`].
+    pub(super) fn sequence(error: ExportError) -> RenderJobError {
+        match error {
+            ExportError::OldFrames { .. } => RenderJobError::OldFrames(error),
             other => RenderJobError::Output(other),
         }
     }

@@ -10,12 +10,13 @@ use std::time::{Duration, Instant};
 
 use super::error::RenderJobError;
 use super::request::{MAX_SIDE_PX, RENDER_REMEDY, RenderKind, RenderRequest, frame_count};
-use super::sequence::render_sequence;
+use super::sequence::{SequenceTarget, render_sequence};
 use crate::atomic_file::write_atomically;
 use crate::export::error::cancel_error;
 use crate::export::sequence::file_stem_for;
 use crate::export::{
-    GifWriter, MAX_EXPORT_BYTES, SizeEstimate, check_export_size, check_frames, check_sequence_dir, write_png,
+    GifWriter, InputFiles, MAX_EXPORT_BYTES, SequenceFiles, SizeEstimate, check_export_size, check_frames,
+    check_sequence_dir, write_png,
 };
 use crate::picture::SceneRenderer;
 use crate::render::GpuContext;
@@ -30,6 +31,8 @@ pub struct RenderPlan<'a> {
     stem: String,
     /// The plate's files when the pictures are laid over it.
     plate: Option<PlateFiles>,
+    /// The files the render reads, which it never writes over.
+    inputs: InputFiles,
     warnings: Vec<String>,
 }
 
@@ -52,6 +55,9 @@ pub struct RenderSummary {
     /// What the render did that the user may not expect (plate frames shown
     /// from the nearest file), each a sentence without a `warning:` prefix.
     pub warnings: Vec<String>,
+    /// Frames of an earlier sequence removed as the new one moved in
+    /// ([`RenderRequest::replace_sequence`]), in frame order.
+    pub removed: Vec<PathBuf>,
 }
 
 impl RenderSummary {
@@ -89,7 +95,11 @@ impl<'a> RenderPlan<'a> {
     /// sequence into something that is not a directory; a GIF whose size
     /// estimate (a byte a pixel) is over 8 GiB or the free disk space,
     /// unless the request forces it (a sequence's is checked once its first
-    /// frame is drawn, in [`RenderPlan::run`]).
+    /// frame is drawn, in [`RenderPlan::run`]); an output that is a file the
+    /// render reads (the scene file, a file it names, a plate picture shown),
+    /// by identity on disk; a sequence into a folder holding frames of an
+    /// earlier sequence of its name that it does not write, unless the
+    /// request replaces them ([`RenderJobError::OldFrames`]).
     pub fn new(
         scene: &'a Scene,
         scene_path: Option<&Path>,
@@ -157,7 +167,15 @@ impl<'a> RenderPlan<'a> {
             Some(stem) => stem.to_owned(),
             None => file_stem_for(&scene.name),
         };
-        Ok(RenderPlan { scene, request, stem, plate, warnings })
+        let inputs = render_inputs(scene, scene_path, plate.as_ref(), &frames);
+        match request.kind {
+            RenderKind::Sequence => {
+                let sequence = SequenceFiles::new(output, &stem, "png", frames);
+                sequence.check_directory(&inputs, request.replace_sequence).map_err(RenderJobError::sequence)?;
+            }
+            RenderKind::Png | RenderKind::Gif => inputs.check(output, None).map_err(RenderJobError::Output)?,
+        }
+        Ok(RenderPlan { scene, request, stem, plate, inputs, warnings })
     }
 
     /// What the user should know before the render runs (see [`RenderSummary::warnings`]).
@@ -176,7 +194,7 @@ impl<'a> RenderPlan<'a> {
         progress: &mut dyn FnMut(u64, u64),
         cancel: &AtomicBool,
     ) -> Result<RenderSummary, RenderJobError> {
-        let RenderPlan { scene, request, stem, plate, warnings } = self;
+        let RenderPlan { scene, request, stem, plate, inputs, warnings } = self;
         let context = match context {
             Some(context) => context.clone(),
             None => GpuContext::headless().map_err(RenderError::from)?,
@@ -193,6 +211,7 @@ impl<'a> RenderPlan<'a> {
         progress(0, total);
         let started = Instant::now();
         let output = request.output.as_path();
+        let mut removed = Vec::new();
         let files = match request.kind {
             RenderKind::Png => {
                 let image = renderer.render_frame(scene, f64::from(*frames.start()))?;
@@ -220,7 +239,15 @@ impl<'a> RenderPlan<'a> {
                 vec![output.to_path_buf()]
             }
             RenderKind::Sequence => {
-                render_sequence(&mut renderer, scene, &stem, output, frames.clone(), request.force, progress, cancel)?
+                let target = SequenceTarget {
+                    files: SequenceFiles::new(output, &stem, "png", frames.clone()),
+                    inputs: &inputs,
+                    replace: request.replace_sequence,
+                    force: request.force,
+                };
+                let committed = render_sequence(&mut renderer, scene, &target, progress, cancel)?;
+                removed = committed.removed;
+                committed.files
             }
         };
         Ok(RenderSummary {
@@ -233,8 +260,31 @@ impl<'a> RenderPlan<'a> {
             elapsed: started.elapsed(),
             adapter,
             warnings,
+            removed,
         })
     }
+}
+
+/// The files a render of `frames` reads: the scene's (see
+/// [`InputFiles::of_scene`]) and the plate pictures those frames show.
+fn render_inputs(
+    scene: &Scene,
+    scene_path: Option<&Path>,
+    plate: Option<&PlateFiles>,
+    frames: &RangeInclusive<i32>,
+) -> InputFiles {
+    let mut inputs = InputFiles::of_scene(scene, scene_path);
+    if let Some(plate) = plate {
+        let mut last_number = None;
+        for frame in frames.clone() {
+            let shown = plate.frame(frame);
+            // Runs of frames holding one picture add it once.
+            if last_number.replace(shown.number) != Some(shown.number) {
+                inputs.add(&shown.path, "a plate picture the render reads");
+            }
+        }
+    }
+    inputs
 }
 
 /// The warning for the frames of `frames` whose plate file is missing (each

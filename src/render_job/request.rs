@@ -72,13 +72,27 @@ pub struct RenderRequest {
     /// Writes a sequence or GIF even when its size estimate is over 8 GiB or
     /// the free space on its disk.
     pub force: bool,
+    /// A sequence into a folder holding frames of an earlier sequence of
+    /// the same name that the new one does not write: removes exactly those
+    /// files as the new frames move in (else the render is refused with
+    /// [`super::RenderJobError::OldFrames`]).
+    pub replace_sequence: bool,
 }
 
 impl RenderRequest {
     /// A render of `frames` at `size_px` with the default look: lit, no
-    /// overlays, no plate, size checked.
+    /// overlays, no plate, size and old frames checked.
     pub fn new(kind: RenderKind, output: PathBuf, frames: RangeInclusive<i32>, size_px: (u32, u32)) -> RenderRequest {
-        RenderRequest { kind, output, frames, size_px, overlays: SceneOverlays::default(), plate: false, force: false }
+        RenderRequest {
+            kind,
+            output,
+            frames,
+            size_px,
+            overlays: SceneOverlays::default(),
+            plate: false,
+            force: false,
+            replace_sequence: false,
+        }
     }
 
     /// The frames written: the first alone for a PNG still.
