@@ -120,6 +120,95 @@ pub fn check_accessors(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result
     Ok(())
 }
 
+/// Every animation channel targets a node the file has, by a property glTF
+/// names (translation, rotation, scale or weights): the glTF crate's
+/// validation leaves channel targets unchecked, and its readers stop the
+/// program on either.
+pub fn check_animation_targets(document: &gltf::Document) -> Result<(), String> {
+    let json = document.as_json();
+    for (index, animation) in json.animations.iter().enumerate() {
+        for (channel, target) in animation.channels.iter().map(|c| &c.target).enumerate() {
+            let what = format!("animation {index} channel {channel}");
+            if target.node.value() >= json.nodes.len() {
+                return Err(format!("{what} targets node {}, and there are {}", target.node.value(), json.nodes.len()));
+            }
+            if !matches!(target.path, gltf::json::validation::Checked::Valid(_)) {
+                return Err(format!("{what} animates a property glTF does not name"));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every accessor a reader of Drape's reads has the element type and
+/// component type the glTF specification gives its use (a joint index is
+/// four unsigned integers, a position three floats); the glTF crate's
+/// readers assume them, and stop the program on others.
+pub fn check_accessor_types(document: &gltf::Document) -> Result<(), String> {
+    use gltf::accessor::{DataType::*, Dimensions::*};
+    use gltf::animation::Property;
+    use gltf::mesh::Semantic;
+    let weights_types = [F32, I8, U8, I16, U16];
+    for mesh in document.meshes() {
+        for primitive in mesh.primitives() {
+            let what = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            for (semantic, accessor) in primitive.attributes() {
+                let (dimensions, types): (&[_], &[_]) = match semantic {
+                    Semantic::Positions | Semantic::Normals => (&[Vec3], &[F32]),
+                    Semantic::Tangents => (&[Vec4], &[F32]),
+                    Semantic::Colors(_) => (&[Vec3, Vec4], &[F32, U8, U16]),
+                    Semantic::TexCoords(_) => (&[Vec2], &[F32, U8, U16]),
+                    Semantic::Joints(_) => (&[Vec4], &[U8, U16]),
+                    Semantic::Weights(_) => (&[Vec4], &[F32, U8, U16]),
+                    _ => continue,
+                };
+                is_of(&format!("{what}'s {}", semantic.to_string().as_str()), &accessor, dimensions, types)?;
+            }
+            if let Some(indices) = primitive.indices() {
+                is_of(&format!("{what}'s indices"), &indices, &[Scalar], &[U8, U16, U32])?;
+            }
+            for target in primitive.morph_targets() {
+                for accessor in [target.positions(), target.normals(), target.tangents()].into_iter().flatten() {
+                    is_of(&format!("{what}'s morph target"), &accessor, &[Vec3], &[F32])?;
+                }
+            }
+        }
+    }
+    for skin in document.skins() {
+        if let Some(matrices) = skin.inverse_bind_matrices() {
+            is_of(&format!("skin {}'s inverse bind matrices", skin.index()), &matrices, &[Mat4], &[F32])?;
+        }
+    }
+    for animation in document.animations() {
+        for channel in animation.channels() {
+            let what = format!("animation {} channel {}", animation.index(), channel.index());
+            let sampler = channel.sampler();
+            is_of(&format!("{what}'s times"), &sampler.input(), &[Scalar], &[F32])?;
+            let (dimensions, types): (&[_], &[_]) = match channel.target().property() {
+                Property::Translation | Property::Scale => (&[Vec3], &[F32]),
+                Property::Rotation => (&[Vec4], &weights_types),
+                Property::MorphTargetWeights => (&[Scalar], &weights_types),
+            };
+            is_of(&format!("{what}'s values"), &sampler.output(), dimensions, types)?;
+        }
+    }
+    Ok(())
+}
+
+/// `accessor` has one of `dimensions` and one of `types`.
+fn is_of(
+    what: &str,
+    accessor: &gltf::Accessor,
+    dimensions: &[gltf::accessor::Dimensions],
+    types: &[gltf::accessor::DataType],
+) -> Result<(), String> {
+    let (dimension, data_type) = (accessor.dimensions(), accessor.data_type());
+    if dimensions.contains(&dimension) && types.contains(&data_type) {
+        return Ok(());
+    }
+    Err(format!("{what} (accessor {}) is {dimension:?} of {data_type:?}, which it cannot be", accessor.index()))
+}
+
 /// `count` elements of `size` bytes from `offset` in `view`, at the view's
 /// stride, end inside the view.
 fn fits(what: &str, view: &gltf::buffer::View, offset: usize, count: usize, size: usize) -> Result<(), String> {
@@ -224,5 +313,30 @@ mod tests {
         assert!(check_accessors(&no_data, &buffers).unwrap_err().contains("no data"));
         // The buffer read is shorter than the views need.
         assert!(check_accessors(&ok, &[vec![0u8; 20]]).unwrap_err().contains("ends past its buffer 0"));
+    }
+
+    #[test]
+    fn animation_targets_must_name_a_node_and_a_property() {
+        let animated = |node: usize, path: &str| {
+            document(&format!(
+                r#"{{"asset": {{"version": "2.0"}}, "nodes": [{{}}],
+                    "buffers": [{{"byteLength": 8}}], "bufferViews": [{{"buffer": 0, "byteLength": 8}}],
+                    "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 2, "type": "SCALAR"}}],
+                    "animations": [{{"samplers": [{{"input": 0, "output": 0}}],
+                                     "channels": [{{"sampler": 0, "target": {{"node": {node}, "path": "{path}"}}}}]}}]}}"#
+            ))
+        };
+        assert_eq!(check_animation_targets(&animated(0, "weights")), Ok(()));
+        assert_eq!(
+            check_animation_targets(&animated(3, "weights")),
+            Err("animation 0 channel 0 targets node 3, and there are 1".to_owned())
+        );
+        assert_eq!(
+            check_animation_targets(&animated(0, "translatiox")),
+            Err("animation 0 channel 0 animates a property glTF does not name".to_owned())
+        );
+        // Weights are scalars; a translation is three floats, not one.
+        assert_eq!(check_accessor_types(&animated(0, "weights")), Ok(()));
+        assert!(check_accessor_types(&animated(0, "translation")).unwrap_err().contains("is Scalar of F32"));
     }
 }
