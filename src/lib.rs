@@ -52,7 +52,9 @@
 //! | `editor` | `scene`, `shape`, `animate`, `mesh`, `image`, `picture`, `render`, `export`, `render_job`, `atomic_file`, `world` |
 //!
 //! Only [`render`] and [`editor`] touch wgpu, only [`editor`] egui; the
-//! command line (`main.rs`) may use everything.
+//! command line (`main.rs`) may use everything. Those two, with [`picture`]
+//! and [`render_job`], are the cargo feature `editor` (on by default):
+//! without it the library builds with no GPU or window crate at all.
 //!
 //! Conventions: right-handed, Y up, gravity along −Y, metres. Grid index
 //! `(i, j)` has `i` along the width and `j = 0` on the top edge; vertex order
@@ -60,13 +62,17 @@
 
 pub mod animate;
 pub mod atomic_file;
+#[cfg(feature = "editor")]
 pub mod editor;
 pub mod export;
 pub mod image;
 pub mod look;
 pub mod mesh;
+#[cfg(feature = "editor")]
 pub mod picture;
+#[cfg(feature = "editor")]
 pub mod render;
+#[cfg(feature = "editor")]
 pub mod render_job;
 pub mod scene;
 pub mod shape;

@@ -1,7 +1,8 @@
 //! The module boundaries `src/lib.rs` states: each module imports only the
 //! modules its row of the "Who may import whom" table names, and only
 //! `render` and `editor` use wgpu, only `editor` egui. The table is read from
-//! the crate docs, so the rule is written once.
+//! the crate docs, so the rule is written once. The GPU and window crates
+//! belong to the cargo feature `editor`, and so do the modules that use them.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -226,4 +227,37 @@ fn only_app_rs_implements_the_editor_app() {
         .map(|(_, path)| path.display().to_string())
         .collect();
     assert!(offenders.is_empty(), "impl DrapeApp outside src/editor/app.rs: {offenders:?}");
+}
+
+/// The crates only the cargo feature `editor` brings in.
+const EDITOR_CRATES: [&str; 6] = ["wgpu", "eframe", "egui", "pollster", "clap", "indicatif"];
+
+#[test]
+fn without_the_editor_feature_the_library_needs_no_gpu_or_window_crate() {
+    let lib = fs::read_to_string("src/lib.rs").unwrap();
+    let lines: Vec<&str> = lib.lines().collect();
+    let gated: BTreeSet<&str> = lines
+        .windows(2)
+        .filter(|pair| pair[0].trim() == "#[cfg(feature = \"editor\")]")
+        .filter_map(|pair| pair[1].strip_prefix("pub mod")?.trim().strip_suffix(';'))
+        .collect();
+    assert_eq!(gated, BTreeSet::from(["editor", "picture", "render", "render_job"]));
+    let manifest = fs::read_to_string("Cargo.toml").unwrap();
+    let feature = manifest.lines().find(|l| l.starts_with("editor = [")).expect("Cargo.toml names the editor feature");
+    for name in EDITOR_CRATES.iter().filter(|&&name| name != "egui") {
+        assert!(feature.contains(&format!("\"dep:{name}\"")), "the editor feature does not bring in {name}");
+    }
+    let mut offenders = Vec::new();
+    for module in modules(&lib).iter().filter(|m| !gated.contains(m.as_str())) {
+        for path in files_of(module) {
+            let text = fs::read_to_string(&path).unwrap();
+            for (number, line) in code_lines(&text) {
+                let uses = |name: &str| line.contains(&format!("{name}::")) || line.contains(&format!("use {name}"));
+                if let Some(name) = EDITOR_CRATES.iter().find(|&&name| uses(name)) {
+                    offenders.push(format!("{}:{number} uses {name}", path.display()));
+                }
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "outside the editor feature's modules: {offenders:?}");
 }

@@ -21,6 +21,7 @@ mod colliders;
 mod display;
 mod error;
 mod format;
+pub mod fuzz;
 mod gltf_structure;
 mod io;
 mod layers;
