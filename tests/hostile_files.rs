@@ -61,7 +61,7 @@ fn refused_both_ways(dir: &Path, file: &str) -> [String; 2] {
         let (ok, message) = drape_check(&scene_naming(dir, file, as_collider));
         assert!(!ok, "{message}");
         let what = if as_collider { "collider 1" } else { "reference 1" };
-        assert!(message.contains(&format!("scene.ron:3:")), "{message}");
+        assert!(message.contains("scene.ron:3:"), "{message}");
         assert!(message.contains(&format!("{what}: cannot use {file:?}: ")), "{message}");
         message
     })
@@ -120,7 +120,7 @@ fn edited_walker(dir: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> Strin
     let mut document: Value = serde_json::from_slice(&glb[20..20 + json_length]).unwrap();
     edit(&mut document);
     let mut json_chunk = document.to_string().into_bytes();
-    while json_chunk.len() % 4 != 0 {
+    while !json_chunk.len().is_multiple_of(4) {
         json_chunk.push(b' ');
     }
     let rest = &glb[20 + json_length..];
