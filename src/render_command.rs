@@ -194,7 +194,9 @@ mod tests {
         assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
         assert_eq!(parse_size("64X48"), Ok((64, 48)));
         assert_eq!(parse_size("1280"), Err("`1280` is not a size: write it as WIDTHxHEIGHT, e.g. 1280x720".into()));
-        assert_eq!(parse_size("0x10"), Err("`0` in `0x10` is not a side of 1 to 8192 pixels".into()));
+        assert_eq!(parse_size("0x10"), Err("`0` in `0x10` is not a side of 1 to 4096 pixels".into()));
         assert!(parse_size("99999x10").is_err());
+        assert_eq!(parse_size("4096x4096"), Ok((4096, 4096)));
+        assert_eq!(parse_size("8192x8192"), Err("`8192` in `8192x8192` is not a side of 1 to 4096 pixels".into()));
     }
 }

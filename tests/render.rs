@@ -370,7 +370,7 @@ fn render_refuses_bad_requests_with_a_clear_message() {
     let cases: [(&[&str], &str); 4] = [
         (&["-o", "x.jpg"], "cannot render to .jpg"),
         (&["-o", "x.png", "--frames", "0..3"], "names a PNG file"),
-        (&["-o", "x.png", "--size", "0x10"], "not a side of 1 to 8192 pixels"),
+        (&["-o", "x.png", "--size", "0x10"], "not a side of 1 to 4096 pixels"),
         (&["-o", "noext"], "has no extension"),
     ];
     for (args, message) in cases {

@@ -147,6 +147,17 @@ const MALFORMED: &[(&str, &str)] = &[
          the limit is 262 144 (512 × 512)",
     ),
     (
+        "too_many_keys.ron",
+        "tests/data/malformed/too_many_keys.ron:25:9: the scene has 17 keys on a 512 × 512 grid; at most 16 fit, \
+         since keys × grid points may not pass 4 194 304: use fewer keys or a coarser grid",
+    ),
+    ("too_many_layers.ron", "tests/data/malformed/too_many_layers.ron:48:9: the scene has 33 layers; the limit is 32"),
+    (
+        "camera_picture_too_large.ron",
+        "tests/data/malformed/camera_picture_too_large.ron:15:78: camera: image_size 8192 × 4320 \
+         must be 1 to 4096 pixels a side",
+    ),
+    (
         "grid_too_small.ron",
         "tests/data/malformed/grid_too_small.ron:4:37: grid 1 × 5 is too small: \
          the cloth needs at least 2 points along each side",

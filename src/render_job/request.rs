@@ -11,8 +11,9 @@ use crate::scene::Scene;
 pub const DEFAULT_PNG_SIZE: (u32, u32) = (1280, 720);
 /// The size of a GIF when nothing says otherwise: lighter, as GIFs are shared.
 pub const DEFAULT_GIF_SIZE: (u32, u32) = (640, 360);
-/// Largest side of a rendered picture, in pixels.
-pub const MAX_SIDE_PX: u32 = 8192;
+/// Largest side of a rendered picture, in pixels: the scene's limit for a
+/// shot camera's picture, so every camera a scene holds can be rendered.
+pub const MAX_SIDE_PX: u32 = crate::scene::MAX_IMAGE_SIDE_PX;
 
 /// How to make a sequence or GIF smaller, for a refusal of its size.
 pub(super) const RENDER_REMEDY: &str = "render fewer frames or smaller pictures";

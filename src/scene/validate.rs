@@ -42,13 +42,15 @@ pub const MAX_TIMELINE_FRAME: i32 = 100_000;
 /// gigabyte; the limit keeps a file's numbers, not its size, from deciding
 /// how much memory and time a key takes.
 pub const MAX_PINS_PER_KEY: usize = 4096;
-/// Most rest-shape points in a scene: keys × grid points. Every key's rest
-/// shape is kept while the scene is evaluated (about 80 bytes a point), so
-/// this bounds that memory to well under a gigabyte: 32 keys at 512 × 512,
-/// over 10 000 on a 33 × 25 curtain.
-pub const MAX_KEY_POINTS: u64 = 1 << 23;
-/// Most layers in the stack; each costs a pass over the cloth every frame.
-pub const MAX_LAYERS: usize = 256;
+/// Most rest-shape points in a scene: keys × grid points (16 keys at
+/// 512 × 512, over 5000 on a 33 × 25 curtain). Every key's rest shape is
+/// kept while the scene is evaluated (about 25 MB a key at 512 × 512), and
+/// a key that settles readily relaxes in about 10 s: at this limit `drape
+/// check` takes under 500 MB (README, "Files and safety").
+pub const MAX_KEY_POINTS: u64 = 1 << 22;
+/// Most layers in the stack; each costs a pass over the cloth every frame:
+/// at 512 × 512 the slowest (gusts with 6 octaves) about 15 ms a frame.
+pub const MAX_LAYERS: usize = 32;
 /// Highest frame rate, in frames per second.
 pub const MAX_FPS: f64 = 1000.0;
 /// Largest absolute pin coordinate along any axis, in metres.
@@ -83,8 +85,10 @@ pub const MAX_THICKNESS_M: f64 = 0.1;
 pub const MAX_ATTACHMENT_LIFT_M: f64 = 1.0;
 /// Longest focal length or widest sensor a shot camera may have (mm).
 pub const MAX_LENS_MM: f64 = 10_000.0;
-/// Largest side of a shot camera's picture (pixels): the largest `drape render` draws.
-pub const MAX_IMAGE_SIDE_PX: u32 = 8192;
+/// Largest side of a picture `drape render` draws and of a shot camera's
+/// picture (pixels): a 4096 × 4096 render takes under 1 GB, an 8192 × 8192
+/// one 3 GB.
+pub const MAX_IMAGE_SIDE_PX: u32 = 4096;
 /// Most references (glTF files) in a scene.
 pub const MAX_REFERENCES: usize = 64;
 /// Fastest a reference's animation may play, as a multiple of its own speed.
@@ -1034,11 +1038,11 @@ mod tests {
         let mut s = scene();
         s.cloth.grid = (512, 512);
         s.keys[0].pins[1].grid = (511, 0);
-        s.keys = (0..33).map(|frame| Key { frame, ..s.keys[0].clone() }).collect();
+        s.keys = (0..17).map(|frame| Key { frame, ..s.keys[0].clone() }).collect();
         assert_eq!(
             messages(&s),
-            ["keys[32]: the scene has 33 keys on a 512 × 512 grid; at most 32 fit, since keys × grid points \
-              may not pass 8 388 608: use fewer keys or a coarser grid"]
+            ["keys[16]: the scene has 17 keys on a 512 × 512 grid; at most 16 fit, since keys × grid points \
+              may not pass 4 194 304: use fewer keys or a coarser grid"]
         );
         s.keys.pop();
         assert_eq!(s.validate(), Ok(()));
@@ -1051,7 +1055,7 @@ mod tests {
         s.layers = vec![layer; MAX_LAYERS];
         assert_eq!(s.validate(), Ok(()));
         s.layers.push(s.layers[0].clone());
-        assert_eq!(messages(&s), ["layers[256]: the scene has 257 layers; the limit is 256"]);
+        assert_eq!(messages(&s), ["layers[32]: the scene has 33 layers; the limit is 32"]);
     }
 
     #[test]
