@@ -9,7 +9,7 @@ use drape::animate::Evaluator;
 use drape::animate::blend::relaxed_inbetween;
 use drape::picture::SceneOverlays;
 use drape::scene::{
-    self, Collider, ColliderNumber, Key, Layer, Measure, Param, ParamSpec, ParamValue, Scene, WaveAxis,
+    self, Collider, ColliderNumber, Key, Layer, Measure, Param, ParamSpec, ParamValue, Scene, WaveAxis, escaped,
     readable_number, readable_vec3, shown_name,
 };
 use drape::shape::relax::mean_structural_error;
@@ -365,7 +365,7 @@ fn check(path: &Path) -> Result<()> {
     let scene = scene::load(path)?;
     let cloth = &scene.cloth;
     let name = if scene.name.is_empty() { "(unnamed)".to_string() } else { shown_name(&scene.name) };
-    say!("{}: {name} — valid", path.display());
+    say!("{}: {name} — valid", escaped(&path.display().to_string()));
     say!(
         "  cloth     {} × {} m, grid {} × {} ({} points, spacing {:.4} × {:.4} m)",
         readable_number(cloth.width_m()),
@@ -597,13 +597,13 @@ fn reference_camera_summary(scene: &scene::Scene, camera: &scene::ShotCamera, fr
 /// What a reference holds and how it plays: `walker.glb: 10 072 vertices,
 /// 19 joints; "Walk" 0–1 s (24 frames) from frame 0, repeated`.
 fn reference_summary(reference: &scene::Reference, fps: f64) -> String {
-    let mut parts = vec![reference.file.clone()];
+    let file = escaped(&reference.file);
+    let mut parts = vec![file.to_string()];
     let Some(rig) = reference.rig.0.as_deref() else { return parts.remove(0) };
     let joints: usize = rig.skins().iter().map(|s| s.joints.len()).sum();
     let vertices = rig.vertex_count();
     parts[0] = format!(
-        "{}: {} vertices, {} nodes, {joints} joints",
-        reference.file,
+        "{file}: {} vertices, {} nodes, {joints} joints",
         scene::group_thousands(vertices as u64),
         rig.nodes().len()
     );

@@ -259,6 +259,10 @@ const MALFORMED: &[(&str, &str)] = &[
         "inbetween_relax_too_many.ron",
         "tests/data/malformed/inbetween_relax_too_many.ron:12:30: inbetween_relax 5 000 in the key at frame 0 is above the limit of 1000 sweeps",
     ),
+    (
+        "control_characters.ron",
+        "tests/data/malformed/control_characters.ron:6:12: expected `(`, found `\"\\u{1b}[2J\\0\\u{202e}gnp.exe\"`",
+    ),
     ("not_utf8.ron", "tests/data/malformed/not_utf8.ron:3:17: the file is not UTF-8 text (invalid byte 0xE9)"),
     (
         "empty.ron",
@@ -266,6 +270,39 @@ const MALFORMED: &[(&str, &str)] = &[
          `(version: 1, cloth: …, keys: […])`",
     ),
 ];
+
+/// `drape check` on `path`.
+fn drape_check(path: &Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_drape")).arg("check").arg(path).output().unwrap()
+}
+
+/// Control and bidi characters in a scene's name, or in the file's text a
+/// message quotes, reach the terminal escaped (`\u{1b}`, `\0`, `\u{202e}`),
+/// never as the characters that would move the cursor or turn the line
+/// around.
+#[test]
+fn check_shows_control_and_bidi_characters_escaped() {
+    let raw = ['\u{1b}', '\0', '\u{7}', '\u{202e}', '\u{2066}'];
+    let dir = tempfile::tempdir().unwrap();
+    let curtain = fs::read_to_string("scenes/curtain.ron").unwrap();
+    let named = dir.path().join("named.ron");
+    fs::write(&named, curtain.replace("\"Curtain\"", "\"Red\u{1b}[31m\0\u{7}\u{202e}txt\u{2066}.exe\"")).unwrap();
+    let run = drape_check(&named);
+    let stdout = String::from_utf8(run.stdout).unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let first = stdout.lines().next().unwrap_or_default();
+    let escaped_name = "Red\\u{1b}[31m\\0\\u{7}\\u{202e}txt\\u{2066}.exe";
+    assert_eq!(first, format!("{}: {escaped_name} — valid", named.display()));
+    assert!(!stdout.contains(raw), "{stdout:?}");
+
+    let fixture = Path::new(MALFORMED_DIR).join("control_characters.ron");
+    let run = drape_check(&fixture);
+    let stderr = String::from_utf8(run.stderr).unwrap();
+    let (_, expected) = MALFORMED.iter().find(|(name, _)| *name == "control_characters.ron").unwrap();
+    assert!(!run.status.success());
+    assert_eq!(stderr, format!("error: {expected}\n"));
+    assert!(!stderr.contains(raw), "{stderr:?}");
+}
 
 #[test]
 fn every_malformed_file_gives_its_exact_message() {

@@ -17,19 +17,51 @@ pub fn readable_vec3((x, y, z): (f64, f64, f64)) -> String {
     format!("({}, {}, {})", readable_number(x), readable_number(y), readable_number(z))
 }
 
-/// A name (a scene's, a layer's) to print on one line: control characters
-/// (line breaks, tabs, terminal escapes) written as escapes (`\n`, `\u{1b}`),
-/// and cut as [`truncated_name`] cuts it.
+/// A name (a scene's, a layer's) to print on one line: written as
+/// [`escaped`] writes it, and cut as [`truncated_name`] cuts it.
 pub fn shown_name(name: &str) -> String {
-    let mut shown = String::new();
-    for c in truncated_name(name).chars() {
+    escaped(&truncated_name(name)).into_owned()
+}
+
+/// Text from a file or a user (a name, a path, a quoted token) made safe to
+/// print: control characters (line breaks, tabs, NUL, terminal escapes) and
+/// the invisible characters that reorder or hide text (bidi controls such as
+/// U+202E, zero-width ones, line separators) are written as escapes (`\n`,
+/// `\0`, `\u{1b}`, `\u{202e}`), so what a terminal or a label shows is what
+/// the text holds. Everything else, accents and scripts included, stays.
+pub fn escaped(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(needs_escape) {
+        return text.into();
+    }
+    let mut shown = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
         if c.is_control() {
             shown.extend(c.escape_debug());
+        } else if needs_escape(c) {
+            shown.extend(c.escape_unicode());
         } else {
             shown.push(c);
         }
     }
-    shown
+    shown.into()
+}
+
+/// Control characters, and the format characters that change how the text
+/// around them is shown: bidi marks, embeddings, overrides and isolates,
+/// zero-width characters, line and paragraph separators, tags.
+fn needs_escape(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061c}'
+                | '\u{180e}'
+                | '\u{200b}'..='\u{200f}'
+                | '\u{2028}'..='\u{202e}'
+                | '\u{2060}'..='\u{206f}'
+                | '\u{feff}'
+                | '\u{fff9}'..='\u{fffb}'
+                | '\u{e0000}'..='\u{e007f}'
+        )
 }
 
 /// `name` itself, or when longer than [`MAX_SHOWN_NAME_CHARS`] characters
@@ -81,12 +113,25 @@ mod tests {
     fn names_stay_short_and_on_one_line() {
         assert_eq!(shown_name("Magic carpet"), "Magic carpet");
         assert_eq!(shown_name("a\nb\u{1b}[2J"), "a\\nb\\u{1b}[2J");
+        assert_eq!(shown_name("a\u{202e}b\0c"), "a\\u{202e}b\\0c");
         let exact = "x".repeat(MAX_SHOWN_NAME_CHARS);
         assert_eq!(shown_name(&exact), exact);
         let long = "é".repeat(5_000_000);
         let shown = shown_name(&long);
         assert_eq!(shown.chars().count(), MAX_SHOWN_NAME_CHARS);
         assert!(shown.ends_with("é…"), "{shown}");
+    }
+
+    #[test]
+    fn control_and_bidi_characters_are_escaped_and_the_rest_kept() {
+        assert_eq!(escaped("Crêpe café 布 ü"), "Crêpe café 布 ü");
+        assert_eq!(escaped("e\u{301}"), "e\u{301}", "a combining accent is no control");
+        assert_eq!(escaped("\u{1b}[31m\0\t\r\n\u{7f}\u{9b}"), "\\u{1b}[31m\\0\\t\\r\\n\\u{7f}\\u{9b}");
+        assert_eq!(
+            escaped("\u{202e}\u{2066}\u{200f}\u{200b}\u{2028}\u{feff}\u{e0041}"),
+            "\\u{202e}\\u{2066}\\u{200f}\\u{200b}\\u{2028}\\u{feff}\\u{e0041}"
+        );
+        assert!(matches!(escaped("plain"), std::borrow::Cow::Borrowed(_)));
     }
 
     #[test]

@@ -2,7 +2,10 @@
 //!
 //! A problem inside a file reads `FILE:LINE:COL: message` when its place is
 //! known and `FILE: message` otherwise, e.g.
-//! `tent.ron:14:17: pin (40, 3) is outside the 33 × 25 grid`.
+//! `tent.ron:14:17: pin (40, 3) is outside the 33 × 25 grid`. The file's
+//! name and the message are shown [`escaped`]: a message may quote the
+//! file's own text, and neither may move a terminal's cursor or reorder
+//! what it shows.
 
 use std::io;
 use std::path::PathBuf;
@@ -10,6 +13,7 @@ use std::path::PathBuf;
 use crate::atomic_file::io_reason;
 
 use super::colliders::Collider;
+use super::display::escaped;
 use super::layers::Layer;
 use super::locate::{
     Found, TextPosition, TokenKind, closing, found_at, position_after, unclosed_bracket, unclosed_comment,
@@ -29,17 +33,17 @@ pub enum SceneError {
         message: String,
     },
     /// The file could not be read.
-    #[error("cannot read {}: {}", .path.display(), io_reason(.source))]
+    #[error("cannot read {}: {}", shown_path(.path), io_reason(.source))]
     Read {
         path: PathBuf,
         #[source]
         source: io::Error,
     },
     /// The file is larger than any scene Drape reads; nothing beyond the limit was read.
-    #[error("{} is too large for a scene file: over {} MiB", .path.display(), .limit_bytes / (1024 * 1024))]
+    #[error("{} is too large for a scene file: over {} MiB", shown_path(.path), .limit_bytes / (1024 * 1024))]
     TooLarge { path: PathBuf, limit_bytes: u64 },
     /// The file could not be written; the previous file, if any, is untouched.
-    #[error("cannot write {}: {}", .path.display(), io_reason(.source))]
+    #[error("cannot write {}: {}", shown_path(.path), io_reason(.source))]
     Write {
         path: PathBuf,
         #[source]
@@ -59,7 +63,7 @@ impl SceneError {
     /// The message without the file and position prefix.
     pub fn message(&self) -> String {
         match self {
-            SceneError::Invalid { message, .. } => message.clone(),
+            SceneError::Invalid { message, .. } => escaped(message).into_owned(),
             SceneError::Read { source, .. } | SceneError::Write { source, .. } => io_reason(source),
             SceneError::TooLarge { limit_bytes, .. } => {
                 format!("too large for a scene file: over {} MiB", limit_bytes / (1024 * 1024))
@@ -161,10 +165,15 @@ fn names_what_was_found(code: &ron::Error) -> bool {
 }
 
 fn located(file: &str, position: &Option<TextPosition>, message: &str) -> String {
+    let (file, message) = (escaped(file), escaped(message));
     match position {
         Some(p) => format!("{file}:{}:{}: {message}", p.line, p.col),
         None => format!("{file}: {message}"),
     }
+}
+
+fn shown_path(path: &std::path::Path) -> String {
+    escaped(&path.display().to_string()).into_owned()
 }
 
 /// The user's word for a struct or enum of the scene file: a layer kind
@@ -377,6 +386,19 @@ mod tests {
         assert_eq!(with.to_string(), "tent.ron:14:17: pin (40, 3) is outside the 33 × 25 grid");
         let without = SceneError::invalid("tent.ron", None, "the file is empty");
         assert_eq!(without.to_string(), "tent.ron: the file is empty");
+    }
+
+    #[test]
+    fn quoted_text_and_file_names_are_shown_escaped() {
+        let error = SceneError::invalid(
+            "evil\u{1b}[2J.ron",
+            Some(TextPosition { line: 3, col: 9 }),
+            "expected `(`, found `\"\0\u{202e}exe\"`",
+        );
+        assert_eq!(error.to_string(), "evil\\u{1b}[2J.ron:3:9: expected `(`, found `\"\\0\\u{202e}exe\"`");
+        assert_eq!(error.message(), "expected `(`, found `\"\\0\\u{202e}exe\"`");
+        let unreadable = SceneError::Read { path: "a\nb.ron".into(), source: io::Error::from_raw_os_error(2) };
+        assert_eq!(unreadable.to_string(), "cannot read a\\nb.ron: No such file or directory");
     }
 
     #[test]

@@ -14,7 +14,8 @@
 //! - [`Scene::validate`]: the rules serde cannot express, every limit a named
 //!   constant (e.g. [`MAX_GRID_POINTS`]); each [`Issue`] names its value's path.
 //! - [`SceneError`]: `FILE:LINE:COL: message` in the user's terms.
-//! - [`readable_number`], [`readable_vec3`], [`shown_name`]: numbers and names as messages show them.
+//! - [`readable_number`], [`readable_vec3`], [`shown_name`], [`escaped`]: numbers, names and
+//!   quoted text as messages show them.
 //! - [`locate`]: where a value path such as `keys[0].pins[2].grid` starts in the text.
 
 mod colliders;
@@ -43,7 +44,9 @@ pub use colliders::{
     Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, LoadedMesh, Measure, MeshCollider,
     ParamVec3, Sphere,
 };
-pub use display::{MAX_SHOWN_NAME_CHARS, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name};
+pub use display::{
+    MAX_SHOWN_NAME_CHARS, escaped, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name,
+};
 pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, save};
