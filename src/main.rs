@@ -363,6 +363,8 @@ fn check_all(paths: &[PathBuf]) -> Result<()> {
 
 fn check(path: &Path) -> Result<()> {
     let scene = scene::load(path)?;
+    // The plate's headers are read before the keys are relaxed, which can take minutes.
+    let plate = scene::check_plate(&scene, path)?;
     let cloth = &scene.cloth;
     let name = if scene.name.is_empty() { "(unnamed)".to_string() } else { shown_name(&scene.name) };
     say!("{}: {name} — valid", escaped(&path.display().to_string()));
@@ -479,10 +481,8 @@ fn check(path: &Path) -> Result<()> {
     if let Some(camera) = &scene.camera {
         say!("  camera    {}", camera_summary(&scene, camera));
     }
-    if let Some(plate) = &scene.plate {
-        let folder = path.parent().unwrap_or(Path::new(""));
-        let files = scene::PlateFiles::scan(plate, folder).map_err(|why| anyhow!("{}: {why}", path.display()))?;
-        say!("  plate     {}", plate_summary(plate, &files, &scene.timeline));
+    if let (Some(plate), Some(checked)) = (&scene.plate, &plate) {
+        say!("  plate     {}", plate_summary(plate, checked, &scene.timeline));
     }
     if let Some(follow) = &scene.follow {
         say!(
@@ -494,8 +494,10 @@ fn check(path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The plate in a line: its files, which frames have their own, how it shows.
-fn plate_summary(plate: &scene::Plate, files: &scene::PlateFiles, timeline: &scene::Timeline) -> String {
+/// The plate in a line: its files, which frames have their own, the
+/// headers read and how it shows.
+fn plate_summary(plate: &scene::Plate, checked: &scene::CheckedPlate, timeline: &scene::Timeline) -> String {
+    let files = &checked.files;
     let mut parts = vec![format!("{:?}", plate.file)];
     if let Some((first, last)) = files.number_range() {
         parts.push(format!("{} files numbered {first}..{last}", scene::group_thousands(files.count() as u64)));
@@ -510,8 +512,14 @@ fn plate_summary(plate: &scene::Plate, files: &scene::PlateFiles, timeline: &sce
                 scene::frame_list(&missing)
             ));
         }
+        parts.push(format!(
+            "the {} the timeline shows read (frame {}: {})",
+            if checked.files_read == 1 { "file".to_owned() } else { format!("{} files", checked.files_read) },
+            timeline.start,
+            checked.first
+        ));
     } else {
-        parts.push("one picture".to_owned());
+        parts.push(format!("one picture ({})", checked.first));
     }
     match &plate.opacity {
         Param::Constant(v) if *v >= 1.0 => {}

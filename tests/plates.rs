@@ -177,3 +177,127 @@ fn the_shadow_pass_is_black_shadow_over_transparency() {
             .unwrap();
     assert!(full.pixels != image.pixels);
 }
+
+/// The curtain with `plate: (file: FILE)` (and `frame_offset` when not 0),
+/// written into `dir`; the scene file and where its `file` value starts
+/// (`LINE:COL`).
+fn curtain_with_plate(dir: &Path, file: &str) -> (PathBuf, String) {
+    let curtain = std::fs::read_to_string(scene_path("curtain")).unwrap();
+    let end = curtain.rfind(')').unwrap();
+    let text = format!("{}    plate: (file: {file:?}),\n)\n", &curtain[..end]);
+    let (line, col) = text
+        .lines()
+        .enumerate()
+        .find_map(|(index, line)| Some((index + 1, line.find("(file: ")? + "(file: ".len() + 1)))
+        .unwrap();
+    let scene_file = dir.join("curtain.ron");
+    std::fs::write(&scene_file, text).unwrap();
+    (scene_file, format!("{line}:{col}"))
+}
+
+/// A PNG of `width × height` pixels of one colour, as Drape writes it.
+fn png_bytes(width: u32, height: u32) -> Vec<u8> {
+    let image = RgbaImage { width, height, pixels: [90, 140, 200, 255].repeat((width * height) as usize) };
+    let mut bytes = Vec::new();
+    write_png(&image, &mut bytes).unwrap();
+    bytes
+}
+
+/// A PNG's signature and header chunk claiming `width × height`, then an
+/// empty picture-data chunk and the end chunk: a whole file, all header.
+fn png_claiming(width: u32, height: u32) -> Vec<u8> {
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &byte in bytes {
+            crc ^= u32::from(byte);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 { (crc >> 1) ^ 0xEDB8_8320 } else { crc >> 1 };
+            }
+        }
+        !crc
+    }
+    let mut bytes = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut header = width.to_be_bytes().to_vec();
+    header.extend(height.to_be_bytes());
+    header.extend([8, 6, 0, 0, 0]);
+    for (kind, data) in [(&b"IHDR"[..], &header[..]), (b"IDAT", &[]), (b"IEND", &[])] {
+        bytes.extend((data.len() as u32).to_be_bytes());
+        let body = [kind, data].concat();
+        bytes.extend(&body);
+        bytes.extend(crc32(&body).to_be_bytes());
+    }
+    bytes
+}
+
+/// A plate that is a folder, a byte, a cut-short PNG, a text file named
+/// `.jpg` or a PNG claiming 100 000 × 100 000 pixels: `drape check` reads
+/// its header and refuses it at the line and column of its `file`, saying
+/// what is wrong, and so does the scan the editor's Shot panel and viewport
+/// show; nothing is said to be valid.
+#[test]
+fn check_reads_the_plates_header_and_says_what_is_wrong_where() {
+    let whole = png_bytes(64, 36);
+    let cases: [(&str, Option<Vec<u8>>, &str); 5] = [
+        ("folder.png", None, "it is a folder, not a picture"),
+        ("byte.png", Some(b"x".to_vec()), "the file is 1 byte long: too short for a PNG or JPEG picture"),
+        ("cut.png", Some(whole[..whole.len() / 2].to_vec()), "the PNG is cut short"),
+        (
+            "fake.jpg",
+            Some(b"\xFF\xD8 a text file named .jpg".to_vec()),
+            "not a readable JPEG: no segment marker at byte 2",
+        ),
+        (
+            "huge.png",
+            Some(png_claiming(100_000, 100_000)),
+            "its header claims 100000 × 100000 pixels; a plate may be at most 4096 pixels a side, \
+             the largest picture Drape renders: scale it down",
+        ),
+    ];
+    for (file, bytes, why) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        match bytes {
+            Some(bytes) => std::fs::write(dir.path().join(file), bytes).unwrap(),
+            None => std::fs::create_dir(dir.path().join(file)).unwrap(),
+        }
+        let (scene_file, at) = curtain_with_plate(dir.path(), file);
+        let run = drape(&["check", scene_file.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        let expected = format!("error: {}:{at}: plate: cannot use {file:?}: {why}", scene_file.display());
+        assert!(!run.status.success() && stderr.starts_with(&expected), "{file}:\n{stderr}\nexpected {expected}");
+        assert!(!String::from_utf8_lossy(&run.stdout).contains("valid"), "{file}: nothing is called valid");
+        let scene = scene::load(&scene_file).unwrap();
+        let scanned = PlateFiles::scan(scene.plate.as_ref().unwrap(), dir.path()).unwrap_err();
+        assert!(scanned.starts_with(&format!("plate: cannot use {file:?}: {why}")), "{file}: {scanned}");
+    }
+}
+
+/// A sequence: every file the timeline shows has its header read, the
+/// summary says so, and a file cut short is named with the frame that
+/// shows it; files no frame shows are not asked about.
+#[test]
+fn check_reads_every_file_of_a_sequence_the_timeline_shows() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("plates")).unwrap();
+    let whole = png_bytes(8, 6);
+    for number in [0, 1, 3, 500] {
+        std::fs::write(dir.path().join(format!("plates/bg_{number:04}.png")), &whole).unwrap();
+    }
+    let (scene_file, at) = curtain_with_plate(dir.path(), "plates/bg_####.png");
+    let run = drape(&["check", scene_file.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let plate_line = stdout.lines().find(|line| line.trim_start().starts_with("plate")).unwrap();
+    assert!(
+        plate_line.contains("the 3 files the timeline shows read (frame 0: PNG 8 × 6 px)"),
+        "frames 0..120 show files 0, 1 and 3, not 500: {plate_line}"
+    );
+    std::fs::write(dir.path().join("plates/bg_0003.png"), &whole[..whole.len() - 20]).unwrap();
+    std::fs::write(dir.path().join("plates/bg_0500.png"), b"no frame shows this").unwrap();
+    let run = drape(&["check", scene_file.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let expected = format!(
+        "error: {}:{at}: plate: cannot use \"plates/bg_0003.png\" (shown at frame 3): the PNG is cut short",
+        scene_file.display()
+    );
+    assert!(!run.status.success() && stderr.starts_with(&expected), "{stderr}\nexpected {expected}");
+}

@@ -3,7 +3,7 @@
 //! - [`Scene`] and its parts, [`Param`]: the data model; field names are fixed by DESIGN.md.
 //! - [`Collider`] and its kinds: what the cloth rests on and never enters.
 //! - [`ShotCamera`]: the camera the shot is seen through; [`Plate`] the picture behind
-//!   the cloth in it, its files found by [`PlateFiles`].
+//!   the cloth in it, its files found by [`PlateFiles`] and vetted by [`check_plate`].
 //! - [`Reference`]: a glTF file of the shot (a character), read into a rig by [`read_references`].
 //! - [`Layer`] and its kinds ([`Sway`], [`Wave`], [`Gusts`], [`FollowThrough`]):
 //!   each parameter listed once with its unit, range, default and doc
@@ -31,6 +31,7 @@ mod mesh_files;
 mod param;
 mod plate;
 mod plate_files;
+mod plate_header;
 mod read_capped;
 mod reference_files;
 mod references;
@@ -57,7 +58,8 @@ pub use mesh_files::{
 };
 pub use param::{Ease, Param, ParamKey};
 pub use plate::{MAX_PLATE_DIGITS, MAX_PLATE_FRAME_OFFSET, Plate, PlatePattern};
-pub use plate_files::{PlateFiles, PlateFrame, frame_list, load_plate_image};
+pub use plate_files::{CheckedPlate, PlateFiles, PlateFrame, check_plate, frame_list, load_plate_image};
+pub use plate_header::{PictureFormat, PlatePicture, read_plate_header};
 pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig, rig_from_bytes};
 pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};

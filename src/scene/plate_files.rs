@@ -1,10 +1,17 @@
 //! A plate's files on disk: which numbers of a sequence exist, which file a
-//! frame shows (the nearest one where its own is missing) and its picture.
+//! frame shows (the nearest one where its own is missing), whether each is a
+//! picture Drape reads (its header, [`read_plate_header`]) and its picture.
 
 use std::path::{Path, PathBuf};
 
+use super::error::SceneError;
+use super::io::MAX_SCENE_FILE_BYTES;
+use super::locate::locate;
 use super::mesh_files::read_file_bytes;
 use super::plate::{Plate, PlatePattern};
+use super::plate_header::{PlatePicture, read_plate_header};
+use super::read_capped::read_capped;
+use super::types::Scene;
 use crate::image::RgbaImage;
 
 /// A plate resolved against the scene file's folder.
@@ -33,7 +40,9 @@ pub struct PlateFrame {
 impl PlateFiles {
     /// Finds the plate's files next to the scene file in `scene_folder`; an
     /// error says what is missing where (no such image, no file of the
-    /// sequence in its folder).
+    /// sequence in its folder) or, for one image, why it is no picture Drape
+    /// reads (a folder, a file that is too short, cut short or too large:
+    /// its header is read).
     pub fn scan(plate: &Plate, scene_folder: &Path) -> Result<PlateFiles, String> {
         let pattern = PlatePattern::parse(&plate.file)?;
         let mut files = PlateFiles {
@@ -45,9 +54,10 @@ impl PlateFiles {
         };
         if !files.pattern.is_sequence() {
             let path = scene_folder.join(&plate.file);
-            if !path.is_file() {
+            if !path.exists() {
                 return Err(format!("plate: there is no image {:?} ({})", plate.file, path.display()));
             }
+            read_plate_header(&path).map_err(|why| format!("plate: cannot use {:?}: {why}", plate.file))?;
             return Ok(files);
         }
         let first = scene_folder.join(files.pattern.file_name(0));
@@ -124,10 +134,76 @@ impl PlateFiles {
     pub fn load(&self, frame: i32) -> Result<RgbaImage, String> {
         load_plate_image(&self.frame(frame).path)
     }
+
+    /// Reads the header of every file frames `first..=last` show, each
+    /// once: the picture the first frame shows and how many files were
+    /// read, or the first file that is no picture Drape reads, with the
+    /// frame that first shows it.
+    pub fn check_pictures(&self, first: i32, last: i32) -> Result<(PlatePicture, usize), String> {
+        let mut shown: Option<PlatePicture> = None;
+        let (mut files_read, mut last_number) = (0, None);
+        for frame in first..=last.max(first) {
+            let file = self.frame(frame);
+            // Frames run through the files in order: a number repeats only in a run.
+            if last_number == Some(file.number) {
+                continue;
+            }
+            last_number = Some(file.number);
+            let picture = read_plate_header(&file.path).map_err(|why| {
+                let name = self.pattern.file_name(file.number);
+                if self.is_sequence() {
+                    format!("plate: cannot use {name:?} (shown at frame {frame}): {why}")
+                } else {
+                    format!("plate: cannot use {name:?}: {why}")
+                }
+            })?;
+            files_read += 1;
+            if shown.is_none() {
+                shown = Some(picture);
+            }
+        }
+        let Some(picture) = shown else { return Err("plate: no frame shows a file".to_owned()) };
+        Ok((picture, files_read))
+    }
 }
 
-/// The PNG or JPEG at `path`, or why not in a user's words.
+/// A plate vetted as `drape check` vets it: its files found and the header
+/// of each file the timeline shows read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckedPlate {
+    pub files: PlateFiles,
+    /// What the timeline's first frame shows.
+    pub first: PlatePicture,
+    /// How many files the timeline shows, each one's header read.
+    pub files_read: usize,
+}
+
+/// The plate of `scene`, whose file is `scene_file`, vetted: its files
+/// found beside the scene file and the header of every file the timeline
+/// shows read ([`PlateFiles::check_pictures`]), so a folder, a file too
+/// short, cut short, of the wrong kind or too large is found before any
+/// frame is drawn. An error points at the plate's `file` in the scene file
+/// (which is read again for that). `None` when the scene has no plate.
+pub fn check_plate(scene: &Scene, scene_file: &Path) -> Result<Option<CheckedPlate>, SceneError> {
+    let Some(plate) = &scene.plate else { return Ok(None) };
+    let folder = scene_file.parent().unwrap_or(Path::new(""));
+    let (start, end) = (scene.timeline.start, scene.timeline.end);
+    let checked = PlateFiles::scan(plate, folder).and_then(|files| {
+        let (first, files_read) = files.check_pictures(start, end)?;
+        Ok(CheckedPlate { files, first, files_read })
+    });
+    checked.map(Some).map_err(|why| {
+        let text = read_capped(scene_file, MAX_SCENE_FILE_BYTES).ok();
+        let at = text.as_deref().and_then(|bytes| locate(std::str::from_utf8(bytes).ok()?, "plate.file"));
+        SceneError::invalid(&scene_file.display().to_string(), at, why)
+    })
+}
+
+/// The PNG or JPEG at `path`, or why not in a user's words. Its header is
+/// read first, so a file that is no picture, or claims one too large, is
+/// refused before it is read whole.
 pub fn load_plate_image(path: &Path) -> Result<RgbaImage, String> {
+    read_plate_header(path).map_err(|why| format!("plate {}: {why}", path.display()))?;
     let bytes = read_file_bytes(path).map_err(|why| format!("plate {}: {why}", path.display()))?;
     RgbaImage::decode(&bytes, None).map_err(|why| format!("plate {}: {why}", path.display()))
 }
@@ -156,13 +232,24 @@ pub fn frame_list(frames: &[i32]) -> String {
 mod tests {
     use super::*;
 
+    /// A folder holding `plates/NAME` for each name: a 2 × 2 PNG.
     fn folder_with(names: &[&str]) -> tempfile::TempDir {
         let dir = tempfile::tempdir().unwrap();
         std::fs::create_dir(dir.path().join("plates")).unwrap();
         for name in names {
-            std::fs::write(dir.path().join("plates").join(name), b"").unwrap();
+            std::fs::write(dir.path().join("plates").join(name), tiny_png()).unwrap();
         }
         dir
+    }
+
+    fn tiny_png() -> Vec<u8> {
+        let mut bytes = Vec::new();
+        let mut encoder = png::Encoder::new(&mut bytes, 2, 2);
+        encoder.set_color(png::ColorType::Rgba);
+        let mut writer = encoder.write_header().unwrap();
+        writer.write_image_data(&[90; 16]).unwrap();
+        writer.finish().unwrap();
+        bytes
     }
 
     fn plate(file: &str, frame_offset: i32) -> Plate {
@@ -200,8 +287,28 @@ mod tests {
         assert!(still.contains("no image \"plates/sky.png\""), "{still}");
         let folder = PlateFiles::scan(&plate("elsewhere/bg_##.png", 0), dir.path()).unwrap_err();
         assert!(folder.contains("cannot read the folder"), "{folder}");
+        std::fs::write(dir.path().join("plates/bg_0001.png"), b"").unwrap();
         let broken = load_plate_image(&dir.path().join("plates/bg_0001.png")).unwrap_err();
-        assert!(broken.contains("bg_0001.png") && broken.contains("PNG and JPEG"), "{broken}");
+        assert!(broken.contains("bg_0001.png") && broken.contains("0 bytes long"), "{broken}");
+        std::fs::create_dir(dir.path().join("plates/sky.png")).unwrap();
+        let folder = PlateFiles::scan(&plate("plates/sky.png", 0), dir.path()).unwrap_err();
+        assert_eq!(folder, "plate: cannot use \"plates/sky.png\": it is a folder, not a picture");
+    }
+
+    #[test]
+    fn every_file_the_frames_show_is_read_once_and_a_bad_one_named() {
+        let dir = folder_with(&["bg_0001.png", "bg_0002.png", "bg_0005.png"]);
+        let files = PlateFiles::scan(&plate("plates/bg_####.png", 0), dir.path()).unwrap();
+        let (first, read) = files.check_pictures(0, 9).unwrap();
+        assert_eq!((first.width_px, first.height_px, read), (2, 2, 3));
+        assert_eq!(files.check_pictures(0, 1).unwrap().1, 1, "frames 0 and 1 both show file 1");
+        std::fs::write(dir.path().join("plates/bg_0005.png"), &tiny_png()[..40]).unwrap();
+        let cut = files.check_pictures(0, 9).unwrap_err();
+        assert!(
+            cut.starts_with("plate: cannot use \"plates/bg_0005.png\" (shown at frame 4): the PNG is cut short"),
+            "{cut}"
+        );
+        assert!(files.check_pictures(0, 3).is_ok(), "frames that show file 5 are not asked about");
     }
 
     #[test]
