@@ -7,6 +7,28 @@
 
 use glam::{DMat4, Mat4};
 
+/// The glTF document (JSON or GLB) in `bytes`, validated by the glTF crate,
+/// or why not in a user's words. A POSITION attribute naming an accessor the
+/// file lacks is refused first: the crate's validation indexes it unchecked.
+pub fn read_gltf(bytes: &[u8]) -> Result<gltf::Gltf, String> {
+    let unreadable = |error: gltf::Error| format!("not a readable glTF file ({error})");
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes).map_err(unreadable)?;
+    let json = document.into_json();
+    let position = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (index, mesh) in json.meshes.iter().enumerate() {
+        for primitive in &mesh.primitives {
+            if let Some(accessor) = primitive.attributes.get(&position)
+                && accessor.value() >= json.accessors.len()
+            {
+                let count = json.accessors.len();
+                return Err(format!("mesh {index}'s POSITION is accessor {}, and there are {count}", accessor.value()));
+            }
+        }
+    }
+    let document = gltf::Document::from_json(json).map_err(unreadable)?;
+    Ok(gltf::Gltf { document, blob })
+}
+
 /// The file's node hierarchy: every node with at most one parent and no
 /// cycle; otherwise which node breaks it, in a user's words.
 pub fn check_node_trees(document: &gltf::Document) -> Result<(), String> {

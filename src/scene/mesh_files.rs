@@ -16,7 +16,7 @@ use glam::DVec3;
 use super::colliders::{Collider, LoadedMesh};
 use super::error::SceneError;
 use super::gltf_structure::{
-    check_accessor_types, check_accessors, check_animation_targets, check_node_trees, scene_nodes,
+    check_accessor_types, check_accessors, check_animation_targets, check_node_trees, read_gltf, scene_nodes,
 };
 use super::locate::locate;
 use super::read_capped::{read_capped, read_prefix};
@@ -183,7 +183,7 @@ pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u
 /// Every triangle primitive of the default scene (or the first) of a glTF,
 /// placed by its nodes' transforms.
 fn gltf_triangles(bytes: &[u8], folder: &Path) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), String> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
+    let gltf = read_gltf(bytes)?;
     let buffers = gltf_buffers(&gltf, folder)?;
     let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next()).ok_or("it has no scene")?;
     let mut vertices = Vec::new();

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use glam::{DMat4, DQuat, DVec3};
 
 use super::error::SceneError;
-use super::gltf_structure::scene_nodes;
+use super::gltf_structure::{read_gltf, scene_nodes};
 use super::locate::locate;
 use super::mesh_files::{gltf_buffers, read_file_bytes};
 use super::references::{Attachment, LoadedRig};
@@ -161,7 +161,7 @@ pub fn read_rig(path: &Path) -> Result<Rig, String> {
 /// The rig in a glTF file's `bytes` (JSON or GLB), its `.bin` buffers and
 /// image files looked for in `folder`.
 pub fn rig_from_bytes(bytes: &[u8], folder: &Path) -> Result<Rig, String> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|error| format!("not a readable glTF file ({error})"))?;
+    let gltf = read_gltf(bytes)?;
     if let Some(needed) = gltf.document.extensions_required().next() {
         return Err(format!("it needs the extension {needed}, which Drape does not read"));
     }
