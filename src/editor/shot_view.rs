@@ -13,7 +13,7 @@ use super::workspace::Workspace;
 use crate::animate::track::sample;
 use crate::picture::{look_camera, shot_look_at};
 use crate::render::OrbitCamera;
-use crate::scene::{Param, ParamVec3, ReferenceCamera, Scene, ShotCamera};
+use crate::scene::{MAX_IMAGE_SIDE_PX, Param, ParamVec3, ReferenceCamera, Scene, ShotCamera};
 use crate::world::rig::Projection;
 
 /// Share of the viewport's shorter fit the camera's frame takes, so its border shows.
@@ -141,7 +141,7 @@ pub fn camera_from_reference(w: &mut Workspace, from: ReferenceCamera) {
             Projection::Perspective { aspect_ratio, .. } => aspect_ratio,
             Projection::Orthographic => None,
         });
-    let height = aspect.map_or(720, |a| (1280.0 / a).round().clamp(1.0, 8192.0) as u32);
+    let height = aspect.map_or(720, |a| (1280.0 / a).round().clamp(1.0, f64::from(MAX_IMAGE_SIDE_PX)) as u32);
     w.apply("Camera from reference", |s: &mut Scene| {
         let camera = s.camera.get_or_insert_with(|| ShotCamera {
             from_reference: None,
