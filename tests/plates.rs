@@ -238,7 +238,7 @@ fn png_claiming(width: u32, height: u32) -> Vec<u8> {
 fn check_reads_the_plates_header_and_says_what_is_wrong_where() {
     let whole = png_bytes(64, 36);
     let cases: [(&str, Option<Vec<u8>>, &str); 5] = [
-        ("folder.png", None, "it is a folder, not a picture"),
+        ("folder.png", None, "it is a folder, not a regular file"),
         ("byte.png", Some(b"x".to_vec()), "the file is 1 byte long: too short for a PNG or JPEG picture"),
         ("cut.png", Some(whole[..whole.len() / 2].to_vec()), "the PNG is cut short"),
         (

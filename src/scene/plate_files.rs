@@ -292,7 +292,7 @@ mod tests {
         assert!(broken.contains("bg_0001.png") && broken.contains("0 bytes long"), "{broken}");
         std::fs::create_dir(dir.path().join("plates/sky.png")).unwrap();
         let folder = PlateFiles::scan(&plate("plates/sky.png", 0), dir.path()).unwrap_err();
-        assert_eq!(folder, "plate: cannot use \"plates/sky.png\": it is a folder, not a picture");
+        assert_eq!(folder, "plate: cannot use \"plates/sky.png\": it is a folder, not a regular file");
     }
 
     #[test]

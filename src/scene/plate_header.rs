@@ -8,7 +8,9 @@ use std::fs::File;
 use std::io::{self, Read as _, Seek as _, SeekFrom};
 use std::path::Path;
 
+use super::read_capped::open_regular;
 use super::validate::MAX_IMAGE_SIDE_PX;
+use crate::atomic_file::io_reason;
 
 /// A plate picture's format and size, as its header gives them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,34 +66,13 @@ pub fn read_plate_header(path: &Path) -> Result<PlatePicture, String> {
 }
 
 /// The file at `path` open for reading, with its length, when it is a
-/// regular file (symlinks followed). A folder, device or FIFO is refused
-/// before it is opened, and the open file is checked again, opened
-/// non-blocking, in case the path changed in between.
+/// regular file ([`open_regular`]: a folder, device or FIFO is refused
+/// unopened).
 fn open_picture(path: &Path) -> Result<(File, u64), String> {
-    let metadata = match std::fs::metadata(path) {
-        Ok(metadata) => metadata,
-        Err(error) if error.kind() == io::ErrorKind::NotFound => return Err("there is no such file".to_owned()),
-        Err(error) => return Err(format!("cannot read it ({error})")),
-    };
-    not_a_picture(&metadata)?;
-    let mut options = std::fs::OpenOptions::new();
-    options.read(true);
-    #[cfg(unix)]
-    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NONBLOCK);
-    let file = options.open(path).map_err(|error| format!("cannot open it ({error})"))?;
-    let metadata = file.metadata().map_err(|error| format!("cannot read it ({error})"))?;
-    not_a_picture(&metadata)?;
-    Ok((file, metadata.len()))
-}
-
-fn not_a_picture(metadata: &std::fs::Metadata) -> Result<(), String> {
-    if metadata.is_dir() {
-        return Err("it is a folder, not a picture".to_owned());
-    }
-    if !metadata.is_file() {
-        return Err("it is a device or a pipe, not a picture file".to_owned());
-    }
-    Ok(())
+    open_regular(path).map_err(|error| match error.kind() {
+        io::ErrorKind::NotFound => "there is no such file".to_owned(),
+        _ => io_reason(&error),
+    })
 }
 
 fn bytes_long(length_bytes: u64) -> String {
@@ -375,12 +356,9 @@ mod tests {
             "it is not a PNG or JPEG picture (its first bytes are neither's)"
         );
         let dir = tempfile::tempdir().unwrap();
-        assert_eq!(read_plate_header(dir.path()).unwrap_err(), "it is a folder, not a picture");
+        assert_eq!(read_plate_header(dir.path()).unwrap_err(), "it is a folder, not a regular file");
         assert_eq!(read_plate_header(&dir.path().join("none.png")).unwrap_err(), "there is no such file");
-        assert_eq!(
-            read_plate_header(Path::new("/dev/zero")).unwrap_err(),
-            "it is a device or a pipe, not a picture file"
-        );
+        assert_eq!(read_plate_header(Path::new("/dev/zero")).unwrap_err(), "it is a device, not a regular file");
     }
 
     #[test]

@@ -54,7 +54,7 @@ pub fn read_prefix(path: &Path, length_bytes: u64) -> Result<Vec<u8>, SceneError
 /// error saying what it is when it is not a regular file. The kind is checked
 /// before opening (opening a FIFO waits for a writer) and again on the open
 /// file, which is opened non-blocking in case the path changed in between.
-fn open_regular(path: &Path) -> io::Result<(fs::File, u64)> {
+pub(super) fn open_regular(path: &Path) -> io::Result<(fs::File, u64)> {
     refuse_unless_regular(&fs::metadata(path)?)?;
     let mut options = fs::OpenOptions::new();
     options.read(true);
