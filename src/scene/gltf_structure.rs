@@ -162,6 +162,22 @@ pub fn check_animation_targets(document: &gltf::Document) -> Result<(), String> 
     Ok(())
 }
 
+/// Every image names its bytes: a buffer view with a MIME type, or a URI.
+/// The glTF crate's validation accepts an image with neither, or a view
+/// without a type, and its reader stops the program on them.
+pub fn check_images(document: &gltf::Document) -> Result<(), String> {
+    for (index, image) in document.as_json().images.iter().enumerate() {
+        let named = match (&image.buffer_view, &image.uri) {
+            (Some(_), _) => image.mime_type.is_some(),
+            (None, uri) => uri.is_some(),
+        };
+        if !named {
+            return Err(format!("image {index} has no URI, or a buffer view without a MIME type"));
+        }
+    }
+    Ok(())
+}
+
 /// Every accessor a reader of Drape's reads has the element type and
 /// component type the glTF specification gives its use (a joint index is
 /// four unsigned integers, a position three floats); the glTF crate's
@@ -360,5 +376,20 @@ mod tests {
         // Weights are scalars; a translation is three floats, not one.
         assert_eq!(check_accessor_types(&animated(0, "weights")), Ok(()));
         assert!(check_accessor_types(&animated(0, "translation")).unwrap_err().contains("is Scalar of F32"));
+    }
+
+    #[test]
+    fn an_image_names_its_bytes() {
+        let with_image = |image: &str| {
+            document(&format!(
+                r#"{{"asset": {{"version": "2.0"}}, "buffers": [{{"byteLength": 4}}],
+                    "bufferViews": [{{"buffer": 0, "byteLength": 4}}], "images": [{image}]}}"#
+            ))
+        };
+        assert_eq!(check_images(&with_image(r#"{"uri": "a.png"}"#)), Ok(()));
+        assert_eq!(check_images(&with_image(r#"{"bufferView": 0, "mimeType": "image/png"}"#)), Ok(()));
+        let message = "image 0 has no URI, or a buffer view without a MIME type".to_owned();
+        assert_eq!(check_images(&with_image(r#"{"bufferView": 0}"#)), Err(message.clone()));
+        assert_eq!(check_images(&with_image("{}")), Err(message));
     }
 }

@@ -16,7 +16,8 @@ use glam::DVec3;
 use super::colliders::{Collider, LoadedMesh};
 use super::error::SceneError;
 use super::gltf_structure::{
-    check_accessor_types, check_accessors, check_animation_targets, check_node_trees, read_gltf, scene_nodes,
+    check_accessor_types, check_accessors, check_animation_targets, check_images, check_node_trees, read_gltf,
+    scene_nodes,
 };
 use super::locate::locate;
 use super::read_capped::{read_capped, read_prefix};
@@ -146,7 +147,8 @@ fn obj_triangles(bytes: &[u8]) -> Result<(Vec<DVec3>, Vec<[u32; 3]>), String> {
 /// `folder`, each read only as far as its declared length, all of them
 /// together at most [`MAX_MESH_FILE_BYTES`]; then its structure checked
 /// ([`check_node_trees`], [`check_accessors`], [`check_animation_targets`],
-/// [`check_accessor_types`]), so walking and reading it is safe.
+/// [`check_images`], [`check_accessor_types`]), so walking and reading it is
+/// safe.
 pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u8>>, String> {
     check_node_trees(&gltf.document)?;
     let mut buffers = Vec::new();
@@ -176,6 +178,7 @@ pub(super) fn gltf_buffers(gltf: &gltf::Gltf, folder: &Path) -> Result<Vec<Vec<u
     }
     check_accessors(&gltf.document, &buffers)?;
     check_animation_targets(&gltf.document)?;
+    check_images(&gltf.document)?;
     check_accessor_types(&gltf.document)?;
     Ok(buffers)
 }
