@@ -5,6 +5,7 @@
 pub mod approximate;
 pub mod catenary;
 pub mod contact;
+pub mod equilibrium;
 pub mod lay_flat;
 pub mod relax;
 pub mod rest_shape;

@@ -227,6 +227,34 @@ pub const MAX_SHEAR_DEG: f64 = 30.0;
 /// stiffness 0 allows any fold.
 pub const STIFF_RADIUS_FRACTION: f64 = 0.25;
 
+/// The fabric's distance limits on a `cols × rows` grid: how far a cell's
+/// diagonals may shorten and lengthen as it shears freely, and how close
+/// second neighbours along a row or column may come (the bending limit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FabricLimits {
+    pub diagonal_min_m: f64,
+    pub diagonal_max_m: f64,
+    pub second_u_min_m: f64,
+    pub second_v_min_m: f64,
+}
+
+impl FabricLimits {
+    pub fn new(cols: usize, rows: usize, params: &RelaxParams) -> FabricLimits {
+        let (u, v) = (params.rest_u_m, params.rest_v_m);
+        let min_radius = params.stiffness.clamp(0.0, 1.0)
+            * STIFF_RADIUS_FRACTION
+            * (u * cols.saturating_sub(1) as f64).max(v * rows.saturating_sub(1) as f64);
+        // A cell sheared by γ has diagonals √(u² + v² ± 2uv·sin γ).
+        let shear_span = 2.0 * u * v * MAX_SHEAR_DEG.to_radians().sin();
+        FabricLimits {
+            diagonal_min_m: (u * u + v * v - shear_span).sqrt(),
+            diagonal_max_m: (u * u + v * v + shear_span).sqrt(),
+            second_u_min_m: sweeper::min_second_neighbour_distance(u, min_radius),
+            second_v_min_m: sweeper::min_second_neighbour_distance(v, min_radius),
+        }
+    }
+}
+
 /// Grids are coarsened while both sides keep at least this many points.
 const MIN_COARSENED_SIDE: usize = 9;
 

@@ -10,8 +10,8 @@ use super::self_contact::SelfContact;
 use glam::DVec3;
 
 use super::{
-    Cancelled, GRAVITY_BIAS, MAX_SHEAR_DEG, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport,
-    SETTLE_SWEEPS, STIFF_RADIUS_FRACTION, Settle,
+    Cancelled, FabricLimits, GRAVITY_BIAS, MAX_SPEED, MOMENTUM, RelaxParams, RelaxProgress, RelaxReport, SETTLE_SWEEPS,
+    Settle,
 };
 
 /// The free points of one grid split by colour into runs of interior points
@@ -36,15 +36,10 @@ pub(super) struct Sweeper {
 
 impl Sweeper {
     pub(super) fn new(cols: usize, rows: usize, pinned: &[bool], params: &RelaxParams) -> Sweeper {
-        let min_radius = params.stiffness.clamp(0.0, 1.0)
-            * STIFF_RADIUS_FRACTION
-            * (params.rest_u_m * (cols - 1) as f64).max(params.rest_v_m * (rows - 1) as f64);
-        let second_u = min_second_neighbour_distance(params.rest_u_m, min_radius);
-        let second_v = min_second_neighbour_distance(params.rest_v_m, min_radius);
+        let limits = FabricLimits::new(cols, rows, params);
+        let (second_u, second_v) = (limits.second_u_min_m, limits.second_v_min_m);
         let (u, v) = (params.rest_u_m, params.rest_v_m);
-        // A cell sheared by γ has diagonals √(u² + v² ± 2uv·sin γ).
-        let shear_span = 2.0 * u * v * MAX_SHEAR_DEG.to_radians().sin();
-        let diag = Bound::new((u * u + v * v - shear_span).sqrt(), (u * u + v * v + shear_span).sqrt());
+        let diag = Bound::new(limits.diagonal_min_m, limits.diagonal_max_m);
         let (bend_u, bend_v) = (Bound::new(second_u, f64::INFINITY), Bound::new(second_v, f64::INFINITY));
         let (along_u, along_v) = (Bound::new(u, u), Bound::new(v, v));
         let bounds = [along_u, along_u, along_v, along_v, diag, diag, diag, diag, bend_u, bend_u, bend_v, bend_v];

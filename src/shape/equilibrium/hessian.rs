@@ -1,0 +1,249 @@
+//! The energy's Hessian over the free points as a sparse upper triangle
+//! (three unknowns a point), its pattern built once per pin set, its values
+//! assembled from the terms' 3 × 3 blocks at every Newton step.
+
+use faer::Side;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+
+use super::terms::{Evaluated, Term};
+
+/// Where a term's blocks go in the value array.
+#[derive(Clone, Copy)]
+struct Slots {
+    /// Free rank of each end (`None` for a pin).
+    a: Option<usize>,
+    b: Option<usize>,
+    /// Position of the lower-ranked end among the higher one's coupled points.
+    pair: usize,
+}
+
+/// The pattern and a reusable symbolic factorisation.
+pub(super) struct Hessian {
+    unknowns: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Per free point, the lower-ranked free points it couples to, sorted.
+    coupled: Vec<Vec<usize>>,
+    slots: Vec<Slots>,
+    symbolic: SymbolicLlt<usize>,
+    pub(super) values: Vec<f64>,
+}
+
+/// The factorisation failed: the matrix is not positive definite.
+pub(super) struct NotDefinite;
+
+impl Hessian {
+    /// The pattern for `terms` over points whose free rank is `rank[v]`,
+    /// and for `links`, further pairs of free ranks that couple.
+    pub(super) fn new(rank: &[Option<usize>], free: usize, terms: &[Term], links: &[(usize, usize)]) -> Hessian {
+        let mut coupled: Vec<Vec<usize>> = vec![Vec::new(); free];
+        let pairs = terms.iter().filter_map(|t| Some((rank[t.a]?, rank[t.b]?)));
+        for (p, q) in pairs.chain(links.iter().copied()).filter(|(p, q)| p != q) {
+            coupled[p.max(q)].push(p.min(q));
+        }
+        for list in &mut coupled {
+            list.sort_unstable();
+            list.dedup();
+        }
+        let unknowns = 3 * free;
+        let mut col_ptr = Vec::with_capacity(unknowns + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for (q, list) in coupled.iter().enumerate() {
+            for beta in 0..3 {
+                for &p in list {
+                    row_idx.extend([3 * p, 3 * p + 1, 3 * p + 2]);
+                }
+                row_idx.extend((0..=beta).map(|alpha| 3 * q + alpha));
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let slots = terms
+            .iter()
+            .map(|t| {
+                let (a, b) = (rank[t.a], rank[t.b]);
+                let pair = match (a, b) {
+                    (Some(p), Some(q)) => {
+                        let (lo, hi) = (p.min(q), p.max(q));
+                        coupled[hi].binary_search(&lo).unwrap_or(0)
+                    }
+                    _ => 0,
+                };
+                Slots { a, b, pair }
+            })
+            .collect();
+        let pattern = SymbolicSparseColMatRef::new_checked(unknowns, unknowns, &col_ptr, None, &row_idx);
+        let symbolic =
+            SymbolicLlt::try_new(pattern, Side::Upper).expect("a symbolic factorisation of a grid's pattern");
+        let values = vec![0.0; row_idx.len()];
+        Hessian { unknowns, col_ptr, row_idx, coupled, slots, symbolic, values }
+    }
+
+    pub(super) fn clear(&mut self) {
+        self.values.fill(0.0);
+    }
+
+    /// Index of entry (row `3p + alpha`, column `3q + beta`), `p < q`.
+    #[inline]
+    fn off_diagonal(&self, p: usize, q: usize, pair: usize, alpha: usize, beta: usize) -> usize {
+        debug_assert!(p < q);
+        self.col_ptr[3 * q + beta] + 3 * pair + alpha
+    }
+
+    /// Index of entry (row `3q + alpha`, column `3q + beta`), `alpha ≤ beta`.
+    #[inline]
+    fn diagonal(&self, q: usize, alpha: usize, beta: usize) -> usize {
+        self.col_ptr[3 * q + beta] + 3 * self.coupled[q].len() + alpha
+    }
+
+    /// Adds term `index`'s blocks.
+    pub(super) fn add(&mut self, index: usize, e: &Evaluated) {
+        let Slots { a, b, pair } = self.slots[index];
+        let entries = || (0..3).flat_map(|alpha| (0..3).map(move |beta| (alpha, beta)));
+        for end in [a, b].into_iter().flatten() {
+            for (alpha, beta) in entries().filter(|(alpha, beta)| alpha <= beta) {
+                let at = self.diagonal(end, alpha, beta);
+                self.values[at] += e.hessian[alpha][beta];
+            }
+        }
+        if let (Some(p), Some(q)) = (a, b) {
+            let (lo, hi) = (p.min(q), p.max(q));
+            for (alpha, beta) in entries() {
+                let at = self.off_diagonal(lo, hi, pair, alpha, beta);
+                self.values[at] -= e.hessian[alpha][beta];
+            }
+        }
+    }
+
+    /// Adds a penalty `weight · |d_p − R·d_q|²/2` on free ranks `p` and `q`,
+    /// `R` flipping coordinate `axis` (a mirror's antisymmetric motion);
+    /// `p == q` penalises that coordinate alone.
+    pub(super) fn add_link(&mut self, p: usize, q: usize, axis: usize, weight: f64) {
+        if p == q {
+            let at = self.diagonal(p, axis, axis);
+            self.values[at] += weight;
+            return;
+        }
+        for end in [p, q] {
+            for alpha in 0..3 {
+                let at = self.diagonal(end, alpha, alpha);
+                self.values[at] += weight;
+            }
+        }
+        let (lo, hi) = (p.min(q), p.max(q));
+        let Ok(pair) = self.coupled[hi].binary_search(&lo) else {
+            panic!("a link is in the pattern it was built with");
+        };
+        for alpha in 0..3 {
+            let flip = if alpha == axis { -1.0 } else { 1.0 };
+            let at = self.off_diagonal(lo, hi, pair, alpha, alpha);
+            self.values[at] -= weight * flip;
+        }
+    }
+
+    /// Adds `shift` to every diagonal entry (Levenberg–Marquardt).
+    pub(super) fn shift_diagonal(&mut self, shift: f64) {
+        for q in 0..self.coupled.len() {
+            for alpha in 0..3 {
+                let at = self.diagonal(q, alpha, alpha);
+                self.values[at] += shift;
+            }
+        }
+    }
+
+    /// Largest diagonal entry, a scale for the shift.
+    pub(super) fn largest_diagonal(&self) -> f64 {
+        let mut largest: f64 = 0.0;
+        for q in 0..self.coupled.len() {
+            for alpha in 0..3 {
+                largest = largest.max(self.values[self.diagonal(q, alpha, alpha)]);
+            }
+        }
+        largest
+    }
+
+    /// Solves `H · x = rhs` in place.
+    pub(super) fn solve(&self, rhs: &mut [f64]) -> Result<(), NotDefinite> {
+        let pattern =
+            SymbolicSparseColMatRef::new_checked(self.unknowns, self.unknowns, &self.col_ptr, None, &self.row_idx);
+        let matrix = SparseColMatRef::new(pattern, &self.values);
+        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), matrix, Side::Upper).map_err(|_| NotDefinite)?;
+        let column = faer::MatMut::from_column_major_slice_mut(rhs, self.unknowns, 1);
+        llt.solve_in_place(column);
+        if rhs.iter().all(|v| v.is_finite()) { Ok(()) } else { Err(NotDefinite) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::super::Problem;
+    use super::*;
+    use crate::shape::RelaxParams;
+
+    /// `H · v` from the assembled upper triangle.
+    fn multiply(h: &Hessian, v: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; v.len()];
+        for col in 0..h.unknowns {
+            for at in h.col_ptr[col]..h.col_ptr[col + 1] {
+                let (row, value) = (h.row_idx[at], h.values[at]);
+                out[row] += value * v[col];
+                if row != col {
+                    out[col] += value * v[row];
+                }
+            }
+        }
+        out
+    }
+
+    /// The assembled exact Hessian times a direction is the gradient's
+    /// change along it: every term's blocks land in the right slots.
+    #[test]
+    fn the_assembled_hessian_is_the_gradients_derivative() {
+        let (cols, rows) = (5, 4);
+        let params = RelaxParams {
+            rest_u_m: 0.1,
+            rest_v_m: 0.12,
+            stiffness: 1.0,
+            thickness_m: 0.0,
+            max_iterations: 10,
+            tolerance: 1e-7,
+        };
+        let pinned: Vec<bool> = (0..cols * rows).map(|k| k == 0 || k == 3).collect();
+        let x: Vec<DVec3> = (0..cols * rows)
+            .map(|k| {
+                let (i, j) = ((k % cols) as f64, (k / cols) as f64);
+                DVec3::new(
+                    0.09 * i + 0.01 * (3.0 * j).sin(),
+                    -0.1 * j + 0.02 * (i * j).cos(),
+                    0.03 * (i + 2.0 * j).sin(),
+                )
+            })
+            .collect();
+        let problem = Problem::new(cols, rows, &pinned, &params);
+        let mut hessian = Hessian::new(&problem.rank, problem.free.len(), &problem.terms, &[]);
+        problem.assemble(&x, &mut hessian, false);
+        let unknowns = 3 * problem.free.len();
+        let direction: Vec<f64> = (0..unknowns).map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.5).collect();
+        let shifted = |s: f64| {
+            let mut y = x.clone();
+            for (rank, &point) in problem.free.iter().enumerate() {
+                y[point] += DVec3::new(direction[3 * rank], direction[3 * rank + 1], direction[3 * rank + 2]) * s;
+            }
+            y
+        };
+        let h = 1e-7;
+        let (mut up, mut down) = (vec![0.0; unknowns], vec![0.0; unknowns]);
+        problem.gradient(&shifted(h), &mut up);
+        problem.gradient(&shifted(-h), &mut down);
+        let product = multiply(&hessian, &direction);
+        let scale = product.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for k in 0..unknowns {
+            let numeric = (up[k] - down[k]) / (2.0 * h);
+            assert!((numeric - product[k]).abs() < 1e-5 * scale, "entry {k}: {numeric} vs {}", product[k]);
+        }
+    }
+}
