@@ -1007,6 +1007,65 @@ fn the_panels_hold_still_while_scrubbing_playing_and_relaxing() {
     assert_eq!(places(&harness), on_key, "while relaxing");
 }
 
+/// Where the Cloth panel's controls are: the size fields, the grid editor,
+/// the selected pin's X field and the Unpin button.
+fn cloth_panel_places(harness: &Harness<'_, DrapeApp>) -> [egui::Rect; 5] {
+    [
+        harness.get_by_role_and_label(Role::SpinButton, "Width").rect(),
+        harness.get_by_role_and_label(Role::SpinButton, "Height").rect(),
+        harness.get_by_label("Grid editor").rect(),
+        harness.get_by_role_and_label(Role::SpinButton, "X").rect(),
+        harness.get_by_label("Unpin").rect(),
+    ]
+}
+
+/// Nothing moves under the mouse when the scene or the selection changes:
+/// adding a reference, pinning a point (the selection stays) and attaching
+/// the selected pin to a node leave every control of the Cloth panel where
+/// it was, and the pointer that picked the node is over none of its buttons.
+#[test]
+fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pin_attached() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    let cloth = harness.state().scene().cloth.clone();
+    harness.state_mut().select_pins(&[(0, 0)]);
+    harness.run_ok();
+    let grid_rect = grid_editor_rect(&mut harness);
+    let before = cloth_panel_places(&harness);
+
+    harness.get_by_label("Add reference…").click();
+    harness.run_ok();
+    pick_in_file_dialog(&mut harness, &std::fs::canonicalize("assets/walker.glb").unwrap());
+    assert_eq!(harness.state().scene().references.len(), 1, "added");
+    settle(&mut harness);
+    assert_eq!(cloth_panel_places(&harness), before, "after adding a reference");
+
+    click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (10, 16)), Modifiers::NONE);
+    assert!(edits_pinned(&harness, (10, 16)));
+    assert_eq!(harness.state().selection(), [(0, 0)], "pinning keeps the selection");
+    settle(&mut harness);
+    assert_eq!(cloth_panel_places(&harness), before, "after pinning");
+
+    harness.get_by_label("Attach to node…").scroll_to_me();
+    harness.run_ok();
+    let before = cloth_panel_places(&harness);
+    let buttons: Vec<egui::Rect> =
+        ["Unpin", "Copy", "Paste", "Mirror", "Detach", "Attach to node…", "Attach by clicking"]
+            .into_iter()
+            .map(|label| harness.get_by_label(label).rect())
+            .collect();
+    harness.get_by_label("Attach to node…").click();
+    harness.run_ok();
+    harness.get_by_label("chest").click();
+    harness.run_ok();
+    assert!(pin_of(harness.state().scene(), 0, (0, 0)).attach.is_some(), "attached");
+    assert!(harness.query_by_label("chest").is_none(), "the list closed");
+    settle(&mut harness);
+    assert_eq!(cloth_panel_places(&harness), before, "after attaching");
+    let pointer = harness.ctx.pointer_latest_pos().expect("the pointer picked the node");
+    assert!(!buttons.iter().any(|rect| rect.contains(pointer)), "the pointer at {pointer:?} is over a button");
+}
+
 fn wheel(delta_y: f32, modifiers: Modifiers) -> Event {
     Event::MouseWheel {
         unit: egui::MouseWheelUnit::Point,
@@ -1138,13 +1197,13 @@ fn selection_follows_click_shift_ctrl_and_box_in_grid_editor_and_viewport() {
     let at = |point| GridEditor::point_in(grid_rect, &cloth, point);
     let (a, b, c) = ((0, 0), (32, 0), (16, 30));
 
-    // A plain click on a free point pins it without selecting it (or anything else).
+    // A plain click on a free point pins it without selecting it, and leaves the selection as it was.
     click_at(&mut harness, at(a), Modifiers::NONE);
     assert_eq!(harness.state().selection(), [a]);
     click_at(&mut harness, at(c), Modifiers::NONE);
     settle(&mut harness);
     assert!(edits_pinned(&harness, c));
-    assert!(harness.state().selection().is_empty());
+    assert_eq!(harness.state().selection(), [a]);
 
     // Shift adds (twice still once), Ctrl toggles, a plain click selects only that pin.
     click_at(&mut harness, at(a), Modifiers::SHIFT);
@@ -1363,12 +1422,13 @@ fn a_key_without_pins_is_placed_from_the_fabric_rows() {
 
 /// Among colliders the fabric shows the key's thickness and friction; a
 /// change is one undo step and re-shapes the key. Scenes without colliders
-/// keep their rows (no Friction there).
+/// show Friction greyed, so adding a collider moves no row.
 #[test]
 fn the_fabric_of_a_scene_with_colliders_sets_friction_and_thickness() {
     let workspace = Workspace::new();
     let carpet = open_carpet(&workspace);
-    assert!(carpet.query_by_label("Friction").is_none(), "no colliders, no friction row");
+    let friction = carpet.get_by_role_and_label(Role::Slider, "Friction");
+    assert!(friction.accesskit_node().is_disabled(), "no colliders, friction greyed");
     drop(carpet);
     let table = scene::load(std::path::Path::new("scenes/tablecloth_pull.ron")).unwrap();
     let mut harness = open_editor(&workspace, table, None);

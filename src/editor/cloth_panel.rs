@@ -50,14 +50,13 @@ impl ClothPanel {
     }
 
     /// What the cloth follows: a node of a reference (its keys carried as the
-    /// node moves), chosen from the node list, or nothing. Only with
-    /// references in the scene, so the panel holds still without them.
+    /// node moves), chosen from the node list, or nothing. Greyed in a scene
+    /// without references, so adding one moves nothing below.
     fn follow_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         let scene = w.doc.scene();
-        if scene.references.is_empty() {
-            return;
-        }
+        let has_references = !scene.references.is_empty();
         let follow = scene.follow.clone();
+        let mut picker_button = None;
         ui.horizontal(|ui| {
             ui.label("Follows");
             let shown = match &follow {
@@ -68,16 +67,22 @@ impl ClothPanel {
             let hint = "Carry the whole cloth with a node (a joint) of a reference: each key is where the node \
                         is at the key's frame, and the cloth moves as the node does";
             let button = egui::Button::new("Follow node…").selected(self.follow_picker.is_open());
-            if ui.add(button).on_hover_text(hint).clicked() {
+            let response = ui.add_enabled(has_references, button).on_hover_text(hint);
+            let response =
+                response.on_disabled_hover_text("Add a reference (References panel) to follow one of its nodes");
+            if response.clicked() {
                 self.follow_picker.toggle();
             }
+            picker_button = Some(response);
             let stop = ui.add_enabled(follow.is_some(), egui::Button::new("Stop"));
             if stop.on_hover_text("The cloth no longer follows the node").clicked() {
                 w.apply("Stop following", |s| s.follow = None);
             }
         });
         let references = w.doc.scene().references.clone();
-        if let Some((index, node)) = self.follow_picker.pick_ui(ui, &references) {
+        if let Some(button) = picker_button
+            && let Some((index, node)) = self.follow_picker.pick_ui(&button, &references)
+        {
             let reference = references[index].name.clone();
             w.apply("Follow node", |s| s.follow = Some(Follow { reference, node }));
         }
@@ -258,27 +263,28 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         key_field(w, &r, "Relaxation tolerance", |k| k.relax.tolerance = tolerance);
         ui.end_row();
 
-        // Only where there is something to rest on, so other scenes' panels keep their rows.
-        if !w.doc.scene().colliders.is_empty() {
-            let mut thickness_mm = key.thickness * 1000.0;
-            let hint = "How far the cloth keeps from the colliders' surfaces (a collider may set its own) and between its own \
-                folds; 0 lets a fold pass through the cloth.";
-            let label = ui.label("Thickness").on_hover_text(hint).id;
-            let field = number_field(&mut thickness_mm).range(0.0..=MAX_THICKNESS_M * 1000.0).speed(0.1).suffix(" mm");
-            let r = ui.add(field).labelled_by(label);
-            key_field(w, &r, "Thickness", |k| k.thickness = thickness_mm / 1000.0);
-            ui.end_row();
+        // Thickness also keeps the cloth's own folds apart, so it is there in every scene.
+        let mut thickness_mm = key.thickness * 1000.0;
+        let hint = "How far the cloth keeps from the colliders' surfaces (a collider may set its own) and between its own \
+            folds; 0 lets a fold pass through the cloth.";
+        let label = ui.label("Thickness").on_hover_text(hint).id;
+        let field = number_field(&mut thickness_mm).range(0.0..=MAX_THICKNESS_M * 1000.0).speed(0.1).suffix(" mm");
+        let r = ui.add(field).labelled_by(label);
+        key_field(w, &r, "Thickness", |k| k.thickness = thickness_mm / 1000.0);
+        ui.end_row();
 
-            let mut friction = key.friction;
-            let hint = "How the cloth holds where it rests on a collider: 0 slides off, 1 holds well.";
-            let label = ui.label("Friction").on_hover_text(hint).id;
-            let r =
-                ui.add(number_slider(&mut friction, 0.0..=MAX_FRICTION.min(2.0)).max_decimals(2)).labelled_by(label);
-            key_field(w, &r, "Friction", |k| k.friction = friction);
-            ui.end_row();
+        // Greyed without colliders (not removed), so adding one moves nothing below.
+        let has_colliders = !w.doc.scene().colliders.is_empty();
+        let mut friction = key.friction;
+        let hint = "How the cloth holds where it rests on a collider: 0 slides off, 1 holds well.";
+        let label = ui.label("Friction").on_hover_text(hint).id;
+        let slider = number_slider(&mut friction, 0.0..=MAX_FRICTION.min(2.0)).max_decimals(2);
+        let r = ui.add_enabled(has_colliders, slider).labelled_by(label);
+        let r = r.on_disabled_hover_text("The scene has no colliders to rest on (Colliders panel)");
+        key_field(w, &r, "Friction", |k| k.friction = friction);
+        ui.end_row();
 
-            placement_rows_ui(ui, w, &key);
-        }
+        placement_rows_ui(ui, w, &key, has_colliders);
     });
     // One line whatever the verdict (the whole of it on hover), so the pins below hold still.
     let shape = w.shown_key_shape();
@@ -301,14 +307,17 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
 }
 
 /// Where a key without pins drops from and how it is turned; shown (greyed)
-/// for keys with pins too, so the panel holds still while scrubbing.
-fn placement_rows_ui(ui: &mut egui::Ui, w: &mut Workspace, key: &Key) {
+/// for keys with pins and in scenes without colliders too, so the panel
+/// holds still while scrubbing and when a collider is added.
+fn placement_rows_ui(ui: &mut egui::Ui, w: &mut Workspace, key: &Key, has_colliders: bool) {
     let placement = key.placement_or_default();
-    let unpinned = key.pins.is_empty();
+    let unpinned = key.pins.is_empty() && has_colliders;
     let hint = if unpinned {
         "The key has no pins: the cloth starts flat here (u along X, v along Z) and drops onto the colliders."
-    } else {
+    } else if has_colliders {
         "For keys without pins: unpin every pin and the cloth drops from here onto the colliders."
+    } else {
+        "For keys without pins in a scene with colliders: the cloth drops from here onto them."
     };
     let rows = [
         ("Drop from", "Placement centre", placement.center, " m", 0.005),
@@ -345,6 +354,8 @@ fn placement_rows_ui(ui: &mut egui::Ui, w: &mut Workspace, key: &Key) {
 /// Exact values for the selected pins: one pin's position, or several pins'
 /// shared offset, where they are at the key's frame (attached pins on their
 /// attachments); then what they are attached to and the verbs to change it.
+/// Every row is there with nothing selected too (greyed), so selecting,
+/// pinning or attaching moves nothing under the mouse.
 fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePicker) {
     let index = w.edit_key_index();
     let scene = w.doc.scene().clone();
@@ -353,7 +364,17 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePi
     let places: Vec<(f64, f64, f64)> = selected.iter().map(|p| attach::pin_at_key(&scene, key, p).into()).collect();
     match (selected.as_slice(), places.as_slice()) {
         ([], _) => {
-            ui.weak("No pin selected.");
+            ui.weak("No pin selected: click a pin for its position.");
+            ui.add_enabled_ui(false, |ui| {
+                ui.horizontal(|ui| {
+                    for axis in ["X", "Y", "Z"] {
+                        let label = ui.label(axis).id;
+                        let mut blank = 0.0;
+                        let field = number_field(&mut blank).custom_formatter(|_, _| "–".to_owned());
+                        ui.add_sized(FIELD, field).labelled_by(label);
+                    }
+                });
+            });
         }
         ([pin], [place]) => {
             ui.label(format!("Pin ({}, {}), metres", pin.grid.0, pin.grid.1));

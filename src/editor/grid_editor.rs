@@ -27,10 +27,6 @@ pub enum GridAction {
 const MAX_SIDE: f32 = 260.0;
 /// A tall cloth's editor stops here.
 const MAX_HEIGHT: f32 = 190.0;
-/// Room kept below the editor for the selected pin's label, X / Y / Z fields and Unpin button.
-const ROOM_BELOW: f32 = 76.0;
-/// The editor never gets shorter than this to make that room.
-const MIN_HEIGHT: f32 = 100.0;
 const PIN_RADIUS: f32 = 4.5;
 /// Grid lines closer than this are thinned out, so a 256² grid stays readable.
 const MIN_LINE_GAP: f32 = 6.0;
@@ -102,11 +98,9 @@ impl GridEditor {
         // Clear of the panel's edge, where dragging resizes the panel instead.
         let side = (ui.available_width() - 16.0).clamp(80.0, MAX_SIDE);
         let size = if aspect >= 1.0 { Vec2::new(side, side / aspect) } else { Vec2::new(side * aspect, side) };
-        // Short enough that the selected pin's fields below it stay in view (the panel scrolls,
-        // but a user should not have to), down to MIN_HEIGHT in a small window.
-        let room = ui.clip_rect().bottom() - ui.cursor().top() - ROOM_BELOW - 2.0 * PIN_RADIUS;
-        let max_height = room.clamp(MIN_HEIGHT, MAX_HEIGHT);
-        let size = if size.y > max_height { size * (max_height / size.y) } else { size };
+        // From the panel's width and the cloth alone, never from where the panel is scrolled
+        // to, so the editor keeps its size and place while the rows around it change.
+        let size = if size.y > MAX_HEIGHT { size * (MAX_HEIGHT / size.y) } else { size };
         let size = size.max(Vec2::splat(24.0));
         let (outer, response) =
             ui.allocate_exact_size(size + Vec2::splat(2.0 * PIN_RADIUS + 2.0), Sense::click_and_drag());

@@ -1,6 +1,10 @@
-//! The Cloth panel's node list for "Attach to node…": the reference (when
-//! the scene has several), a filter, and the reference's node names to
-//! pick from. It only picks; attaching is the workspace's.
+//! The Cloth panel's node list for "Attach to node…" and "Follow node…": the
+//! reference (when the scene has several), a filter, and the reference's
+//! node names to pick from. It only picks; attaching is the workspace's.
+//!
+//! The list floats beside the button that opened it, over the viewport,
+//! so opening and closing it moves nothing in the panel, and the pointer
+//! that picked a name is left over the viewport, not over another button.
 
 use eframe::egui;
 
@@ -8,6 +12,8 @@ use crate::scene::Reference;
 
 /// Height of the list of node names, points: a rig's twenty nodes scroll.
 const LIST_HEIGHT: f32 = 150.0;
+/// Width of the floating list, points.
+const LIST_WIDTH: f32 = 200.0;
 
 /// The open list's state.
 #[derive(Default)]
@@ -17,8 +23,6 @@ pub struct NodePicker {
     reference: usize,
     /// Only names containing this (any case) are listed.
     filter: String,
-    /// Just opened: scroll the panel to show it whole.
-    reveal: bool,
 }
 
 impl NodePicker {
@@ -29,7 +33,6 @@ impl NodePicker {
     /// Opens the list afresh (no filter), or closes it when open.
     pub fn toggle(&mut self) {
         self.open = !self.open;
-        self.reveal = self.open;
         self.filter.clear();
     }
 
@@ -37,18 +40,23 @@ impl NodePicker {
         self.open = false;
     }
 
-    /// The list when open; returns the reference (index) and node picked
-    /// this frame, and closes. Cancel closes without a pick.
-    pub fn pick_ui(&mut self, ui: &mut egui::Ui, references: &[Reference]) -> Option<(usize, String)> {
+    /// The list when open, floating to the right of `button` (what opened
+    /// it); returns the reference (index) and node picked this frame, and
+    /// closes. Cancel, Esc or a click elsewhere close it without a pick.
+    pub fn pick_ui(&mut self, button: &egui::Response, references: &[Reference]) -> Option<(usize, String)> {
         if !self.open || references.is_empty() {
             return None;
         }
-        let shown = ui.scope(|ui| self.contents_ui(ui, references));
-        // The list opens at the foot of the Cloth panel: bring all of it into view.
-        if std::mem::take(&mut self.reveal) {
-            shown.response.scroll_to_me(None);
-        }
-        shown.inner
+        let mut open = true;
+        let shown = egui::Popup::from_response(button)
+            .id(button.id.with("node list"))
+            .open_bool(&mut open)
+            .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
+            .align(egui::RectAlign::RIGHT_START)
+            .width(LIST_WIDTH)
+            .show(|ui| self.contents_ui(ui, references));
+        self.open &= open;
+        shown.and_then(|shown| shown.inner)
     }
 
     /// The reference, the filter, the names and Cancel; the pick, if any.
@@ -58,7 +66,7 @@ impl NodePicker {
             self.reference_ui(ui, references);
         }
         let hint = "Filter nodes";
-        let field = egui::TextEdit::singleline(&mut self.filter).hint_text(hint).desired_width(f32::INFINITY);
+        let field = egui::TextEdit::singleline(&mut self.filter).hint_text(hint).desired_width(LIST_WIDTH);
         ui.add(field).accessible_name(hint);
         let reference = &references[self.reference];
         let picked = match reference.rig.0.as_deref() {
@@ -78,10 +86,11 @@ impl NodePicker {
         picked
     }
 
-    /// The reference to list the nodes of, chosen first when there are several.
+    /// The reference to list the nodes of, chosen first when there are several
+    /// (buttons, not a drop-down: a second floating list would close this one).
     fn reference_ui(&mut self, ui: &mut egui::Ui, references: &[Reference]) {
-        let selected = references[self.reference].label(self.reference);
-        egui::ComboBox::from_label("Reference").selected_text(selected).show_ui(ui, |ui| {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Reference");
             for (index, reference) in references.iter().enumerate() {
                 ui.selectable_value(&mut self.reference, index, reference.label(index));
             }

@@ -63,15 +63,13 @@ pub fn click_on_nothing(selection: &mut Vec<(u32, u32)>, how: Pick) {
     }
 }
 
-/// The selection after a new pin at `point` is made by a click: a plain
-/// click pins without selecting (the user pinned, and picked nothing), so
-/// the earlier selection is dropped; Shift+click pins and adds the pin;
-/// Ctrl+click pins and leaves the selection alone.
+/// The selection after a new pin at `point` is made by a click: a plain or
+/// Ctrl+click pins without selecting and leaves the selection as it was
+/// (the user pinned, and picked nothing, so the pin fields keep showing
+/// what they showed); Shift+click pins and adds the pin.
 pub fn after_pinning(selection: &mut Vec<(u32, u32)>, point: (u32, u32), how: Pick) {
-    match how {
-        Pick::Replace => selection.clear(),
-        Pick::Add => pick(selection, &[point], Pick::Add),
-        Pick::Toggle => {}
+    if how == Pick::Add {
+        pick(selection, &[point], Pick::Add);
     }
 }
 
@@ -110,13 +108,13 @@ mod tests {
     }
 
     #[test]
-    fn pinning_two_corners_then_shift_clicking_both_selects_both() {
-        // The walkthrough's surprise: new pins stayed selected, so this selected three or unselected one.
+    fn pinning_two_corners_then_clicking_and_shift_clicking_them_selects_both() {
+        // New pins are not selected, and the selection stays as it was.
         let mut selection = vec![C];
         after_pinning(&mut selection, A, Pick::Replace);
         after_pinning(&mut selection, B, Pick::Replace);
-        assert!(selection.is_empty(), "a plain click pins without selecting");
-        pick(&mut selection, &[A], Pick::Add);
+        assert_eq!(selection, [C], "a plain click pins without selecting or clearing");
+        pick(&mut selection, &[A], Pick::Replace);
         pick(&mut selection, &[B], Pick::Add);
         assert_eq!(selection, [A, B]);
         after_pinning(&mut selection, C, Pick::Add);

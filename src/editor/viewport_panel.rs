@@ -673,15 +673,18 @@ impl ViewportPanel {
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
             ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
-            // Only with a shot camera in the scene (View ▸ Camera adds one).
-            if w.doc.scene().camera.is_some() {
+            // Greyed without a shot camera or plate, so the rows below hold still when one is added.
+            let has_camera = w.doc.scene().camera.is_some();
+            ui.add_enabled_ui(has_camera, |ui| {
                 ui.toggle_value(&mut self.toggles.shot_camera, "Camera")
-                    .on_hover_text("Look through the shot camera (orbiting leaves it)");
-            }
-            if w.doc.scene().plate.is_some() {
+                    .on_hover_text("Look through the shot camera (orbiting leaves it)")
+                    .on_disabled_hover_text("The scene has no shot camera: View ▸ Camera from view adds one");
+            });
+            ui.add_enabled_ui(w.doc.scene().plate.is_some(), |ui| {
                 ui.toggle_value(&mut self.toggles.plate, "Plate")
-                    .on_hover_text("The background plate behind the cloth, through the shot camera");
-            }
+                    .on_hover_text("The background plate behind the cloth, through the shot camera")
+                    .on_disabled_hover_text("The scene has no plate: the Shot panel's plate Choose… adds one");
+            });
         });
         self.style_ui(ui);
         egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
@@ -689,25 +692,25 @@ impl ViewportPanel {
                 ui.selectable_value(&mut self.toggles.colliders, look, look.label());
             }
         });
-        // Only with references in the scene: a row that changes with the document, not while scrubbing.
-        if !w.doc.scene().references.is_empty() {
+        // Greyed without references or a plate (not removed), so the Cloth panel below holds
+        // still when one is added.
+        ui.add_enabled_ui(!w.doc.scene().references.is_empty(), |ui| {
             egui::ComboBox::from_label("References").selected_text(self.toggles.references.label()).show_ui(ui, |ui| {
                 for look in SolidLook::ALL {
                     ui.selectable_value(&mut self.toggles.references, look, look.label());
                 }
             });
-        }
-        if w.doc.scene().plate.is_some() {
-            ui.add_enabled_ui(self.toggles.plate, |ui| {
-                ui.horizontal(|ui| {
-                    let label = ui.label("Plate").id;
-                    let slider = egui::Slider::new(&mut self.plate_view.opacity, 0.0..=1.0).fixed_decimals(2);
-                    ui.add(slider).labelled_by(label).on_hover_text(
-                        "How much of the plate the viewport shows (renders use the scene's plate opacity)",
-                    );
-                });
+        });
+        let has_plate = w.doc.scene().plate.is_some();
+        ui.add_enabled_ui(has_plate && self.toggles.plate, |ui| {
+            ui.horizontal(|ui| {
+                let label = ui.label("Plate").id;
+                let slider = egui::Slider::new(&mut self.plate_view.opacity, 0.0..=1.0).fixed_decimals(2);
+                ui.add(slider)
+                    .labelled_by(label)
+                    .on_hover_text("How much of the plate the viewport shows (renders use the scene's plate opacity)");
             });
-        }
+        });
         // Always there (greyed out with onion skin off), so the panels below hold still.
         ui.add_enabled_ui(self.toggles.onion, |ui| {
             ui.horizontal(|ui| {
