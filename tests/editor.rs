@@ -1066,6 +1066,54 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     assert!(!buttons.iter().any(|rect| rect.contains(pointer)), "the pointer at {pointer:?} is over a button");
 }
 
+/// A long relaxation keeps its progress and its Cancel in the status bar
+/// while the pointer hovers the cloth, the grid point shown beside them;
+/// Cancel stops it by taking the edit back, and Redo offers the edit again.
+#[test]
+fn a_relaxation_keeps_its_progress_and_cancel_while_the_cloth_is_hovered() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    let opened = harness.state().scene().clone();
+    let middle = harness.state().mesh().positions[16 * opened.cloth.cols() + 10];
+    let on_screen = harness.state().screen_pos(middle).unwrap();
+    // A fabric that cannot settle soon: the most sweeps, to a tolerance no sweep reaches.
+    harness.state_mut().apply("Elasticity", |s| {
+        for key in &mut s.keys {
+            key.elasticity = 1.2;
+            key.relax.iterations = drape::scene::MAX_RELAX_ITERATIONS;
+            key.relax.tolerance = 1e-15;
+        }
+    });
+    harness.event(Event::PointerMoved(on_screen));
+    for _ in 0..4 {
+        harness.step();
+    }
+    assert!(harness.state().is_relaxing());
+    assert!(harness.query_by_label_contains("Relaxing…").is_some(), "the progress");
+    assert!(harness.query_by_label_contains("Grid point (").is_some(), "the hovered point, beside it");
+    let cancel = harness.get_by_label("Cancel");
+    assert!(!cancel.accesskit_node().is_disabled());
+    assert!(harness.state().status_rect().contains(cancel.rect().center()), "Cancel is in the status bar");
+
+    // One frame per event: the spinner keeps asking for frames, and a press held longer is no click.
+    let at = cancel.rect().center();
+    harness.event(Event::PointerMoved(at));
+    harness.step();
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos: at,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        harness.step();
+    }
+    assert_eq!(harness.state().scene(), &opened, "the edit is taken back");
+    assert!(harness.state_mut().wait_for_shapes(Duration::from_secs(10)), "the relaxation stops at once");
+    assert_eq!(harness.state().document().redo_label(), Some("Elasticity"));
+    assert!(harness.query_by_label_contains("Relaxation cancelled").is_some(), "the status says so");
+}
+
 fn wheel(delta_y: f32, modifiers: Modifiers) -> Event {
     Event::MouseWheel {
         unit: egui::MouseWheelUnit::Point,

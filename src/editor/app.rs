@@ -476,10 +476,10 @@ impl DrapeApp {
         self.viewport.draw_ui(ui, &mut self.work, area);
     }
 
-    /// The status bar: relaxation progress, then a fresh message (beside
-    /// the progress, so a long relaxation does not hide it); without either,
-    /// what the mouse is doing. The grid and timings on the right keep their
-    /// room: a long message is cut (whole on hover).
+    /// The status bar: relaxation progress with its Cancel, then a fresh
+    /// message or what a pin drag or attaching asks for, beside the progress
+    /// so that neither hides it. On the right the hovered grid point, the grid
+    /// and timings keep their room: a long message is cut (whole on hover).
     fn status_bar(&mut self, ui: &mut egui::Ui) {
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             // Frames are drawn on demand: a rate only means something while they run continuously.
@@ -492,58 +492,82 @@ impl DrapeApp {
                 .on_hover_text("The editor's CPU time for the last frame (and frames per second while playing).");
             let cloth = &self.work.shown.scene.cloth;
             ui.label(format!("{} × {} grid ·", cloth.cols(), cloth.rows()));
-            ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| self.status_text_ui(ui));
+            // Here rather than on the left, where progress and messages would hide it or be hidden.
+            if let Some((i, j)) = self.work.session.hovered {
+                ui.label(format!("Grid point ({i}, {j}) ·"));
+            }
+            // An id of its own: the hovered point's label comes and goes before it, and the
+            // Cancel inside must keep its id for a click that starts as the mouse leaves the cloth.
+            let left = egui::UiBuilder::new()
+                .scope_id(ui.scope_id().with("status text"))
+                .layout(egui::Layout::left_to_right(egui::Align::Center));
+            ui.scope_builder(left, |ui| self.status_text_ui(ui));
         });
     }
 
-    /// The status bar's left part: relaxation, a message, or the mouse.
-    fn status_text_ui(&self, ui: &mut egui::Ui) {
-        let relaxing = self.work.shown.relax_status();
-        if let Some(status) = relaxing.as_ref().filter(|status| status.counting) {
+    /// The status bar's left part: the relaxation and its Cancel, then a message or a drag's hint.
+    fn status_text_ui(&mut self, ui: &mut egui::Ui) {
+        let relaxing = self.is_relaxing();
+        let status = self.work.shown.relax_status();
+        if let Some(status) = status.as_ref().filter(|status| status.counting) {
             ui.add(egui::Spinner::new());
             ui.label(format!(
                 "Checking where the rest shapes pass through themselves… ({:.1} s)",
                 status.started.elapsed().as_secs_f64()
             ));
-        } else if let Some(status) = &relaxing {
+        } else if relaxing {
             ui.add(egui::Spinner::new());
-            let keys = if status.keys_total > 1 {
-                format!(" key {} of {},", status.keys_done + 1, status.keys_total)
-            } else {
-                String::new()
-            };
-            let (cols, rows) = status.level;
-            ui.label(format!(
-                "Relaxing…{keys} {cols}×{rows} level, sweep {}/{} ({:.1} s)",
-                status.iteration,
-                status.max_iterations,
-                status.started.elapsed().as_secs_f64()
-            ));
+            // Before the progress, whose width changes with every sweep, so it holds still under the mouse.
+            let hint = "Stop relaxing: the edits that asked for it are taken back (Redo brings them back)";
+            let edits = self.work.edits_being_relaxed();
+            let cancel = ui.add_enabled(edits.is_some(), egui::Button::new("Cancel").small()).on_hover_text(hint);
+            if cancel.clicked() {
+                self.work.cancel_relaxation();
+            }
+            ui.label(match &status {
+                Some(status) => {
+                    let keys = if status.keys_total > 1 {
+                        format!(" key {} of {},", status.keys_done + 1, status.keys_total)
+                    } else {
+                        String::new()
+                    };
+                    let (cols, rows) = status.level;
+                    format!(
+                        "Relaxing…{keys} {cols}×{rows} level, sweep {}/{} ({:.1} s)",
+                        status.iteration,
+                        status.max_iterations,
+                        status.started.elapsed().as_secs_f64()
+                    )
+                }
+                None => "Relaxing…".to_owned(),
+            });
         }
         let message = self.work.message.as_ref().filter(|m| m.at.elapsed().as_secs_f64() < MESSAGE_SECS);
-        if let Some(message) = message {
-            if relaxing.is_some() {
-                ui.separator();
-            }
-            let color = if message.error { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
-            ui.add(egui::Label::new(egui::RichText::new(&message.text).color(color)).truncate());
-        } else if relaxing.is_none() {
-            self.pointer_status_ui(ui);
+        let (text, error) = match message {
+            Some(message) => (Some(message.text.clone()), message.error),
+            None => (self.pointer_status(), false),
+        };
+        let Some(text) = text else { return };
+        if status.is_some() || relaxing {
+            ui.separator();
         }
+        let color = if error { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
+        ui.add(egui::Label::new(egui::RichText::new(&text).color(color)).truncate());
     }
 
-    /// What the mouse is doing: dragging a pin, attaching one by clicking, or over a grid point.
-    fn pointer_status_ui(&self, ui: &mut egui::Ui) {
+    /// What the mouse is doing: dragging a pin or attaching one by clicking.
+    fn pointer_status(&self) -> Option<String> {
         if let Some(drag) = &self.viewport.pin_drag {
             let lock = match drag.lock {
                 Some(axis) => format!("locked to {axis:?}"),
                 None => "in the view plane".to_owned(),
             };
-            ui.label(format!("Moving pin {:?} {lock} — X/Y/Z lock an axis, Esc puts it back", drag.grabbed));
-        } else if let Some((i, j)) = self.work.session.attaching {
-            ui.label(format!("Click on a reference to attach pin ({i}, {j}) · Esc cancels"));
-        } else if let Some((i, j)) = self.work.session.hovered {
-            ui.label(format!("Grid point ({i}, {j})"));
+            Some(format!("Moving pin {:?} {lock} — X/Y/Z lock an axis, Esc puts it back", drag.grabbed))
+        } else {
+            self.work
+                .session
+                .attaching
+                .map(|(i, j)| format!("Click on a reference to attach pin ({i}, {j}) · Esc cancels"))
         }
     }
 

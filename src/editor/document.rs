@@ -143,6 +143,15 @@ impl Document {
         self.redo.last().map(|s| s.label.as_str())
     }
 
+    /// How many undo steps lead back to `scene` (0 when it is the scene now);
+    /// `None` when the undo history does not hold it.
+    pub fn undo_steps_to(&self, scene: &Scene) -> Option<usize> {
+        if self.scene == *scene {
+            return Some(0);
+        }
+        self.undo.iter().rev().position(|step| step.scene == *scene).map(|at| at + 1)
+    }
+
     /// Steps back one edit; false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
         self.end_gesture();

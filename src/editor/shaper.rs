@@ -123,6 +123,12 @@ impl Shaper {
         }
     }
 
+    /// Stops the running relaxation at its next sweep and drops the pending request.
+    pub fn cancel(&mut self) {
+        self.shared.cancel_below.store(self.next_generation, Ordering::Relaxed);
+        *self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner) = None;
+    }
+
     /// The shapes finished since the last call.
     pub fn take_built(&self) -> Vec<Built> {
         self.results.try_iter().collect()

@@ -122,6 +122,13 @@ impl Shown {
         self.requested = None;
     }
 
+    /// Stops relaxing what was asked last (the document went back to the
+    /// scene on screen); the next sync asks afresh for whatever is missing.
+    pub fn stop_relaxing(&mut self) {
+        self.shaper.cancel();
+        self.requested = None;
+    }
+
     /// A new document: nothing asked of the worker, the mesh rebuilt.
     pub fn forget_document(&mut self) {
         self.requested = None;

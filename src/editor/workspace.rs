@@ -213,6 +213,26 @@ impl Workspace {
         }
     }
 
+    /// How many edits Cancel in the status bar takes back to stop the
+    /// running relaxation: those since the scene on screen. `None` when
+    /// there is nothing to take back (the scene on screen is the document,
+    /// or not in the undo history).
+    pub fn edits_being_relaxed(&self) -> Option<usize> {
+        self.doc.undo_steps_to(&self.shown.scene).filter(|steps| *steps > 0)
+    }
+
+    /// Stops the running relaxation by taking back the edits that asked for
+    /// it (they stay on Redo), so the scene on screen is the document again.
+    pub fn cancel_relaxation(&mut self) {
+        let Some(steps) = self.edits_being_relaxed() else { return };
+        for _ in 0..steps {
+            self.doc.undo();
+        }
+        self.shown.stop_relaxing();
+        let edits = if steps == 1 { "edit" } else { "edits" };
+        self.report(format!("Relaxation cancelled: {steps} {edits} taken back (Redo brings them back)."), false);
+    }
+
     /// The key an edit of the key in effect (`label`) goes to: that key, or
     /// with auto-key on and the playhead off it, a new key at the playhead
     /// holding the pose there, made in the same undo step as the edit.
