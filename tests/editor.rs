@@ -391,6 +391,58 @@ fn closing_the_window_with_unsaved_work_asks_first() {
     assert!(sent(&harness, &egui::ViewportCommand::Close), "Don't Save closes the window");
 }
 
+/// A bundled example opens as a template: Save asks where instead of
+/// writing over it, and in the unsaved-changes question Enter is the safe
+/// Cancel, neither Save nor Don't Save. A copy saved elsewhere saves in place.
+#[test]
+fn an_example_opens_as_a_template_and_enter_in_the_question_cancels() {
+    let workspace = Workspace::new();
+    let examples = workspace.path("examples");
+    std::fs::create_dir(&examples).unwrap();
+    let table = examples.join("round_table.ron");
+    std::fs::copy("scenes/round_table.ron", &table).unwrap();
+    let original = std::fs::read(&table).unwrap();
+    let (config, state) = (workspace.path("config"), workspace.path("state"));
+    let (scene, path) = (scene::load(&table).unwrap(), table.clone());
+    let mut harness = Harness::builder().with_size(SIZE).wgpu().build_eframe(move |cc| {
+        DrapeApp::new(scene, Some(path), cc.wgpu_render_state.as_ref())
+            .with_file_dirs(Some(config), Some(state))
+            .with_examples_dir(examples)
+    });
+    settle(&mut harness);
+    harness.state_mut().apply("Elasticity", |s| s.keys[0].elasticity = 1.1);
+    harness.run_ok();
+
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    harness.run_ok();
+    assert!(harness.query_by_label("File name").is_some(), "Save asks where");
+    assert_eq!(std::fs::read(&table).unwrap(), original, "the example is not written over");
+    harness.key_press(Key::Escape);
+    harness.run_ok();
+    assert!(harness.query_by_label("File name").is_none());
+
+    request_close(&mut harness);
+    harness.run_ok();
+    assert!(harness.query_by_label("Don't Save").is_some(), "the question is asked");
+    harness.key_press(Key::Enter);
+    harness.step();
+    assert!(!sent(&harness, &egui::ViewportCommand::Close), "Enter is not Don't Save");
+    harness.run_ok();
+    assert!(harness.query_by_label("Don't Save").is_none(), "answered");
+    assert!(harness.query_by_label("File name").is_none(), "Enter is not Save");
+    assert!(harness.state().document().is_dirty(), "the work is kept");
+    assert_eq!(std::fs::read(&table).unwrap(), original);
+
+    let copy = workspace.path("my_table.ron");
+    assert!(harness.state_mut().save_to(&copy));
+    harness.state_mut().apply("Elasticity", |s| s.keys[0].elasticity = 1.2);
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    harness.run_ok();
+    assert!(harness.query_by_label("File name").is_none(), "a copy of one's own saves in place");
+    assert_eq!(scene::load(&copy).unwrap().keys[0].elasticity, 1.2);
+    settle(&mut harness);
+}
+
 /// A right click at `pos` (opens a context menu).
 fn right_click(harness: &mut Harness<'_, DrapeApp>, pos: Pos2) {
     harness.event(Event::PointerMoved(pos));

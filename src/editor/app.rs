@@ -110,6 +110,13 @@ impl DrapeApp {
         self
     }
 
+    /// Treats the scenes in `dir` as the bundled examples, which open as
+    /// templates (tests, scripted runs; the source tree's `scenes/` otherwise).
+    pub fn with_examples_dir(mut self, dir: PathBuf) -> Self {
+        self.files.set_examples_dir(dir);
+        self
+    }
+
     /// Writes the recovery file this often while there are unsaved changes.
     pub fn with_autosave_interval(mut self, interval: Duration) -> Self {
         self.files.set_autosave_interval(interval);

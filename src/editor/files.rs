@@ -48,6 +48,20 @@ pub(super) struct Files {
     closing: bool,
     /// What the rest of the editor must do about this frame's file handling.
     events: Vec<FileEvent>,
+    /// The bundled examples' folder: scenes there open as templates, and Save asks where.
+    examples_dir: PathBuf,
+}
+
+/// The folder of the bundled example scenes, in the source tree Drape was built from.
+pub fn bundled_examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
+}
+
+/// Whether `path` names a scene file directly in `examples_dir` (whatever way it is spelled).
+fn is_example(path: &Path, examples_dir: &Path) -> bool {
+    let folder = |p: &Path| std::fs::canonicalize(p).ok();
+    let parent = std::path::absolute(path).ok().and_then(|p| p.parent().and_then(folder));
+    parent.is_some() && parent == folder(examples_dir)
 }
 
 /// What file handling asks of the rest of the editor.
@@ -74,7 +88,18 @@ impl Files {
             recovered: None,
             closing: false,
             events: Vec::new(),
+            examples_dir: bundled_examples_dir(),
         }
+    }
+
+    /// Treats the scenes in `dir` as the bundled examples (tests, scripted runs).
+    pub(super) fn set_examples_dir(&mut self, dir: PathBuf) {
+        self.examples_dir = dir;
+    }
+
+    /// Whether the document is one of the bundled examples, a template that Save does not write over.
+    pub(super) fn is_template(&self, w: &Workspace) -> bool {
+        w.doc.path().is_some_and(|path| is_example(path, &self.examples_dir))
     }
 }
 
@@ -204,7 +229,14 @@ impl Files {
                 self.recent.push(path);
                 self.save_recent(w);
                 self.replace_document(w, camera, scene, Some(path.to_path_buf()));
-                w.report(format!("Opened {}", path.display()), false);
+                if self.is_template(w) {
+                    w.report(
+                        format!("Opened {}, a bundled example: Save asks where to keep your copy.", path.display()),
+                        false,
+                    );
+                } else {
+                    w.report(format!("Opened {}", path.display()), false);
+                }
             }
             Err(error) => {
                 if !path.exists() {
@@ -227,9 +259,10 @@ impl Files {
         self.events.push(FileEvent::Replaced);
     }
 
-    /// Saves to the document's file (asking for one if it has none), then carries on with `then`.
+    /// Saves to the document's file (asking for one if it has none or is a
+    /// bundled example), then carries on with `then`.
     fn save_then(&mut self, w: &mut Workspace, camera: &mut OrbitCamera, then: Option<Pending>) {
-        match w.doc.path().map(Path::to_path_buf) {
+        match w.doc.path().map(Path::to_path_buf).filter(|_| !self.is_template(w)) {
             Some(path) => {
                 if self.save_to(w, camera, &path)
                     && let Some(action) = then
@@ -246,7 +279,12 @@ impl Files {
             Some(_) => w.doc.display_name(),
             None => "untitled.ron".to_owned(),
         };
-        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &w.doc.folder(), &name, "ron");
+        // A copy of an example goes where the user keeps work, not into Drape's source tree.
+        let folder = match std::env::home_dir().filter(|_| self.is_template(w)) {
+            Some(home) => home,
+            None => w.doc.folder(),
+        };
+        let dialog = FileDialog::new(FileDialogMode::Save, "Save scene as", &folder, &name, "ron");
         self.dialog = Some((dialog, Purpose::SaveAs(then)));
     }
 
@@ -351,6 +389,9 @@ impl Files {
         if let Some(path) = w.doc.path().map(Path::to_path_buf) {
             self.recent.push(&path);
             self.save_recent(w);
+            if self.is_template(w) {
+                w.report(format!("{} is a bundled example: Save asks where to keep your copy.", path.display()), false);
+            }
         }
     }
 

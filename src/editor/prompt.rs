@@ -19,19 +19,14 @@ pub enum DiscardChoice {
 /// Draws the question as a modal with `title` as its heading, `message` below
 /// (e.g. "Save changes to tent.ron before closing?") and the buttons "Save",
 /// "Don't Save" and "Cancel". Returns `Some` on the frame the user answers;
-/// call it every frame until then. Enter answers Save (the highlighted
-/// default) and Escape Cancel; clicking beside the modal does nothing, so a
-/// stray click cannot lose work. The prompt keeps no state of its own.
+/// call it every frame until then. Enter and Escape answer Cancel (the
+/// highlighted default): a key pressed out of habit neither writes over a
+/// file nor loses work. Clicking beside the modal does nothing, so a stray
+/// click cannot either. The prompt keeps no state of its own.
 pub fn discard_prompt(ctx: &egui::Context, title: &str, message: &str) -> Option<DiscardChoice> {
     let id = Id::unique("drape discard prompt");
     let keys = take_modal_keys(ctx, id, &[]);
-    let mut choice = if keys.escape {
-        Some(DiscardChoice::Cancel)
-    } else if keys.enter {
-        Some(DiscardChoice::Save)
-    } else {
-        None
-    };
+    let mut choice = (keys.escape || keys.enter).then_some(DiscardChoice::Cancel);
     Modal::new(id).show(ctx, |ui| {
         ui.set_max_width(420.0);
         ui.heading(title);
@@ -44,12 +39,12 @@ pub fn discard_prompt(ctx: &egui::Context, title: &str, message: &str) -> Option
                 choice = Some(DiscardChoice::Discard);
             }
             ui.with_layout(Layout::right_to_left(Align::Center), |ui| {
-                let save = egui::Button::new("Save").fill(ui.visuals().selection.bg_fill);
-                if ui.add(save).clicked() {
-                    choice = Some(DiscardChoice::Save);
-                }
-                if ui.button("Cancel").clicked() {
+                let cancel = egui::Button::new("Cancel").fill(ui.visuals().selection.bg_fill);
+                if ui.add(cancel).clicked() {
                     choice = Some(DiscardChoice::Cancel);
+                }
+                if ui.button("Save").clicked() {
+                    choice = Some(DiscardChoice::Save);
                 }
             });
         });
@@ -123,9 +118,9 @@ mod tests {
     }
 
     #[test]
-    fn escape_cancels_and_enter_saves() {
+    fn escape_and_enter_cancel() {
         assert_eq!(prompt().press(Key::Escape), Some(DiscardChoice::Cancel));
-        assert_eq!(prompt().press(Key::Enter), Some(DiscardChoice::Save));
+        assert_eq!(prompt().press(Key::Enter), Some(DiscardChoice::Cancel), "Enter never writes over the file");
     }
 
     #[test]
