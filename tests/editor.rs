@@ -443,6 +443,55 @@ fn an_example_opens_as_a_template_and_enter_in_the_question_cancels() {
     settle(&mut harness);
 }
 
+/// The window opens at the size it was left at, fitted to the screen it is
+/// on, and keeps the size it is closed at for the next start.
+#[test]
+fn the_window_fits_the_screen_and_remembers_its_size() {
+    use drape::editor::window_size::WINDOW_SIZE_NAME;
+    let workspace = Workspace::new();
+    let saved = workspace.path("config").join(WINDOW_SIZE_NAME);
+    std::fs::create_dir_all(saved.parent().unwrap()).unwrap();
+    std::fs::write(&saved, "1500 900\n").unwrap();
+    let mut harness = open_carpet(&workspace);
+    let window = |harness: &mut Harness<'_, DrapeApp>, inner: egui::Vec2| {
+        let root = harness.input_mut().viewports.entry(egui::ViewportId::ROOT).or_default();
+        root.monitor_size = Some(egui::vec2(1366.0, 768.0));
+        root.inner_rect = Some(egui::Rect::from_min_size(Pos2::ZERO, inner));
+    };
+    window(&mut harness, SIZE);
+    harness.step();
+    assert!(
+        sent(&harness, &egui::ViewportCommand::InnerSize(egui::vec2(1326.0, 688.0))),
+        "the saved size, fitted to a 1366 × 768 screen"
+    );
+    window(&mut harness, egui::vec2(1250.0, 700.0));
+    harness.step();
+    assert!(
+        !harness
+            .output()
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .is_some_and(|v| v.commands.iter().any(|c| matches!(c, egui::ViewportCommand::InnerSize(_))))
+    );
+    harness.state_mut().on_exit();
+    assert_eq!(std::fs::read_to_string(&saved).unwrap(), "1250 700\n", "the size it was left at");
+}
+
+/// The grid editor gives a tall cloth room (the cape's 19 × 36 grid), and
+/// the strip under it makes it taller.
+#[test]
+fn the_grid_editor_is_roomy_and_its_height_is_dragged() {
+    let workspace = Workspace::new();
+    let mut harness = open_cape(&workspace);
+    let before = grid_editor_rect(&mut harness);
+    assert!(before.height() >= 250.0, "a tall cloth gets room: {before:?}");
+    let strip = harness.get_by_label("Grid editor height").rect().center();
+    drag(&mut harness, strip, strip + egui::vec2(0.0, 120.0));
+    let after = harness.get_by_label("Grid editor").rect();
+    assert!((after.height() - before.height() - 120.0).abs() < 1.0, "{before:?} → {after:?}");
+    assert_eq!(after.min, before.min, "it grows downwards");
+}
+
 /// A right click at `pos` (opens a context menu).
 fn right_click(harness: &mut Harness<'_, DrapeApp>, pos: Pos2) {
     harness.event(Event::PointerMoved(pos));

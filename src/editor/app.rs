@@ -33,6 +33,7 @@ use super::timeline::TimelinePanel;
 use super::typing_pace::TypingPace;
 use super::viewport;
 use super::viewport_panel::{Stage, ViewportPanel};
+use super::window_size::{self, DEFAULT_WINDOW_SIZE, MIN_WINDOW_SIZE, WINDOW_SIZE_NAME};
 use super::workspace::{MESSAGE_SECS, Workspace};
 use crate::mesh::Mesh;
 use crate::render::OrbitCamera;
@@ -67,6 +68,12 @@ pub struct DrapeApp {
     status_rect: egui::Rect,
     /// Typing and focus moves that arrived together, taken one frame at a time.
     typing: TypingPace,
+    /// Where the window's size is kept between runs (`None`: not kept).
+    window_size_file: Option<PathBuf>,
+    /// The window's inner size last frame, saved on exit.
+    window_size: Option<egui::Vec2>,
+    /// The window was fitted to its screen (once, when the screen's size is first known).
+    window_fitted: bool,
 }
 
 impl DrapeApp {
@@ -100,12 +107,16 @@ impl DrapeApp {
             sent_title: String::new(),
             status_rect: egui::Rect::NOTHING,
             typing: TypingPace::default(),
+            window_size_file: default_config_dir().map(|dir| dir.join(WINDOW_SIZE_NAME)),
+            window_size: None,
+            window_fitted: false,
         }
     }
 
     /// Keeps recent files in `config_dir` and the recovery file in `state_dir`
     /// instead of the user's (tests, scripted runs); `None` turns that feature off.
     pub fn with_file_dirs(mut self, config_dir: Option<PathBuf>, state_dir: Option<PathBuf>) -> Self {
+        self.window_size_file = config_dir.as_ref().map(|dir| dir.join(WINDOW_SIZE_NAME));
         self.files = Files::new(config_dir, state_dir);
         self
     }
@@ -583,6 +594,23 @@ impl DrapeApp {
         window_title(&self.work.doc.display_name(), self.work.doc.is_dirty(), self.work.doc.path())
     }
 
+    /// Notes the window's size for the next run and, once the screen's size
+    /// is known, makes the window fit it: the size left last time (or the
+    /// default), shrunk to the screen.
+    fn track_window_size(&mut self, ctx: &egui::Context) {
+        let (inner, screen) = ctx.input(|i| (i.viewport().inner_rect.map(|r| r.size()), i.viewport().monitor_size));
+        if let Some(size) = inner {
+            self.window_size = Some(size);
+        }
+        let Some(screen) = screen.filter(|_| !self.window_fitted) else { return };
+        self.window_fitted = true;
+        let wanted = self.window_size_file.as_deref().and_then(window_size::load).unwrap_or(DEFAULT_WINDOW_SIZE);
+        let fitted = window_size::fitted(wanted, screen);
+        if inner.is_none_or(|size| (size - fitted).length() > 1.0) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::InnerSize(fitted));
+        }
+    }
+
     fn measure_frame(&mut self) {
         let now = Instant::now();
         if let Some(last) = self.last_frame_at.replace(now) {
@@ -614,6 +642,7 @@ impl eframe::App for DrapeApp {
             ctx.request_repaint();
         }
         self.measure_frame();
+        self.track_window_size(&ctx);
         self.timeline.advance_playback(&ctx, &mut self.work);
         self.files.handle_close_request(&ctx, &self.work);
         // A viewport command asks for another frame: send the title only when it changes.
@@ -673,6 +702,13 @@ impl eframe::App for DrapeApp {
 
     fn on_exit(&mut self) {
         self.files.clean_exit();
+        if let (Some(file), Some(size)) = (&self.window_size_file, self.window_size)
+            && size.x >= MIN_WINDOW_SIZE.x
+            && size.y >= MIN_WINDOW_SIZE.y
+        {
+            // Only a convenience: a size that cannot be kept costs the next start its size, nothing more.
+            let _ = window_size::save(file, size);
+        }
     }
 
     /// eframe hands every frame's input here before egui sees it.
@@ -693,8 +729,13 @@ pub fn run(
     quit_after_frames: Option<u64>,
     problem: Option<String>,
 ) -> eframe::Result {
+    // The size left last time; the first frame fits it to the screen once the screen is known.
+    let saved = default_config_dir().and_then(|dir| window_size::load(&dir.join(WINDOW_SIZE_NAME)));
     let options = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default().with_inner_size([1400.0, 860.0]).with_title("Drape"),
+        viewport: egui::ViewportBuilder::default()
+            .with_inner_size(saved.unwrap_or(DEFAULT_WINDOW_SIZE))
+            .with_min_inner_size(MIN_WINDOW_SIZE)
+            .with_title("Drape"),
         renderer: eframe::Renderer::Wgpu,
         ..Default::default()
     };

@@ -23,18 +23,28 @@ pub enum GridAction {
     ClickNothing(Pick),
 }
 
-/// Drawing sizes in points.
-const MAX_SIDE: f32 = 260.0;
-/// A tall cloth's editor stops here.
-const MAX_HEIGHT: f32 = 190.0;
+/// Drawing sizes in points. A tall cloth's editor stops at its height, which
+/// starts here and is dragged between the two limits below.
+pub const DEFAULT_HEIGHT: f32 = 280.0;
+const MIN_HEIGHT: f32 = 120.0;
+const MAX_HEIGHT: f32 = 900.0;
+/// Height of the strip under the editor that resizes it.
+const RESIZE_STRIP: f32 = 8.0;
 const PIN_RADIUS: f32 = 4.5;
 /// Grid lines closer than this are thinned out, so a 256² grid stays readable.
 const MIN_LINE_GAP: f32 = 6.0;
 
-/// The editor's state between frames: where a box drag started.
-#[derive(Default)]
+/// The editor's state between frames: where a box drag started, and the
+/// height a tall cloth's editor may take (dragged with the strip under it).
 pub struct GridEditor {
     box_start: Option<Pos2>,
+    max_height: f32,
+}
+
+impl Default for GridEditor {
+    fn default() -> Self {
+        GridEditor { box_start: None, max_height: DEFAULT_HEIGHT }
+    }
 }
 
 /// The modifiers held when the primary button was last released this frame
@@ -96,11 +106,11 @@ impl GridEditor {
         let grid = cloth.grid;
         let aspect = (cloth.width_m() / cloth.height_m()) as f32;
         // Clear of the panel's edge, where dragging resizes the panel instead.
-        let side = (ui.available_width() - 16.0).clamp(80.0, MAX_SIDE);
-        let size = if aspect >= 1.0 { Vec2::new(side, side / aspect) } else { Vec2::new(side * aspect, side) };
-        // From the panel's width and the cloth alone, never from where the panel is scrolled
-        // to, so the editor keeps its size and place while the rows around it change.
-        let size = if size.y > MAX_HEIGHT { size * (MAX_HEIGHT / size.y) } else { size };
+        let width = (ui.available_width() - 16.0).max(80.0);
+        let size = Vec2::new(width, width / aspect);
+        // From the panel's width, the cloth and the chosen height alone, never from where the
+        // panel is scrolled to, so the editor keeps its size and place while the rows around it change.
+        let size = if size.y > self.max_height { size * (self.max_height / size.y) } else { size };
         let size = size.max(Vec2::splat(24.0));
         let (outer, response) =
             ui.allocate_exact_size(size + Vec2::splat(2.0 * PIN_RADIUS + 2.0), Sense::click_and_drag());
@@ -183,7 +193,28 @@ impl GridEditor {
                 None => GridAction::ClickNothing(how),
             });
         }
+        self.resize_strip_ui(ui, outer.width());
         (actions, hovered)
+    }
+
+    /// The strip under the editor: dragging it makes a tall cloth's editor taller or shorter.
+    fn resize_strip_ui(&mut self, ui: &mut egui::Ui, width: f32) {
+        let (strip, response) = ui.allocate_exact_size(Vec2::new(width, RESIZE_STRIP), Sense::drag());
+        response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Splitter, true, "Grid editor height"));
+        let response = response.on_hover_cursor(egui::CursorIcon::ResizeVertical);
+        if response.dragged() {
+            self.max_height = (self.max_height + response.drag_delta().y).clamp(MIN_HEIGHT, MAX_HEIGHT);
+        }
+        let visuals = ui.visuals();
+        let color = if response.hovered() || response.dragged() {
+            visuals.strong_text_color()
+        } else {
+            visuals.weak_text_color().gamma_multiply(0.5)
+        };
+        let y = strip.center().y;
+        for dx in [-6.0, 0.0, 6.0] {
+            ui.painter().circle_filled(Pos2::new(strip.center().x + dx, y), 1.5, color);
+        }
     }
 }
 

@@ -71,6 +71,7 @@ mod viewport_input;
 pub mod viewport_panel;
 mod viewport_shot;
 mod viewport_style;
+pub mod window_size;
 mod worker_job;
 pub mod workspace;
 
