@@ -529,17 +529,28 @@ fn plate_summary(plate: &scene::Plate, checked: &scene::CheckedPlate, timeline: 
     parts.join(", ")
 }
 
-/// The shot camera in a line: where it is and looks, its lens, its picture
-/// (a number that is keyed is said to be animated); or the reference's
-/// camera it follows ([`reference_camera_summary`]).
+/// The shot camera in a line: where it is and looks (a keyed position or
+/// target by where it is at the timeline's start and end), its lens, its
+/// picture; or the reference's camera it follows ([`reference_camera_summary`]).
 fn camera_summary(scene: &scene::Scene, camera: &scene::ShotCamera) -> String {
     let (width, height) = camera.image_size;
     if let Some(from) = &camera.from_reference {
         return reference_camera_summary(scene, camera, from);
     }
-    let vector = |(x, y, z): &scene::ParamVec3| match (x, y, z) {
+    let (start, end) = (scene.timeline.start, scene.timeline.end);
+    let vector = |vec3: &scene::ParamVec3| match vec3 {
         (Param::Constant(x), Param::Constant(y), Param::Constant(z)) => readable_vec3((*x, *y, *z)),
-        _ => "animated".to_owned(),
+        _ => {
+            let at =
+                |frame: i32| -> (f64, f64, f64) { drape::animate::track::sample_vec3(vec3, f64::from(frame)).into() };
+            format!("{} → {}", readable_vec3(at(start)), readable_vec3(at(end)))
+        }
+    };
+    let keyed = |(x, y, z): &scene::ParamVec3| [x, y, z].iter().any(|p| matches!(p, Param::Keys(_)));
+    let moves = if keyed(&camera.position) || keyed(&camera.target) {
+        format!(" over frames {start}–{end}")
+    } else {
+        String::new()
     };
     let lens = match (&camera.focal_length_mm, &camera.sensor_width_mm) {
         (Param::Constant(f), Param::Constant(w)) => {
@@ -552,7 +563,7 @@ fn camera_summary(scene: &scene::Scene, camera: &scene::ShotCamera) -> String {
         }
         _ => "an animated lens".to_owned(),
     };
-    format!("from {} at {}, {lens}, {width} × {height} px", vector(&camera.position), vector(&camera.target))
+    format!("from {} at {}{moves}, {lens}, {width} × {height} px", vector(&camera.position), vector(&camera.target))
 }
 
 /// A shot camera that follows a reference's glTF camera: `ShotCam of

@@ -1078,6 +1078,25 @@ fn three_hundred_pins_check_and_export_with_every_pin_in_place() {
     }
 }
 
+/// `drape check` describes a travelling shot camera by where it starts and
+/// ends, over which frames, instead of calling its position "animated".
+#[test]
+fn check_says_where_a_travelling_camera_starts_and_ends() {
+    let drape = env!("CARGO_BIN_EXE_drape");
+    let carpet = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/magic_carpet.ron");
+    let check = Command::new(drape).arg("check").arg(carpet).output().unwrap();
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "check failed: {report}{}", String::from_utf8_lossy(&check.stderr));
+    let camera = report.lines().find(|line| line.trim_start().starts_with("camera")).expect("a camera line");
+    assert!(!camera.contains("animated"), "{camera}");
+    assert!(
+        camera.contains(
+            "from (-5.6, 2.3, -0.2) → (-5.6, 2.3, 5.6) at (0, 0.95, -0.2) → (0, 0.95, 5.6) over frames 0–120"
+        ),
+        "{camera}"
+    );
+}
+
 /// `drape check scenes/*.ron`, as the modelling issue asks for it: every
 /// bundled scene is valid and every key's rest shape settled. A scene that is
 /// not valid among valid ones is reported, the others still checked, and
