@@ -84,6 +84,15 @@ fn taut_curtain() -> Case {
     }
 }
 
+/// Two top corners 0.8 m apart: the top row gathers and the cloth buckles.
+fn gathered_curtain() -> Case {
+    Case {
+        name: "gathered curtain",
+        pins: vec![((0.0, 0.0), DVec3::new(-0.4, 1.0, 0.0)), ((1.0, 0.0), DVec3::new(0.4, 1.0, 0.0))],
+        stiffness: 0.2,
+    }
+}
+
 fn four_corners() -> Case {
     let h = 0.4;
     Case {
@@ -154,6 +163,11 @@ fn assert_tolerance_keeps_the_shape(case: &Case, n: usize) {
 fn a_taut_curtain_keeps_its_shape_from_tolerance_1e5_to_1e7() {
     assert_tolerance_keeps_the_shape(&taut_curtain(), 33);
     assert_tolerance_keeps_the_shape(&taut_curtain(), 65);
+}
+
+#[test]
+fn a_gathered_curtain_keeps_its_shape_from_tolerance_1e5_to_1e7() {
+    assert_tolerance_keeps_the_shape(&gathered_curtain(), 33);
 }
 
 #[test]
