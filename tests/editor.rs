@@ -1165,6 +1165,7 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     assert_eq!(cloth_panel_places(&harness), before, "after attaching");
     let pointer = harness.ctx.pointer_latest_pos().expect("the pointer picked the node");
     assert!(!buttons.iter().any(|rect| rect.contains(pointer)), "the pointer at {pointer:?} is over a button");
+    assert!(harness.state().viewport_rect().contains(pointer), "the list floats over the viewport: {pointer:?}");
 }
 
 /// A long relaxation keeps its progress and its Cancel in the status bar

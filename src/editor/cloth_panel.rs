@@ -81,7 +81,7 @@ impl ClothPanel {
         });
         let references = w.doc.scene().references.clone();
         if let Some(button) = picker_button
-            && let Some((index, node)) = self.follow_picker.pick_ui(&button, &references)
+            && let Some((index, node)) = self.follow_picker.pick_ui(ui, &button, &references)
         {
             let reference = references[index].name.clone();
             w.apply("Follow node", |s| s.follow = Some(Follow { reference, node }));

@@ -40,15 +40,25 @@ impl NodePicker {
         self.open = false;
     }
 
-    /// The list when open, floating to the right of `button` (what opened
-    /// it); returns the reference (index) and node picked this frame, and
-    /// closes. Cancel, Esc or a click elsewhere close it without a pick.
-    pub fn pick_ui(&mut self, button: &egui::Response, references: &[Reference]) -> Option<(usize, String)> {
+    /// The list when open, floating at the height of `button` (what opened
+    /// it) just right of `ui`'s panel, over the viewport; returns the
+    /// reference (index) and node picked this frame, and closes. Cancel, Esc
+    /// or a click elsewhere close it without a pick.
+    pub fn pick_ui(
+        &mut self,
+        ui: &egui::Ui,
+        button: &egui::Response,
+        references: &[Reference],
+    ) -> Option<(usize, String)> {
         if !self.open || references.is_empty() {
             return None;
         }
         let mut open = true;
+        // Beside the panel rather than the button: a pick then leaves the pointer over
+        // the viewport, not over the panel's grid editor or buttons.
+        let beside = egui::Rect::from_x_y_ranges(button.rect.left()..=ui.clip_rect().right(), button.rect.y_range());
         let shown = egui::Popup::from_response(button)
+            .anchor(beside)
             .id(button.id.with("node list"))
             .open_bool(&mut open)
             .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)

@@ -49,7 +49,7 @@ pub fn attachment_ui(ui: &mut egui::Ui, w: &mut Workspace, selected: &[Pin], pic
         picker.close();
         return;
     }
-    if let Some((reference, node)) = picker.pick_ui(&node_button, &references) {
+    if let Some((reference, node)) = picker.pick_ui(ui, &node_button, &references) {
         w.attach_selected_to_node(reference, &node);
     }
 }

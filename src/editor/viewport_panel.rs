@@ -673,18 +673,13 @@ impl ViewportPanel {
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
             ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
-            // Greyed without a shot camera or plate, so the rows below hold still when one is added.
-            let has_camera = w.doc.scene().camera.is_some();
-            ui.add_enabled_ui(has_camera, |ui| {
-                ui.toggle_value(&mut self.toggles.shot_camera, "Camera")
-                    .on_hover_text("Look through the shot camera (orbiting leaves it)")
-                    .on_disabled_hover_text("The scene has no shot camera: View ▸ Camera from view adds one");
-            });
-            ui.add_enabled_ui(w.doc.scene().plate.is_some(), |ui| {
-                ui.toggle_value(&mut self.toggles.plate, "Plate")
-                    .on_hover_text("The background plate behind the cloth, through the shot camera")
-                    .on_disabled_hover_text("The scene has no plate: the Shot panel's plate Choose… adds one");
-            });
+            // Greyed and off without a shot camera or plate, so the rows below hold still when one is added.
+            let hint = "Look through the shot camera (orbiting leaves it)";
+            let missing = "The scene has no shot camera: View ▸ Add camera from view adds one";
+            toggle_if_ui(ui, w.doc.scene().camera.is_some(), &mut self.toggles.shot_camera, "Camera", hint, missing);
+            let hint = "The background plate behind the cloth, through the shot camera";
+            let missing = "The scene has no plate: the Shot panel's Add plate… adds one";
+            toggle_if_ui(ui, w.doc.scene().plate.is_some(), &mut self.toggles.plate, "Plate", hint, missing);
         });
         self.style_ui(ui);
         egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
@@ -722,5 +717,15 @@ impl ViewportPanel {
                 ui.add(drag).labelled_by(label);
             });
         });
+    }
+}
+
+/// A toggle for `value` when `available`; otherwise the same button greyed
+/// and shown off (whatever `value` holds), saying why on hover.
+fn toggle_if_ui(ui: &mut egui::Ui, available: bool, value: &mut bool, label: &str, hint: &str, missing: &str) {
+    if available {
+        ui.toggle_value(value, label).on_hover_text(hint);
+    } else {
+        ui.add_enabled(false, egui::Button::new(label).selected(false)).on_disabled_hover_text(missing);
     }
 }
