@@ -1,6 +1,7 @@
 //! File ▸ New / Open / Open Recent / Save / Save As, the question before
 //! unsaved work is thrown away (also when the window closes), load errors,
-//! autosave to the recovery file and the offer to restore it.
+//! autosave to the recovery file and the offer to restore it. A scene from
+//! the bundled examples' folder is a template: Save asks where, like Save As.
 
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};

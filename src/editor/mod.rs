@@ -8,7 +8,8 @@
 //! [`viewport_panel`] (with `viewport_input` for the mouse, [`viewport`] for
 //! the GPU), `timeline`, `layers_panel`, `colliders_panel` and
 //! `references_panel` (with [`curve_view`]), `cloth_panel`
-//! (with [`grid_editor`]), [`files`], `export_window` and `render_window`. No panel imports
+//! (with [`grid_editor`]), [`files`] (with [`window_size`], kept beside the
+//! recent files), `export_window` and `render_window`. No panel imports
 //! another panel or the app; what one panel changes for another (the
 //! playhead, selected pins, key or layer, Follow, auto-key) lives in the
 //! workspace's session.

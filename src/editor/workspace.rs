@@ -229,8 +229,8 @@ impl Workspace {
             self.doc.undo();
         }
         self.shown.stop_relaxing();
-        let edits = if steps == 1 { "edit" } else { "edits" };
-        self.report(format!("Relaxation cancelled: {steps} {edits} taken back (Redo brings them back)."), false);
+        let (edits, them) = if steps == 1 { ("edit", "it") } else { ("edits", "them") };
+        self.report(format!("Relaxation cancelled: {steps} {edits} taken back (Redo brings {them} back)."), false);
     }
 
     /// The key an edit of the key in effect (`label`) goes to: that key, or
