@@ -107,6 +107,21 @@ fn four_corners() -> Case {
     }
 }
 
+/// Four corners with one raised 0.2 m: no mirror symmetry.
+fn tilted_corners() -> Case {
+    let h = 0.4;
+    Case {
+        name: "tilted corners",
+        pins: vec![
+            ((0.0, 0.0), DVec3::new(-h, 1.2, -h)),
+            ((1.0, 0.0), DVec3::new(h, 1.0, -h)),
+            ((0.0, 1.0), DVec3::new(-h, 1.0, h)),
+            ((1.0, 1.0), DVec3::new(h, 1.0, h)),
+        ],
+        stiffness: 0.2,
+    }
+}
+
 fn tent() -> Case {
     let h = 0.5;
     Case {
@@ -174,6 +189,12 @@ fn a_gathered_curtain_keeps_its_shape_from_tolerance_1e5_to_1e7() {
 fn four_corners_keep_their_shape_from_tolerance_1e5_to_1e7() {
     assert_tolerance_keeps_the_shape(&four_corners(), 33);
     assert_tolerance_keeps_the_shape(&four_corners(), 65);
+}
+
+#[test]
+fn tilted_corners_keep_their_shape_from_tolerance_1e5_to_1e7() {
+    assert_tolerance_keeps_the_shape(&tilted_corners(), 33);
+    assert_tolerance_keeps_the_shape(&tilted_corners(), 65);
 }
 
 #[test]

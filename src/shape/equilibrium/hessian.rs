@@ -12,9 +12,12 @@ use super::terms::{Evaluated, Term};
 /// Where a term's blocks go in the value array.
 #[derive(Clone, Copy)]
 struct Slots {
-    /// Free rank of each end (`None` for a pin).
+    /// Unknown of each end (`None` for a pin).
     a: Option<usize>,
     b: Option<usize>,
+    /// Each end's step is its unknown's with these signs.
+    sign_a: [f64; 3],
+    sign_b: [f64; 3],
     /// Position of the lower-ranked end among the higher one's coupled points.
     pair: usize,
 }
@@ -35,12 +38,13 @@ pub(super) struct Hessian {
 pub(super) struct NotDefinite;
 
 impl Hessian {
-    /// The pattern for `terms` over points whose free rank is `rank[v]`,
-    /// and for `links`, further pairs of free ranks that couple.
-    pub(super) fn new(rank: &[Option<usize>], free: usize, terms: &[Term], links: &[(usize, usize)]) -> Hessian {
+    /// The pattern for `terms` over `free` unknowns of three: point `v`
+    /// moves as unknown `rank[v]` with the signs `sign[v]` (mirrored points
+    /// share one).
+    pub(super) fn new(rank: &[Option<usize>], sign: &[[f64; 3]], free: usize, terms: &[Term]) -> Hessian {
         let mut coupled: Vec<Vec<usize>> = vec![Vec::new(); free];
         let pairs = terms.iter().filter_map(|t| Some((rank[t.a]?, rank[t.b]?)));
-        for (p, q) in pairs.chain(links.iter().copied()).filter(|(p, q)| p != q) {
+        for (p, q) in pairs.filter(|(p, q)| p != q) {
             coupled[p.max(q)].push(p.min(q));
         }
         for list in &mut coupled {
@@ -65,13 +69,13 @@ impl Hessian {
             .map(|t| {
                 let (a, b) = (rank[t.a], rank[t.b]);
                 let pair = match (a, b) {
-                    (Some(p), Some(q)) => {
+                    (Some(p), Some(q)) if p != q => {
                         let (lo, hi) = (p.min(q), p.max(q));
                         coupled[hi].binary_search(&lo).unwrap_or(0)
                     }
                     _ => 0,
                 };
-                Slots { a, b, pair }
+                Slots { a, b, sign_a: sign[t.a], sign_b: sign[t.b], pair }
             })
             .collect();
         let pattern = SymbolicSparseColMatRef::new_checked(unknowns, unknowns, &col_ptr, None, &row_idx);
@@ -98,49 +102,40 @@ impl Hessian {
         self.col_ptr[3 * q + beta] + 3 * self.coupled[q].len() + alpha
     }
 
-    /// Adds term `index`'s blocks.
+    /// Adds term `index`'s blocks: `S_a·K·S_a` and `S_b·K·S_b` on the
+    /// diagonal, `−S_a·K·S_b` between the ends (on the diagonal, with its
+    /// transpose, where both ends are one unknown).
     pub(super) fn add(&mut self, index: usize, e: &Evaluated) {
-        let Slots { a, b, pair } = self.slots[index];
+        let Slots { a, b, sign_a, sign_b, pair } = self.slots[index];
+        let k = &e.hessian;
         let entries = || (0..3).flat_map(|alpha| (0..3).map(move |beta| (alpha, beta)));
-        for end in [a, b].into_iter().flatten() {
+        for (end, s) in [(a, sign_a), (b, sign_b)] {
+            let Some(end) = end else { continue };
             for (alpha, beta) in entries().filter(|(alpha, beta)| alpha <= beta) {
                 let at = self.diagonal(end, alpha, beta);
-                self.values[at] += e.hessian[alpha][beta];
+                self.values[at] += s[alpha] * s[beta] * k[alpha][beta];
             }
         }
-        if let (Some(p), Some(q)) = (a, b) {
-            let (lo, hi) = (p.min(q), p.max(q));
-            for (alpha, beta) in entries() {
-                let at = self.off_diagonal(lo, hi, pair, alpha, beta);
-                self.values[at] -= e.hessian[alpha][beta];
+        let (Some(p), Some(q)) = (a, b) else { return };
+        if p == q {
+            for (alpha, beta) in entries().filter(|(alpha, beta)| alpha <= beta) {
+                let at = self.diagonal(p, alpha, beta);
+                self.values[at] -= (sign_a[alpha] * sign_b[beta] + sign_b[alpha] * sign_a[beta]) * k[alpha][beta];
             }
+            return;
+        }
+        let ((lo, sign_lo), (hi, sign_hi)) =
+            if p < q { ((p, sign_a), (q, sign_b)) } else { ((q, sign_b), (p, sign_a)) };
+        for (alpha, beta) in entries() {
+            let at = self.off_diagonal(lo, hi, pair, alpha, beta);
+            self.values[at] -= sign_lo[alpha] * sign_hi[beta] * k[alpha][beta];
         }
     }
 
-    /// Adds a penalty `weight · |d_p − R·d_q|²/2` on free ranks `p` and `q`,
-    /// `R` flipping coordinate `axis` (a mirror's antisymmetric motion);
-    /// `p == q` penalises that coordinate alone.
-    pub(super) fn add_link(&mut self, p: usize, q: usize, axis: usize, weight: f64) {
-        if p == q {
-            let at = self.diagonal(p, axis, axis);
-            self.values[at] += weight;
-            return;
-        }
-        for end in [p, q] {
-            for alpha in 0..3 {
-                let at = self.diagonal(end, alpha, alpha);
-                self.values[at] += weight;
-            }
-        }
-        let (lo, hi) = (p.min(q), p.max(q));
-        let Ok(pair) = self.coupled[hi].binary_search(&lo) else {
-            panic!("a link is in the pattern it was built with");
-        };
-        for alpha in 0..3 {
-            let flip = if alpha == axis { -1.0 } else { 1.0 };
-            let at = self.off_diagonal(lo, hi, pair, alpha, alpha);
-            self.values[at] -= weight * flip;
-        }
+    /// Adds `value` to the diagonal entry of unknown `q`'s coordinate `axis`.
+    pub(super) fn add_diagonal(&mut self, q: usize, axis: usize, value: f64) {
+        let at = self.diagonal(q, axis, axis);
+        self.values[at] += value;
     }
 
     /// Adds `shift` to every diagonal entry (Levenberg–Marquardt).
@@ -224,7 +219,8 @@ mod tests {
             })
             .collect();
         let problem = Problem::new(cols, rows, &pinned, &params);
-        let mut hessian = Hessian::new(&problem.rank, problem.free.len(), &problem.terms, &[]);
+        let sign = vec![[1.0; 3]; cols * rows];
+        let mut hessian = Hessian::new(&problem.rank, &sign, problem.free.len(), &problem.terms);
         problem.assemble(&x, &mut hessian, false);
         let unknowns = 3 * problem.free.len();
         let direction: Vec<f64> = (0..unknowns).map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.5).collect();

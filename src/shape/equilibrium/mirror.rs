@@ -4,11 +4,8 @@
 //! saddle between two buckled shapes; the factorisation's rounding is not
 //! symmetric and would tip the cloth into one of them. Averaging every
 //! step's points with their mirror images keeps the cloth on the shape its
-//! symmetric start chose, and a stiff penalty on motion that breaks the
-//! symmetry, added to the Hessian, leaves the Newton step on symmetric
-//! motion exact (the two kinds of motion do not couple at a symmetric
-//! shape) while making the matrix definite where the saddle's downhill way
-//! out is antisymmetric.
+//! symmetric start chose; the Newton steps are solved for one point of each
+//! orbit (`orbits`), so they are symmetric to begin with.
 
 use glam::DVec3;
 
@@ -50,11 +47,9 @@ impl Mirror {
         mirrors
     }
 
-    /// The pairs of free points this mirror maps onto each other (each
-    /// once, by free rank; a point on the plane pairs with itself).
-    pub(super) fn links(&self, rank: &[Option<usize>]) -> Vec<(usize, usize)> {
-        let pairs = (0..self.partner.len()).filter(|&k| self.partner[k] >= k);
-        pairs.filter_map(|k| Some((rank[k]?, rank[self.partner[k]]?))).collect()
+    /// The point this mirror maps `point` onto.
+    pub(super) fn partner(&self, point: usize) -> usize {
+        self.partner[point]
     }
 
     pub(super) fn axis(&self) -> usize {
