@@ -743,7 +743,10 @@ fn temporaries_in(dir: &Path) -> Vec<String> {
 }
 
 /// Starts `drape` with `args` in `dir` and waits until a temporary file or
-/// staging directory of it shows in `dir` (the write under way).
+/// staging directory of it shows in `dir` with its marker written (the
+/// write under way; a process killed between making the directory and
+/// writing its marker leaves a directory no later write may prove is
+/// Drape's, so the kill waits for the marker).
 fn start_writing(dir: &Path, args: &[&str]) -> Child {
     start_writing_with(drape(), dir, args)
 }
@@ -752,7 +755,8 @@ fn start_writing(dir: &Path, args: &[&str]) -> Child {
 fn start_writing_with(mut command: Command, dir: &Path, args: &[&str]) -> Child {
     let mut child = command.args(args).current_dir(dir).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
     let started = Instant::now();
-    while temporaries_in(dir).is_empty() {
+    let marked = |name: &String| fs::metadata(dir.join(name).join(".drape-temporary")).is_ok_and(|m| m.len() > 0);
+    while !temporaries_in(dir).iter().any(marked) {
         if let Some(status) = child.try_wait().unwrap() {
             let output = child.wait_with_output().unwrap();
             panic!("drape {args:?} ended ({status}) before it could be interrupted: {}", stderr(&output));
