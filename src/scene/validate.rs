@@ -46,7 +46,7 @@ pub const MAX_PINS_PER_KEY: usize = 4096;
 /// 512 × 512, over 5000 on a 33 × 25 curtain). Every key's rest shape is
 /// kept while the scene is evaluated (about 25 MB a key at 512 × 512), and
 /// a key that settles readily relaxes in about 10 s: at this limit `drape
-/// check` takes under 500 MB (README, "Files and safety").
+/// check` takes under 500 MB (docs/editor.md, "Files and safety").
 pub const MAX_KEY_POINTS: u64 = 1 << 22;
 /// Most layers in the stack; each costs a pass over the cloth every frame:
 /// at 512 × 512 the slowest (gusts with 6 octaves) about 15 ms a frame.
