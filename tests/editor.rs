@@ -2216,3 +2216,19 @@ fn file_render_writes_a_png_sequence_with_alpha() {
         assert_eq!(image.pixel(0, 0)[3], 0, "{name}: the corner is off the cloth, transparent");
     }
 }
+
+/// Help lists the manual's pages and shows the one chosen, in the window.
+#[test]
+fn help_shows_the_manuals_pages() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    harness.get_by_label("Help").click();
+    harness.run_ok();
+    for title in ["Tutorials", "The editor", "Command line", "Exporting", "Scene files", "Rendering", "How it works"] {
+        assert!(harness.query_by_label(title).is_some(), "Help lists {title}");
+    }
+    harness.get_by_label("Tutorials").click();
+    harness.run_ok();
+    assert!(harness.query_by_label_contains("Manual: Tutorials").is_some(), "the page's window opens");
+    assert!(harness.query_by_label_contains("## Your first tablecloth (five minutes)").is_some(), "with its text");
+}

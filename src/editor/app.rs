@@ -55,6 +55,7 @@ pub struct DrapeApp {
     export: ExportWindow,
     render: RenderWindow,
     show_shortcuts: bool,
+    manual: super::manual::Manual,
     /// CPU time of the last update and the smoothed time between frames, for the readout.
     last_update_ms: f64,
     frame_interval_ms: f64,
@@ -99,6 +100,7 @@ impl DrapeApp {
             export: ExportWindow::default(),
             render: RenderWindow::default(),
             show_shortcuts: false,
+            manual: super::manual::Manual::default(),
             last_update_ms: 0.0,
             frame_interval_ms: 0.0,
             last_frame_at: None,
@@ -379,6 +381,8 @@ impl DrapeApp {
                 if ui.button("Keyboard shortcuts").clicked() {
                     self.show_shortcuts = true;
                 }
+                ui.separator();
+                self.manual.menu_ui(ui);
             });
         });
     }
@@ -674,6 +678,7 @@ impl eframe::App for DrapeApp {
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));
         self.work.keep_attach_mode_on_its_pin();
         self.shortcuts_window(&ctx);
+        self.manual.window_ui(&ctx);
         self.export.window_ui(&ctx, &mut self.work);
         self.render.window_ui(&ctx, &mut self.work);
         self.files.dialogs_ui(&ctx, &mut self.work, &mut self.viewport.camera);

@@ -9,7 +9,7 @@
 //! the GPU), `timeline`, `layers_panel`, `colliders_panel` and
 //! `references_panel` (with [`curve_view`]), `cloth_panel`
 //! (with [`grid_editor`]), [`files`] (with [`window_size`], kept beside the
-//! recent files), `export_window` and `render_window`. No panel imports
+//! recent files), `export_window` and `render_window`; [`manual`] shows the manual's pages. No panel imports
 //! another panel or the app; what one panel changes for another (the
 //! playhead, selected pins, key or layer, Follow, auto-key) lives in the
 //! workspace's session.
@@ -39,6 +39,7 @@ pub mod grid_editor;
 mod icons;
 mod keyed_number;
 mod layers_panel;
+pub mod manual;
 mod node_picker;
 mod number_field;
 pub mod param_edit;
