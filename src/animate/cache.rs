@@ -197,8 +197,9 @@ impl ShapeInputs {
 /// back, up to this many; the least recently used go first.
 pub const RETAINED_UNUSED_SHAPES: usize = 16;
 
-/// A content-addressed store of [`KeyShape`]s.
-#[derive(Debug, Default)]
+/// A content-addressed store of [`KeyShape`]s. A clone shares the shapes
+/// (they are reference-counted), so handing a copy to a worker is cheap.
+#[derive(Clone, Debug, Default)]
 pub struct RestShapeCache {
     entries: HashMap<ShapeInputs, Entry>,
     /// Counts calls to [`RestShapeCache::shapes`]; entries remember the last one that used them.
@@ -206,7 +207,7 @@ pub struct RestShapeCache {
     builds: u64,
 }
 
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Entry {
     shape: Arc<KeyShape>,
     last_used: u64,

@@ -88,6 +88,12 @@ impl Evaluator {
         Evaluator::default()
     }
 
+    /// An evaluator starting from `cache`'s rest shapes (the editor hands an
+    /// export the shapes it shows, so nothing is relaxed twice).
+    pub fn with_cache(cache: RestShapeCache) -> Evaluator {
+        Evaluator { cache, ..Evaluator::default() }
+    }
+
     pub fn cache(&self) -> &RestShapeCache {
         &self.cache
     }

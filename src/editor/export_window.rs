@@ -21,9 +21,10 @@ use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use super::number_field::number_field;
 use super::worker_job::WorkerJob;
 use super::workspace::Workspace;
+use crate::animate::Evaluator;
 use crate::export::{
     AnimationFormat, ExportError, ExportOptions, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size,
-    check_output, export_animation_with,
+    check_output, export_animation_using,
 };
 use crate::scene::{Scene, readable_bytes};
 
@@ -103,8 +104,17 @@ fn options(scene_path: Option<&Path>, allowed: Allowed) -> ExportOptions {
     }
 }
 
-/// Starts exporting `scene` (saved at `scene_path`) on a worker thread.
-fn start(scene: Scene, scene_path: Option<PathBuf>, settings: Settings, allowed: Allowed, ctx: egui::Context) -> Job {
+/// What an export job starts from: the scene, where it is saved, and an
+/// evaluator holding the rest shapes on screen.
+struct Start {
+    scene: Scene,
+    scene_path: Option<PathBuf>,
+    evaluator: Evaluator,
+}
+
+/// Starts exporting on a worker thread.
+fn start(from: Start, settings: Settings, allowed: Allowed, ctx: egui::Context) -> Job {
+    let Start { scene, scene_path, evaluator } = from;
     let (format, first, last, output) = settings.clone();
     let worker = WorkerJob::start(ctx, move |progress, cancel| {
         let mut progress = |done: usize, total: usize| {
@@ -113,7 +123,7 @@ fn start(scene: Scene, scene_path: Option<PathBuf>, settings: Settings, allowed:
         };
         let options = options(scene_path.as_deref(), allowed);
         let output = PathBuf::from(output.trim());
-        export_animation_with(&scene, first..=last, &output, format, &options, &mut progress)
+        export_animation_using(&scene, first..=last, &output, format, &options, evaluator, &mut progress)
     });
     Job { worker, settings, allowed }
 }
@@ -300,8 +310,12 @@ impl ExportWindow {
             Some((hold, reason)) => self.refused = Some(Refusal { reason, hold, settings, allowed }),
             None => {
                 self.refused = None;
-                let path = w.doc.path().map(Path::to_path_buf);
-                self.job = Some(start(w.doc.scene().clone(), path, settings, allowed, ctx.clone()));
+                let from = Start {
+                    scene: w.doc.scene().clone(),
+                    scene_path: w.doc.path().map(Path::to_path_buf),
+                    evaluator: w.shown.job_evaluator(),
+                };
+                self.job = Some(start(from, settings, allowed, ctx.clone()));
             }
         }
     }
@@ -319,8 +333,13 @@ impl ExportWindow {
                     0 => String::new(),
                     count => format!("; removed {count} frames of the earlier sequence"),
                 };
+                let reused = match summary.rest_shapes_built {
+                    0 => " (each key's shape as on screen)".to_owned(),
+                    1 => " (relaxing 1 key first)".to_owned(),
+                    built => format!(" (relaxing {built} keys first)"),
+                };
                 let count = summary.frame_count;
-                w.report(format!("Exported {count} frames to {file} in {seconds:.1} s{removed}"), false);
+                w.report(format!("Exported {count} frames to {file} in {seconds:.1} s{reused}{removed}"), false);
                 self.open = false;
             }
             // The folder changed while the frames were evaluated.
@@ -469,6 +488,34 @@ mod tests {
         let expected: Vec<String> = (0..4).map(|frame| format!("curtain_{frame:04}.obj")).collect();
         assert_eq!(old_curtain_frames(&folder), expected);
         assert_ne!(std::fs::read_to_string(folder.join("curtain_0000.obj")).unwrap(), "old");
+    }
+
+    /// The export starts from the rest shapes the editor shows: it relaxes
+    /// no key again, and says so.
+    #[test]
+    fn file_export_uses_the_shapes_on_screen() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene_file = dir.path().join("curtain.ron");
+        std::fs::write(&scene_file, include_str!("../../scenes/curtain.ron")).unwrap();
+        let mut workspace = Workspace::new(crate::scene::load(&scene_file).unwrap(), Some(scene_file));
+        assert!(workspace.shown.wait_for(&workspace.doc, Duration::from_secs(120)), "the keys relax");
+        // The viewport has drawn the scene.
+        workspace.shown.refresh_mesh(0.0, crate::animate::Stage::Animated, None);
+        let mut window = ExportWindow { format: AnimationFormat::Pc2, ..ExportWindow::default() };
+        window.open_for(&workspace.doc);
+        (window.first, window.last, window.output) = (0, 3, dir.path().join("curtain.pc2").display().to_string());
+        let mut driver = UiDriver::new(Editor { window, workspace }, show);
+        driver.click("Export");
+        let deadline = std::time::Instant::now() + Duration::from_secs(120);
+        let message = loop {
+            if let Some(message) = driver.frame(Vec::new()) {
+                break message;
+            }
+            assert!(std::time::Instant::now() < deadline, "the export did not finish");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        assert!(message.starts_with("Exported 4 frames to "), "{message}");
+        assert!(message.ends_with("(each key's shape as on screen)"), "{message}");
     }
 
     #[test]

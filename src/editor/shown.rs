@@ -91,6 +91,12 @@ impl Shown {
         }
     }
 
+    /// An evaluator for a job on another thread (an export), holding the
+    /// rest shapes shown, so keys already relaxed on screen are not relaxed again.
+    pub fn job_evaluator(&self) -> Evaluator {
+        Evaluator::with_cache(self.evaluator.cache().clone())
+    }
+
     /// The bounding box of the shown scene's keys (min, max), metres.
     pub fn bounds(&mut self) -> (glam::Vec3, glam::Vec3) {
         scene_bounds(&mut self.evaluator, &self.scene)

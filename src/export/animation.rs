@@ -160,6 +160,9 @@ pub struct ExportSummary {
     /// Frames of an earlier sequence removed as the new one moved in
     /// ([`ExportOptions::replace_sequence`]), in frame order.
     pub removed: Vec<PathBuf>,
+    /// Key rest shapes the export relaxed itself (0 when every one came
+    /// with the evaluator it was given).
+    pub rest_shapes_built: u64,
 }
 
 /// Writes the frames `frames` (both ends included) of `scene`'s animation to
@@ -235,6 +238,7 @@ pub fn export_animation_using(
         }
     };
     let frame_count = job.frame_count();
+    let rest_shapes_built = job.source.rest_shapes_built();
     let mesh = job.source.mesh(first);
     Ok(ExportSummary {
         format,
@@ -247,6 +251,7 @@ pub fn export_animation_using(
         fps: scene.timeline.fps,
         left_out,
         removed,
+        rest_shapes_built,
     })
 }
 

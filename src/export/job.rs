@@ -16,6 +16,8 @@ pub struct FrameSource<'s> {
     stage: Stage,
     layers: bool,
     evaluator: Evaluator,
+    /// The evaluator's count of rest shapes built when it came.
+    builds_before: u64,
     mesh: Mesh,
 }
 
@@ -26,7 +28,13 @@ impl<'s> FrameSource<'s> {
 
     /// A source that evaluates through `evaluator` (its cached rest shapes are used, not rebuilt).
     pub fn with_evaluator(scene: &'s Scene, stage: Stage, layers: bool, evaluator: Evaluator) -> FrameSource<'s> {
-        FrameSource { scene, stage, layers, evaluator, mesh: Mesh::default() }
+        let builds_before = evaluator.cache().builds();
+        FrameSource { scene, stage, layers, evaluator, builds_before, mesh: Mesh::default() }
+    }
+
+    /// Rest shapes relaxed through this source so far (not counting those its evaluator came with).
+    pub fn rest_shapes_built(&self) -> u64 {
+        self.evaluator.cache().builds() - self.builds_before
     }
 
     pub fn scene(&self) -> &'s Scene {
