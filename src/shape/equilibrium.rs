@@ -11,7 +11,7 @@
 //!   spring [`SHEAR_SHARE`] as stiff outside it;
 //! - bending: second neighbours along a row or column stay at least as far
 //!   apart as the smallest radius of curvature *Stiffness* allows, held by a
-//!   spring as stiff as the stretch outside that limit (none at stiffness 0);
+//!   spring half as stiff as the stretch inside that limit (none at stiffness 0);
 //! - gravity: every free point weighs 1 (−Y);
 //! - pins are fixed.
 //!
@@ -49,7 +49,7 @@ use orbits::Orbits;
 use terms::Term;
 
 /// A strip of the cloth as wide as the cloth stretches by the inverse of this
-/// under the whole cloth's weight (500: 0.2 %).
+/// under the whole cloth's weight (5 000: 0.02 %).
 pub const STRETCH_MODULUS: f64 = 5000.0;
 
 /// Shear stiffness outside the free range, as a share of the stretch modulus.
