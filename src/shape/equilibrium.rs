@@ -147,8 +147,8 @@ impl Problem {
             out[3 * rank + 1] = 1.0;
         }
         for t in &self.terms {
-            let Some(e) = t.evaluate(x, true) else { continue };
-            self.add_gradient(t, e.gradient_a, out);
+            let Some(g) = t.gradient(x) else { continue };
+            self.add_gradient(t, g, out);
         }
     }
 
@@ -169,8 +169,8 @@ impl Problem {
     fn assemble(&self, x: &[DVec3], hessian: &mut Hessian, definite: bool) {
         hessian.clear();
         for (index, t) in self.terms.iter().enumerate() {
-            if let Some(e) = t.evaluate(x, definite) {
-                hessian.add(index, &e);
+            if let Some(block) = t.hessian(x, definite) {
+                hessian.add(index, &block);
             }
         }
     }
@@ -280,7 +280,6 @@ pub fn equilibrate(
         }
         std::mem::swap(&mut x, &mut trial);
         std::mem::swap(&mut gradient, &mut trial_gradient);
-        trial.copy_from_slice(&x);
         report.residual = residual(&gradient);
         shift_share =
             if alpha == 1.0 { (shift_share * 0.25).max(1e-15) } else { (shift_share * 4.0).min(LARGEST_SHIFT) };

@@ -7,7 +7,7 @@ use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 
-use super::terms::{Evaluated, Term};
+use super::terms::{Block, Term};
 
 /// Where a term's blocks go in the value array.
 #[derive(Clone, Copy)]
@@ -105,9 +105,8 @@ impl Hessian {
     /// Adds term `index`'s blocks: `S_a·K·S_a` and `S_b·K·S_b` on the
     /// diagonal, `−S_a·K·S_b` between the ends (on the diagonal, with its
     /// transpose, where both ends are one unknown).
-    pub(super) fn add(&mut self, index: usize, e: &Evaluated) {
+    pub(super) fn add(&mut self, index: usize, k: &Block) {
         let Slots { a, b, sign_a, sign_b, pair } = self.slots[index];
-        let k = &e.hessian;
         let entries = || (0..3).flat_map(|alpha| (0..3).map(move |beta| (alpha, beta)));
         for (end, s) in [(a, sign_a), (b, sign_b)] {
             let Some(end) = end else { continue };

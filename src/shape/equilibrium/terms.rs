@@ -17,13 +17,8 @@ pub(super) struct Term {
     pub(super) k: f64,
 }
 
-/// A term's derivatives at the current positions: the gradient with
-/// respect to point `a` (point `b`'s is its negative) and the 3 × 3 Hessian
-/// block `H_aa` (`H_bb` is the same, `H_ab` its negative).
-pub(super) struct Evaluated {
-    pub(super) gradient_a: DVec3,
-    pub(super) hessian: [[f64; 3]; 3],
-}
+/// A term's 3 × 3 Hessian block `H_aa` (`H_bb` is the same, `H_ab` its negative).
+pub(super) type Block = [[f64; 3]; 3];
 
 impl Term {
     /// The distance this term pulls or pushes towards, if it is outside its range.
@@ -47,19 +42,31 @@ impl Term {
         }
     }
 
-    /// Gradient and Hessian block (`None` inside the range). With `definite`, the block's part
+    /// Where the term pulls: the unit direction from `b` to `a`, the
+    /// distance and the distance it pulls towards (`None` inside the range
+    /// or with the two points on one another).
+    #[inline]
+    fn stretch(&self, x: &[DVec3]) -> Option<(DVec3, f64, f64)> {
+        let delta = x[self.a] - x[self.b];
+        let l = delta.length();
+        let c = self.target(l)?;
+        (l > 0.0).then(|| (delta / l, l, c))
+    }
+
+    /// The energy's gradient with respect to point `a` (`b`'s is its negative).
+    #[inline]
+    pub(super) fn gradient(&self, x: &[DVec3]) -> Option<DVec3> {
+        let (d, l, c) = self.stretch(x)?;
+        Some(d * (self.k * (l - c)))
+    }
+
+    /// The Hessian block (`None` inside the range). With `definite`, the block's part
     /// across the pair (which is negative where the pair is closer than its
     /// target: a compressed spring buckles either way) is dropped, so every
     /// block is positive semi-definite (projected Newton).
     #[inline]
-    pub(super) fn evaluate(&self, x: &[DVec3], definite: bool) -> Option<Evaluated> {
-        let delta = x[self.a] - x[self.b];
-        let l = delta.length();
-        let c = self.target(l)?;
-        if !(l > 0.0) {
-            return None;
-        }
-        let d = delta / l;
+    pub(super) fn hessian(&self, x: &[DVec3], definite: bool) -> Option<Block> {
+        let (d, l, c) = self.stretch(x)?;
         let across = 1.0 - c / l;
         let across = if definite { across.max(0.0) } else { across };
         let along = self.k * (1.0 - across);
@@ -70,7 +77,7 @@ impl Term {
                 *h = along * d[r] * d[s] + if r == s { self.k * across } else { 0.0 };
             }
         }
-        Some(Evaluated { gradient_a: DVec3::from_array(d) * (self.k * (l - c)), hessian })
+        Some(hessian)
     }
 }
 
@@ -89,7 +96,7 @@ mod tests {
         let x = [DVec3::new(0.1, 0.2, -0.3), DVec3::new(1.0, -0.1, 0.4)];
         let h = 1e-6;
         for term in terms {
-            let Some(at) = term.evaluate(&x, false) else {
+            let (Some(gradient), Some(hessian)) = (term.gradient(&x), term.hessian(&x, false)) else {
                 panic!("every test term is outside its range");
             };
             for axis in 0..3 {
@@ -99,18 +106,13 @@ mod tests {
                     y
                 };
                 let numeric = (term.energy(&shifted(h)) - term.energy(&shifted(-h))) / (2.0 * h);
-                assert!(
-                    (numeric - at.gradient_a[axis]).abs() < 1e-6,
-                    "gradient {axis}: {numeric} vs {}",
-                    at.gradient_a
-                );
-                let (Some(up), Some(down)) = (term.evaluate(&shifted(h), false), term.evaluate(&shifted(-h), false))
-                else {
+                assert!((numeric - gradient[axis]).abs() < 1e-6, "gradient {axis}: {numeric} vs {}", gradient);
+                let (Some(up), Some(down)) = (term.gradient(&shifted(h)), term.gradient(&shifted(-h))) else {
                     panic!("a small shift keeps the term outside its range");
                 };
                 for other in 0..3 {
-                    let numeric = (up.gradient_a[other] - down.gradient_a[other]) / (2.0 * h);
-                    assert!((numeric - at.hessian[other][axis]).abs() < 1e-5, "hessian {other},{axis}");
+                    let numeric = (up[other] - down[other]) / (2.0 * h);
+                    assert!((numeric - hessian[other][axis]).abs() < 1e-5, "hessian {other},{axis}");
                 }
             }
         }
