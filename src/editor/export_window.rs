@@ -446,6 +446,18 @@ mod tests {
         message.or_else(|| editor.workspace.alert.clone())
     }
 
+    /// Runs frames until the export started reports how it ended.
+    fn finished(driver: &mut UiDriver<Editor, String>) -> String {
+        let deadline = std::time::Instant::now() + Duration::from_secs(120);
+        loop {
+            if let Some(message) = driver.frame(Vec::new()) {
+                return message;
+            }
+            assert!(std::time::Instant::now() < deadline, "the export did not finish");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     fn old_curtain_frames(dir: &Path) -> Vec<String> {
         let mut names: Vec<String> =
             std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
@@ -476,14 +488,7 @@ mod tests {
         assert_eq!(old_curtain_frames(&folder).len(), 10);
 
         driver.click("Replace the old sequence");
-        let deadline = std::time::Instant::now() + Duration::from_secs(120);
-        let message = loop {
-            if let Some(message) = driver.frame(Vec::new()) {
-                break message;
-            }
-            assert!(std::time::Instant::now() < deadline, "the export did not finish");
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let message = finished(&mut driver);
         assert!(message.ends_with("; removed 6 frames of the earlier sequence"), "{message}");
         let expected: Vec<String> = (0..4).map(|frame| format!("curtain_{frame:04}.obj")).collect();
         assert_eq!(old_curtain_frames(&folder), expected);
@@ -506,14 +511,7 @@ mod tests {
         (window.first, window.last, window.output) = (0, 3, dir.path().join("curtain.pc2").display().to_string());
         let mut driver = UiDriver::new(Editor { window, workspace }, show);
         driver.click("Export");
-        let deadline = std::time::Instant::now() + Duration::from_secs(120);
-        let message = loop {
-            if let Some(message) = driver.frame(Vec::new()) {
-                break message;
-            }
-            assert!(std::time::Instant::now() < deadline, "the export did not finish");
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let message = finished(&mut driver);
         assert!(message.starts_with("Exported 4 frames to "), "{message}");
         assert!(message.ends_with("(each key's shape as on screen)"), "{message}");
     }
