@@ -6,135 +6,28 @@ use std::ops::ControlFlow;
 use std::time::Instant;
 
 use drape::shape::equilibrium::{EquilibriumReport, equilibrate};
-use drape::shape::relax::relax_resolved;
-use drape::shape::{GridSpec, PinPoint, Placement, RelaxParams, approximate};
 use glam::DVec3;
 
-/// A 1 m square cloth on an `n × n` grid hanging from `pins` given by
-/// material fraction (0..1 along width and height) and position.
-struct Case {
-    name: &'static str,
-    pins: Vec<((f64, f64), DVec3)>,
-    stiffness: f64,
-}
+mod support;
 
-impl Case {
-    fn grid(n: usize) -> GridSpec {
-        GridSpec { cols: n, rows: n, spacing_u_m: 1.0 / (n - 1) as f64, spacing_v_m: 1.0 / (n - 1) as f64 }
-    }
+use support::equilibrium_cases::{Case, four_corners, gathered_curtain, taut_curtain, tent, tilted_corners};
 
-    fn pin_points(&self, n: usize) -> Vec<PinPoint> {
-        let at = |f: f64| (f * (n - 1) as f64).round() as usize;
-        self.pins.iter().map(|&((fu, fv), pos)| PinPoint { grid: (at(fu), at(fv)), pos }).collect()
-    }
-
-    fn params(&self, n: usize, tolerance: f64) -> RelaxParams {
-        let grid = Case::grid(n);
-        RelaxParams {
-            rest_u_m: grid.spacing_u_m,
-            rest_v_m: grid.spacing_v_m,
-            stiffness: self.stiffness,
-            thickness_m: 0.0,
-            max_iterations: 40_000,
-            tolerance,
-        }
-    }
-
-    /// The catenary approximation, and which points are pinned.
-    fn approximation(&self, n: usize) -> (Vec<DVec3>, Vec<bool>) {
-        let approximation = approximate(Case::grid(n), &self.pin_points(n), 1.0);
-        let pinned: Vec<bool> = approximation.placement.iter().map(|p| *p == Placement::Pin).collect();
-        (approximation.positions, pinned)
-    }
-
-    /// The relaxation's shape (the start), and which points are pinned.
-    fn start(&self, n: usize) -> (Vec<DVec3>, Vec<bool>) {
-        let approximation = approximate(Case::grid(n), &self.pin_points(n), 1.0);
-        let pinned: Vec<bool> = approximation.placement.iter().map(|p| *p == Placement::Pin).collect();
-        let mut positions = approximation.positions;
-        let params = self.params(n, 1e-5);
-        relax_resolved(&mut positions, n, n, &pinned, &params, &mut |_| ControlFlow::Continue(()))
+/// Solves `case` from `start`, printing the figures BENCHMARKS.md quotes.
+fn solve(case: &Case, n: usize, start: &[DVec3], pinned: &[bool], tolerance: f64) -> (Vec<DVec3>, EquilibriumReport) {
+    let mut positions = start.to_vec();
+    let began = Instant::now();
+    let report =
+        equilibrate(&mut positions, n, n, pinned, &case.params(n, tolerance), &mut |_| ControlFlow::Continue(()))
             .expect("never cancelled");
-        (positions, pinned)
-    }
-
-    fn solve(&self, n: usize, start: &[DVec3], pinned: &[bool], tolerance: f64) -> (Vec<DVec3>, EquilibriumReport) {
-        let mut positions = start.to_vec();
-        let began = Instant::now();
-        let report =
-            equilibrate(&mut positions, n, n, pinned, &self.params(n, tolerance), &mut |_| ControlFlow::Continue(()))
-                .expect("never cancelled");
-        eprintln!(
-            "{} {n}²: tolerance {tolerance:e}: {} steps, residual {:.2e} (asked {:.2e}), {:.1} ms",
-            self.name,
-            report.steps,
-            report.residual,
-            report.tolerance,
-            began.elapsed().as_secs_f64() * 1e3
-        );
-        (positions, report)
-    }
-}
-
-fn taut_curtain() -> Case {
-    Case {
-        name: "taut curtain",
-        pins: vec![((0.0, 0.0), DVec3::new(-0.5, 1.0, 0.0)), ((1.0, 0.0), DVec3::new(0.5, 1.0, 0.0))],
-        stiffness: 0.0,
-    }
-}
-
-/// Two top corners 0.8 m apart: the top row gathers and the cloth buckles.
-fn gathered_curtain() -> Case {
-    Case {
-        name: "gathered curtain",
-        pins: vec![((0.0, 0.0), DVec3::new(-0.4, 1.0, 0.0)), ((1.0, 0.0), DVec3::new(0.4, 1.0, 0.0))],
-        stiffness: 0.2,
-    }
-}
-
-fn four_corners() -> Case {
-    let h = 0.4;
-    Case {
-        name: "four corners",
-        pins: vec![
-            ((0.0, 0.0), DVec3::new(-h, 1.0, -h)),
-            ((1.0, 0.0), DVec3::new(h, 1.0, -h)),
-            ((0.0, 1.0), DVec3::new(-h, 1.0, h)),
-            ((1.0, 1.0), DVec3::new(h, 1.0, h)),
-        ],
-        stiffness: 0.2,
-    }
-}
-
-/// Four corners with one raised 0.2 m: no mirror symmetry.
-fn tilted_corners() -> Case {
-    let h = 0.4;
-    Case {
-        name: "tilted corners",
-        pins: vec![
-            ((0.0, 0.0), DVec3::new(-h, 1.2, -h)),
-            ((1.0, 0.0), DVec3::new(h, 1.0, -h)),
-            ((0.0, 1.0), DVec3::new(-h, 1.0, h)),
-            ((1.0, 1.0), DVec3::new(h, 1.0, h)),
-        ],
-        stiffness: 0.2,
-    }
-}
-
-fn tent() -> Case {
-    let h = 0.5;
-    Case {
-        name: "tent",
-        pins: vec![
-            ((0.0, 0.0), DVec3::new(-h, 0.0, -h)),
-            ((1.0, 0.0), DVec3::new(h, 0.0, -h)),
-            ((0.0, 1.0), DVec3::new(-h, 0.0, h)),
-            ((1.0, 1.0), DVec3::new(h, 0.0, h)),
-            ((0.5, 0.5), DVec3::new(0.0, 0.3, 0.0)),
-        ],
-        stiffness: 0.0,
-    }
+    eprintln!(
+        "{} {n}²: tolerance {tolerance:e}: {} steps, residual {:.2e} (asked {:.2e}), {:.1} ms",
+        case.name,
+        report.steps,
+        report.residual,
+        report.tolerance,
+        began.elapsed().as_secs_f64() * 1e3
+    );
+    (positions, report)
 }
 
 fn largest_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
@@ -144,8 +37,8 @@ fn largest_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
 /// Tolerance 1e-5 and 1e-7 both settle, within a millimetre of each other.
 fn assert_tolerance_keeps_the_shape(case: &Case, n: usize) {
     let (start, pinned) = case.start(n);
-    let (loose, loose_report) = case.solve(n, &start, &pinned, 1e-5);
-    let (tight, tight_report) = case.solve(n, &start, &pinned, 1e-7);
+    let (loose, loose_report) = solve(case, n, &start, &pinned, 1e-5);
+    let (tight, tight_report) = solve(case, n, &start, &pinned, 1e-7);
     assert!(loose_report.converged, "{} {n}²: not settled at 1e-5: {loose_report:?}", case.name);
     assert!(tight_report.converged, "{} {n}²: not settled at 1e-7: {tight_report:?}", case.name);
     let moved = largest_distance(&loose, &tight);
@@ -211,8 +104,8 @@ fn the_equilibrium_does_not_depend_on_the_relaxation_before_it() {
         let n = 33;
         let (relaxed, pinned) = case.start(n);
         let (approximated, _) = case.approximation(n);
-        let (from_relaxed, a) = case.solve(n, &relaxed, &pinned, 1e-7);
-        let (from_approximation, b) = case.solve(n, &approximated, &pinned, 1e-7);
+        let (from_relaxed, a) = solve(&case, n, &relaxed, &pinned, 1e-7);
+        let (from_approximation, b) = solve(&case, n, &approximated, &pinned, 1e-7);
         assert!(a.converged && b.converged, "{}: {a:?} {b:?}", case.name);
         let apart = largest_distance(&from_relaxed, &from_approximation);
         assert!(apart < 1e-3, "{}: the two starts end {:.3} mm apart", case.name, apart * 1e3);
@@ -226,7 +119,7 @@ fn pins_stay_put_and_a_symmetric_layout_hangs_symmetric() {
     let case = four_corners();
     let n = 33;
     let (start, pinned) = case.start(n);
-    let (x, report) = case.solve(n, &start, &pinned, 1e-7);
+    let (x, report) = solve(&case, n, &start, &pinned, 1e-7);
     assert!(report.converged);
     for (k, pin) in pinned.iter().enumerate() {
         if *pin {
@@ -272,7 +165,7 @@ fn pins_out_of_reach_stretch_the_cloth_and_settle() {
     };
     let n = 17;
     let (start, pinned) = case.approximation(n);
-    let (x, report) = case.solve(n, &start, &pinned, 1e-7);
+    let (x, report) = solve(&case, n, &start, &pinned, 1e-7);
     assert!(report.converged, "{report:?}");
     let top = x[0].distance(x[n - 1]);
     assert!((top - 1.2).abs() < 1e-12 && x.iter().all(|p| p.is_finite()));

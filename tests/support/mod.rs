@@ -1,0 +1,3 @@
+//! Code the integration tests share (and the benches, through `#[path]`).
+
+pub mod equilibrium_cases;
