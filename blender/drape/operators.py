@@ -1,0 +1,127 @@
+"""Add ▸ Drape Cloth, Reload, and Bake to a point cache."""
+
+import os
+import struct
+
+import bpy
+from bpy_extras.io_utils import ImportHelper
+
+from . import cloth, timing
+from .native import module as drape
+
+
+class DRAPE_OT_add_cloth(bpy.types.Operator, ImportHelper):
+    """Add a cloth animated live by a Drape scene file (.ron)"""
+
+    bl_idname = "object.drape_add_cloth"
+    bl_label = "Drape Cloth"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".ron"
+    filter_glob: bpy.props.StringProperty(default="*.ron", options={"HIDDEN"})
+
+    @classmethod
+    def poll(cls, context):
+        return context.mode == "OBJECT"
+
+    def execute(self, context):
+        try:
+            obj = cloth.create(context, self.filepath)
+        except drape.SceneError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        obj.location = context.scene.cursor.location
+        for other in context.selected_objects:
+            other.select_set(False)
+        obj.select_set(True)
+        context.view_layer.objects.active = obj
+        warning = timing.fps_mismatch(context.scene.render, cloth.load(cloth.scene_file(obj)).fps)
+        if warning:
+            self.report({"WARNING"}, warning)
+        return {"FINISHED"}
+
+
+class DRAPE_OT_reload(bpy.types.Operator):
+    """Read the scene file again (rebuilding the mesh if its grid changed)"""
+
+    bl_idname = "object.drape_reload"
+    bl_label = "Reload"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return cloth.is_drape_object(context.object)
+
+    def execute(self, context):
+        obj = context.object
+        try:
+            scene = cloth.load(cloth.scene_file(obj), force=True)
+        except drape.SceneError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        if len(obj.data.vertices) != scene.point_count or obj.data.shape_keys is None:
+            cloth.rebuild(obj, context.scene)
+        else:
+            cloth.show_frame(obj, context.scene)
+        return {"FINISHED"}
+
+
+def write_pc2(path, frames, point_count, start_frame):
+    """A PC2 point cache: header, then each frame's float32 x, y, z in vertex order."""
+    with open(path, "wb") as out:
+        out.write(struct.pack("<12siiffi", b"POINTCACHE2\0", 1, point_count, float(start_frame), 1.0, len(frames)))
+        for frame in frames:
+            out.write(frame.tobytes())
+
+
+class DRAPE_OT_bake(bpy.types.Operator):
+    """Bake the cloth at every frame of the scene's range to a PC2 point cache read by a Mesh Cache modifier.
+    The live evaluation is turned off; sub-frames are then interpolated between frames"""
+
+    bl_idname = "object.drape_bake"
+    bl_label = "Bake to Point Cache"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return cloth.is_drape_object(context.object) and bool(bpy.data.filepath)
+
+    def execute(self, context):
+        obj, bl_scene = context.object, context.scene
+        try:
+            scene = cloth.load(cloth.scene_file(obj))
+        except drape.SceneError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        render = bl_scene.render
+        frames = []
+        for frame in range(bl_scene.frame_start, bl_scene.frame_end + 1):
+            t = timing.drape_seconds(frame, 0.0, obj.drape.time_offset_frames, render.fps, render.fps_base)
+            frames.append(scene.evaluate(t, z_up=True))
+        path = bpy.path.abspath(f"//drape_cache/{bpy.path.clean_name(obj.name)}.pc2")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        write_pc2(path, frames, scene.point_count, bl_scene.frame_start)
+        modifier = obj.modifiers.get("Drape Cache") or obj.modifiers.new("Drape Cache", "MESH_CACHE")
+        modifier.cache_format = "PC2"
+        modifier.filepath = bpy.path.relpath(path)
+        modifier.frame_start = bl_scene.frame_start
+        # The cache holds positions in the object's own axes already.
+        modifier.forward_axis, modifier.up_axis = "POS_Y", "POS_Z"
+        obj.drape.live = False
+        self.report({"INFO"}, f"baked {len(frames)} frames to {path}")
+        return {"FINISHED"}
+
+
+def add_menu(self, context):
+    self.layout.operator(DRAPE_OT_add_cloth.bl_idname, text="Drape Cloth (.ron)", icon="MOD_CLOTH")
+
+
+classes = (DRAPE_OT_add_cloth, DRAPE_OT_reload, DRAPE_OT_bake)
+
+
+def register():
+    bpy.types.VIEW3D_MT_add.append(add_menu)
+
+
+def unregister():
+    bpy.types.VIEW3D_MT_add.remove(add_menu)

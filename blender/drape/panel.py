@@ -1,0 +1,62 @@
+"""Properties ▸ Object ▸ Drape: the scene file, time offset, reload and problems."""
+
+import bpy
+
+from . import cloth, timing
+from .native import module as drape
+
+
+class DRAPE_PT_object(bpy.types.Panel):
+    bl_label = "Drape"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+    @classmethod
+    def poll(cls, context):
+        return context.object is not None and context.object.type == "MESH"
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.object
+        settings = obj.drape
+        layout.prop(settings, "scene_path")
+        if not settings.scene_path:
+            layout.label(text="Not a Drape cloth: Add ▸ Drape Cloth makes one")
+            return
+        row = layout.row(align=True)
+        row.prop(settings, "time_offset_frames")
+        row.operator("object.drape_reload", text="", icon="FILE_REFRESH")
+        layout.prop(settings, "live")
+        try:
+            scene = cloth.load(cloth.scene_file(obj))
+        except drape.SceneError as error:
+            _problem(layout, str(error))
+            return
+        columns, rows = scene.grid
+        start, end = scene.frame_range
+        layout.label(text=f"{columns} × {rows} points, frames {start}–{end} at {scene.fps:g} fps")
+        warning = timing.fps_mismatch(context.scene.render, scene.fps)
+        if warning:
+            _problem(layout, warning, icon="INFO")
+        error = cloth.error_of(obj)
+        if error:
+            _problem(layout, error)
+        layout.operator("object.drape_bake")
+
+
+def _problem(layout, text, icon="ERROR"):
+    box = layout.box()
+    words, line = text.split(), ""
+    lines = []
+    for word in words:
+        if len(line) + len(word) > 60 and line:
+            lines.append(line)
+            line = ""
+        line = f"{line} {word}".strip()
+    lines.append(line)
+    for k, line in enumerate(lines):
+        box.label(text=line, icon=icon if k == 0 else "BLANK1")
+
+
+classes = (DRAPE_PT_object,)

@@ -1,0 +1,43 @@
+"""object.drape: which scene file an object shows, and when."""
+
+import bpy
+
+from . import cloth
+
+
+def _show_again(settings, context):
+    obj = settings.id_data
+    if cloth.is_drape_object(obj) and settings.live:
+        cloth.show_frame(obj, context.scene)
+
+
+class DrapeObjectSettings(bpy.types.PropertyGroup):
+    scene_path: bpy.props.StringProperty(
+        name="Scene File",
+        description="The Drape scene (.ron) this object shows",
+        subtype="FILE_PATH",
+        update=_show_again,
+    )
+    time_offset_frames: bpy.props.FloatProperty(
+        name="Time Offset",
+        description="Blender frame at which the Drape scene's time 0 plays",
+        default=0.0,
+        update=_show_again,
+    )
+    live: bpy.props.BoolProperty(
+        name="Live",
+        description="Evaluate Drape at every frame change (off: the mesh keeps what it has, e.g. a bake)",
+        default=True,
+        update=_show_again,
+    )
+
+
+classes = (DrapeObjectSettings,)
+
+
+def register():
+    bpy.types.Object.drape = bpy.props.PointerProperty(type=DrapeObjectSettings)
+
+
+def unregister():
+    del bpy.types.Object.drape
