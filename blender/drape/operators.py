@@ -1,10 +1,11 @@
-"""Add ▸ Drape Cloth, Reload, and Bake to a point cache."""
+"""Add ▸ Drape Cloth, Reload, Bake to a point cache, and Follow Bone."""
 
 import os
 import struct
 
 import bpy
 from bpy_extras.io_utils import ImportHelper
+from mathutils import Matrix
 
 from . import cloth, timing
 from .native import module as drape
@@ -112,11 +113,46 @@ class DRAPE_OT_bake(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class DRAPE_OT_follow_bone(bpy.types.Operator):
+    """Parent the cloth to the Follow object or bone, keeping it where it is: the whole cloth,
+    pins included, then rides with it at every frame and sub-frame"""
+
+    bl_idname = "object.drape_follow_bone"
+    bl_label = "Follow Bone"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return cloth.is_drape_object(obj) and obj.drape.follow_target not in (None, obj)
+
+    def execute(self, context):
+        obj = context.object
+        target, bone = obj.drape.follow_target, obj.drape.follow_bone
+        depsgraph = context.evaluated_depsgraph_get()
+        evaluated = target.evaluated_get(depsgraph)
+        if bone:
+            if target.type != "ARMATURE" or bone not in evaluated.pose.bones:
+                self.report({"ERROR"}, f"{target.name} has no bone named {bone!r}")
+                return {"CANCELLED"}
+            pose_bone = evaluated.pose.bones[bone]
+            # A bone parent is the bone's tail.
+            parent_world = evaluated.matrix_world @ pose_bone.matrix @ Matrix.Translation((0.0, pose_bone.length, 0.0))
+        else:
+            parent_world = evaluated.matrix_world.copy()
+        world = obj.matrix_world.copy()
+        obj.parent = target
+        obj.parent_type = "BONE" if bone else "OBJECT"
+        obj.parent_bone = bone
+        obj.matrix_parent_inverse = parent_world.inverted() @ world @ obj.matrix_basis.inverted()
+        return {"FINISHED"}
+
+
 def add_menu(self, context):
     self.layout.operator(DRAPE_OT_add_cloth.bl_idname, text="Drape Cloth (.ron)", icon="MOD_CLOTH")
 
 
-classes = (DRAPE_OT_add_cloth, DRAPE_OT_reload, DRAPE_OT_bake)
+classes = (DRAPE_OT_add_cloth, DRAPE_OT_reload, DRAPE_OT_bake, DRAPE_OT_follow_bone)
 
 
 def register():

@@ -43,6 +43,12 @@ class DRAPE_PT_object(bpy.types.Panel):
         if error:
             _problem(layout, error)
         layout.operator("object.drape_bake")
+        box = layout.box()
+        box.prop(settings, "follow_target")
+        target = settings.follow_target
+        if target is not None and target.type == "ARMATURE":
+            box.prop_search(settings, "follow_bone", target.data, "bones")
+        box.operator("object.drape_follow_bone")
 
 
 def _problem(layout, text, icon="ERROR"):

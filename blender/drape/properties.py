@@ -30,6 +30,15 @@ class DrapeObjectSettings(bpy.types.PropertyGroup):
         default=True,
         update=_show_again,
     )
+    follow_target: bpy.props.PointerProperty(
+        name="Follow",
+        description="The object (or armature, with a bone) that Follow Bone parents the cloth to",
+        type=bpy.types.Object,
+    )
+    follow_bone: bpy.props.StringProperty(
+        name="Bone",
+        description="The bone of the Follow armature that carries the cloth (empty: the object itself)",
+    )
 
 
 classes = (DrapeObjectSettings,)

@@ -215,6 +215,82 @@ class LiveCloth(unittest.TestCase):
         self.scene.render.filepath = str(OUT / "fresh_")
         bpy.ops.wm.save_as_mainfile(filepath=str(OUT / "carpet.blend"))
 
+    def test_9_a_cloth_following_an_animated_bone_rides_with_it_at_a_subframe(self):
+        bpy.ops.object.drape_add_cloth(filepath=str(common.CARPET))
+        obj = bpy.context.object
+        armature = bpy.data.armatures.new("Rig")
+        rig = bpy.data.objects.new("Rig", armature)
+        self.scene.collection.objects.link(rig)
+        bpy.context.view_layer.objects.active = rig
+        bpy.ops.object.mode_set(mode="EDIT")
+        bone = armature.edit_bones.new("hand")
+        bone.head, bone.tail = (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)
+        bpy.ops.object.mode_set(mode="OBJECT")
+        # The bone rises 2 m (its own +Y is world +Z) from frame 0 to 20, linearly.
+        pose_bone = rig.pose.bones["hand"]
+        for frame, rise in ((0, 0.0), (20, 2.0)):
+            pose_bone.location = (0.0, rise, 0.0)
+            pose_bone.keyframe_insert("location", frame=frame)
+        for curve in rig.animation_data.action.fcurves:
+            for point in curve.keyframe_points:
+                point.interpolation = "LINEAR"
+        self.scene.frame_set(0)
+        bpy.context.view_layer.objects.active = obj
+        obj.drape.follow_target, obj.drape.follow_bone = rig, "hand"
+        self.assertEqual(bpy.ops.object.drape_follow_bone(), {"FINISHED"})
+        self.assertEqual((obj.parent, obj.parent_type, obj.parent_bone), (rig, "BONE", "hand"))
+        self.scene.frame_set(10, subframe=0.5)
+        world = obj.matrix_world
+        local = common.evaluated_positions(obj)
+        drape_now = self.native.evaluate(10.5 / self.native.fps, z_up=True)
+        self.assertLessEqual(common.max_difference(local, drape_now), 1e-6)
+        # The pin at grid (0, 0) is Drape's pin where the bone has carried it: 1.05 m up.
+        pin = world @ Vector(local[0:3])
+        expected = Vector(drape_now[0:3]) + Vector((0.0, 0.0, 2.0 * 10.5 / 20))
+        self.assertLess((pin - expected).length, 1e-5, f"{pin} != {expected}")
+        bpy.data.objects.remove(rig)
+        remove(obj)
+
+    def test_9_bake_writes_a_point_cache_that_shows_the_same_frames(self):
+        self.assertTrue(bpy.data.filepath, "test_8 saved the file")
+        bpy.ops.object.drape_add_cloth(filepath=str(common.CARPET))
+        obj = bpy.context.object
+        self.scene.frame_start, self.scene.frame_end = 0, 120
+        self.assertEqual(bpy.ops.object.drape_bake(), {"FINISHED"})
+        self.assertFalse(obj.drape.live)
+        self.assertEqual(obj.modifiers["Drape Cache"].type, "MESH_CACHE")
+        for frame in (37, 120):
+            self.scene.frame_set(frame)
+            difference = common.max_difference(common.evaluated_positions(obj), exported(frame))
+            self.assertLessEqual(difference, common.TOLERANCE_M, f"frame {frame}")
+        remove(obj)
+
+    def test_panel_draws_the_settings_and_problems(self):
+        from drape import handlers, panel
+
+        class Layout:
+            """Records what the panel draws; every layout call returns a layout."""
+
+            def __init__(self, drawn):
+                self.drawn = drawn
+
+            def __getattr__(self, name):
+                def call(*args, **kwargs):
+                    self.drawn.append((name, args, kwargs))
+                    return Layout(self.drawn)
+
+                return call
+
+        drawn = []
+        fake = type("Panel", (), {"layout": Layout(drawn)})()
+        bpy.context.view_layer.objects.active = self.obj
+        panel.DRAPE_PT_object.draw(fake, bpy.context)
+        texts = [kwargs.get("text", "") for _, _, kwargs in drawn]
+        self.assertIn("21 × 33 points, frames 0–120 at 24 fps", texts)
+        self.assertIn("object.drape_reload", [args[0] for name, args, _ in drawn if name == "operator"])
+        # The file watcher runs without a window too.
+        self.assertEqual(handlers._watch(), handlers.WATCH_INTERVAL_S)
+
 
 if __name__ == "__main__":
     OUT.mkdir(parents=True, exist_ok=True)
