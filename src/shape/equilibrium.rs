@@ -33,6 +33,7 @@
 //! (`mirror`), so rounding cannot tip it one way, and its steps are solved
 //! for one point of each mirror orbit (`orbits`).
 
+mod colliders;
 mod hessian;
 mod mirror;
 mod orbits;
@@ -43,6 +44,8 @@ use std::ops::ControlFlow;
 use glam::DVec3;
 
 use super::relax::{Cancelled, FabricLimits, RelaxParams, RelaxProgress};
+use crate::world::Obstacle;
+use colliders::{Colliders, Touch};
 use hessian::Hessian;
 use mirror::Mirror;
 use orbits::Orbits;
@@ -73,6 +76,12 @@ pub struct EquilibriumReport {
     /// The residual asked for: the key's tolerance, or the rounding floor where that is higher.
     pub tolerance: f64,
     pub converged: bool,
+    /// Places on the cloth (grid points, or points along its edges) that
+    /// started within a collider's thickness: the solve then never starts,
+    /// as a start through a solid has no way out that keeps contact.
+    pub start_inside: usize,
+    /// Places resting on a collider at the end (within the barrier's reach of its thickness).
+    pub resting: usize,
 }
 
 /// The equilibrium problem on one grid.
@@ -81,6 +90,9 @@ struct Problem {
     /// Free rank of each point; `None` for a pin.
     rank: Vec<Option<usize>>,
     free: Vec<usize>,
+    /// Each row and column edge between free points: `(a, b, its stretch term, its rest length)`.
+    edges: Vec<(usize, usize, usize, f64)>,
+    colliders: Colliders,
     /// The stiffest spring, for the rounding floor.
     stiffest: f64,
     /// Largest move a step may make.
@@ -97,8 +109,9 @@ impl Problem {
         let (k_u, k_v) = (modulus * v / u, modulus * u / v);
         let k_shear = SHEAR_SHARE * modulus;
         let mut terms = Vec::new();
+        let mut edges = Vec::new();
         let index = |i: usize, j: usize| j * cols + i;
-        let mut pair = |a: usize, b: usize, min_m: f64, max_m: f64, k: f64| {
+        let pair = |terms: &mut Vec<Term>, a: usize, b: usize, min_m: f64, max_m: f64, k: f64| {
             if !(pinned[a] && pinned[b]) {
                 terms.push(Term { a, b, min_m, max_m, k });
             }
@@ -106,22 +119,28 @@ impl Problem {
         for j in 0..rows {
             for i in 0..cols {
                 let at = index(i, j);
+                let mut edge = |terms: &mut Vec<Term>, b: usize, rest_m: f64, k: f64| {
+                    if !pinned[at] && !pinned[b] {
+                        edges.push((at, b, terms.len(), rest_m));
+                    }
+                    pair(terms, at, b, rest_m, rest_m, k);
+                };
                 if i + 1 < cols {
-                    pair(at, index(i + 1, j), u, u, k_u);
+                    edge(&mut terms, index(i + 1, j), u, k_u);
                 }
                 if j + 1 < rows {
-                    pair(at, index(i, j + 1), v, v, k_v);
+                    edge(&mut terms, index(i, j + 1), v, k_v);
                 }
                 if i + 1 < cols && j + 1 < rows {
                     let (lo, hi) = (limits.diagonal_min_m, limits.diagonal_max_m);
-                    pair(at, index(i + 1, j + 1), lo, hi, k_shear);
-                    pair(index(i + 1, j), index(i, j + 1), lo, hi, k_shear);
+                    pair(&mut terms, at, index(i + 1, j + 1), lo, hi, k_shear);
+                    pair(&mut terms, index(i + 1, j), index(i, j + 1), lo, hi, k_shear);
                 }
                 if i + 2 < cols && limits.second_u_min_m > 0.0 {
-                    pair(at, index(i + 2, j), limits.second_u_min_m, f64::INFINITY, 0.5 * k_u);
+                    pair(&mut terms, at, index(i + 2, j), limits.second_u_min_m, f64::INFINITY, 0.5 * k_u);
                 }
                 if j + 2 < rows && limits.second_v_min_m > 0.0 {
-                    pair(at, index(i, j + 2), limits.second_v_min_m, f64::INFINITY, 0.5 * k_v);
+                    pair(&mut terms, at, index(i, j + 2), limits.second_v_min_m, f64::INFINITY, 0.5 * k_v);
                 }
             }
         }
@@ -131,13 +150,31 @@ impl Problem {
             rank[point] = Some(free.len());
             free.push(point);
         }
-        Problem { terms, rank, free, stiffest: k_u.max(k_v), max_step_m: MAX_STEP_SHARE * u.min(v) }
+        let colliders = Colliders::new(&[], DVec3::ZERO, &free, &edges, u.min(v));
+        Problem { terms, rank, free, edges, colliders, stiffest: k_u.max(k_v), max_step_m: MAX_STEP_SHARE * u.min(v) }
+    }
+
+    /// Places `obstacles` around the solve's coordinates (`centre` added reaches the world's).
+    fn set_obstacles(&mut self, obstacles: &[Obstacle], centre: DVec3) {
+        let spacing_m = self.max_step_m / MAX_STEP_SHARE;
+        self.colliders = Colliders::new(obstacles, centre, &self.free, &self.edges, spacing_m);
     }
 
     fn energy(&self, x: &[DVec3]) -> f64 {
         let springs: f64 = self.terms.iter().map(|t| t.energy(x)).sum();
         let height: f64 = self.free.iter().map(|&p| x[p].y).sum();
-        springs + height
+        springs + height + self.colliders.energy(x)
+    }
+
+    /// Adds `g`, the gradient for a site's position, to the site's ends.
+    fn add_site_gradient(&self, touch: &Touch, g: DVec3, out: &mut [f64]) {
+        let site = self.colliders.sites[touch.site];
+        for (point, weight) in [(site.a, 1.0 - site.share), (site.b, site.share)] {
+            let Some(p) = self.rank[point].filter(|_| weight != 0.0) else { continue };
+            for axis in 0..3 {
+                out[3 * p + axis] += weight * g[axis];
+            }
+        }
     }
 
     /// The energy's gradient over the free points (three entries a point).
@@ -149,6 +186,11 @@ impl Problem {
         for t in &self.terms {
             let Some(g) = t.gradient(x) else { continue };
             self.add_gradient(t, g, out);
+        }
+        let mut touches = Vec::new();
+        self.colliders.touches(x, &mut touches);
+        for touch in &touches {
+            self.add_site_gradient(touch, self.colliders.gradient(touch), out);
         }
     }
 
@@ -165,12 +207,26 @@ impl Problem {
         }
     }
 
-    /// Fills `hessian` (exact, or with every block projected definite).
-    fn assemble(&self, x: &[DVec3], hessian: &mut Hessian, definite: bool) {
+    /// Fills `hessian` (exact, or with every block projected definite; the
+    /// colliders' blocks leave out the surfaces' curvature either way).
+    fn assemble(&self, x: &[DVec3], hessian: &mut Hessian, orbits: &Orbits, definite: bool) {
         hessian.clear();
         for (index, t) in self.terms.iter().enumerate() {
             if let Some(block) = t.hessian(x, definite) {
                 hessian.add(index, &block);
+            }
+        }
+        let mut touches = Vec::new();
+        self.colliders.touches(x, &mut touches);
+        for touch in &touches {
+            let site = self.colliders.sites[touch.site];
+            let block = self.colliders.hessian(x, touch, definite);
+            match site.term {
+                Some(term) => hessian.add_along(term, site.share, &block),
+                None => {
+                    let Some(unknown) = orbits.unknown[site.a] else { continue };
+                    hessian.add_point(unknown, orbits.sign[site.a], &block);
+                }
             }
         }
     }
@@ -200,9 +256,42 @@ pub fn equilibrate(
     params: &RelaxParams,
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
 ) -> Result<EquilibriumReport, Cancelled> {
+    equilibrate_among(positions, cols, rows, pinned, params, &[], control)
+}
+
+/// [`equilibrate`] among colliders: every free point and every point along
+/// an edge between free points keeps its obstacle's thickness from the
+/// solid through every step ([`colliders`]). The start must keep it too
+/// (else [`EquilibriumReport::start_inside`] counts where it does not, and
+/// nothing moves). Frictionless: a resting point slides until the cloth's
+/// own forces along the surface balance.
+pub fn equilibrate_among(
+    positions: &mut [DVec3],
+    cols: usize,
+    rows: usize,
+    pinned: &[bool],
+    params: &RelaxParams,
+    obstacles: &[Obstacle],
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<EquilibriumReport, Cancelled> {
+    equilibrate_watched(positions, (cols, rows), pinned, params, obstacles, control, &mut |_| ())
+}
+
+/// [`equilibrate_among`], handing `watch` the whole shape (world
+/// coordinates, pins included) after every step: what a view shows while a
+/// solve runs, and how the tests see that every step keeps contact.
+pub fn equilibrate_watched(
+    positions: &mut [DVec3],
+    (cols, rows): (usize, usize),
+    pinned: &[bool],
+    params: &RelaxParams,
+    obstacles: &[Obstacle],
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+    watch: &mut dyn FnMut(&[DVec3]),
+) -> Result<EquilibriumReport, Cancelled> {
     assert_eq!(positions.len(), cols * rows);
     assert_eq!(pinned.len(), cols * rows);
-    let problem = Problem::new(cols, rows, pinned, params);
+    let mut problem = Problem::new(cols, rows, pinned, params);
     let unknowns = 3 * problem.free.len();
     if unknowns == 0 || positions.iter().any(|p| !p.is_finite()) {
         return Ok(EquilibriumReport { converged: unknowns == 0, ..EquilibriumReport::default() });
@@ -210,7 +299,13 @@ pub fn equilibrate(
     // Solved about the cloth's centre, so rounding is relative to its size, not its place.
     let centre = positions.iter().copied().sum::<DVec3>() / positions.len() as f64;
     let mut x: Vec<DVec3> = positions.iter().map(|p| *p - centre).collect();
-    let mirrors = Mirror::find(&x, cols, rows, pinned);
+    problem.set_obstacles(obstacles, centre);
+    let start_inside = problem.colliders.sites.iter().filter(|s| problem.colliders.clearance(&x, s) <= 0.0).count();
+    if start_inside > 0 {
+        return Ok(EquilibriumReport { start_inside, ..EquilibriumReport::default() });
+    }
+    // Colliders need not be symmetric where the pins are.
+    let mirrors = if obstacles.is_empty() { Mirror::find(&x, cols, rows, pinned) } else { Vec::new() };
     for mirror in &mirrors {
         mirror.apply(&mut x, pinned);
     }
@@ -225,6 +320,7 @@ pub fn equilibrate(
     let mut gradient = vec![0.0; unknowns];
     let mut step = vec![0.0; unknowns];
     let mut trial = x.clone();
+    let mut watched = positions.to_vec();
     let mut trial_gradient = vec![0.0; unknowns];
     problem.gradient(&x, &mut gradient);
     let mut energy = problem.energy(&x);
@@ -245,6 +341,7 @@ pub fn equilibrate(
         let longest = direction.chunks_exact(3).map(|d| (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
         let longest = longest.fold(0.0, f64::max);
         let mut alpha = if longest > problem.max_step_m { problem.max_step_m / longest } else { 1.0 };
+        alpha = problem.colliders.step_limit(&x, &problem.rank, direction, alpha);
         let slope: f64 = gradient.iter().zip(direction.iter()).map(|(g, d)| g * d).sum();
         let mut accepted = false;
         for _ in 0..40 {
@@ -279,12 +376,17 @@ pub fn equilibrate(
             continue;
         }
         std::mem::swap(&mut x, &mut trial);
+        watched.iter_mut().zip(&x).for_each(|(w, p)| *w = *p + centre);
+        watch(&watched);
         std::mem::swap(&mut gradient, &mut trial_gradient);
         report.residual = residual(&gradient);
         shift_share =
             if alpha == 1.0 { (shift_share * 0.25).max(1e-15) } else { (shift_share * 4.0).min(LARGEST_SHIFT) };
     }
     report.converged = report.residual <= tolerance;
+    let mut touches = Vec::new();
+    problem.colliders.touches(&x, &mut touches);
+    report.resting = touches.len();
     for (p, q) in positions.iter_mut().zip(&x).zip(pinned).filter(|(_, pin)| !**pin).map(|(pq, _)| pq) {
         *p = *q + centre;
     }
@@ -318,7 +420,7 @@ fn newton_direction<'a>(
     let Linear { hessian, reduced, orbits } = linear;
     let orbits = &*orbits;
     let assemble = |hessian: &mut Hessian, definite: bool| {
-        problem.assemble(x, hessian, definite);
+        problem.assemble(x, hessian, orbits, definite);
         let scale = hessian.largest_diagonal().max(1.0);
         for &(orbit, axis) in &orbits.fixed {
             hessian.add_diagonal(orbit, axis, scale);

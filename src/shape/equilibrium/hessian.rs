@@ -131,6 +131,47 @@ impl Hessian {
         }
     }
 
+    /// Adds a block on point `point`'s own unknown (with its mirror signs).
+    pub(super) fn add_point(&mut self, unknown: usize, sign: [f64; 3], k: &Block) {
+        for alpha in 0..3 {
+            for beta in alpha..3 {
+                let at = self.diagonal(unknown, alpha, beta);
+                self.values[at] += sign[alpha] * sign[beta] * k[alpha][beta];
+            }
+        }
+    }
+
+    /// Adds the blocks of a site at `share` along term `index`'s pair (from
+    /// `a` to `b`) whose own block is `k`: (1 − s)²·k, s²·k on the ends'
+    /// diagonals and (1 − s)·s·k between them.
+    pub(super) fn add_along(&mut self, index: usize, share: f64, k: &Block) {
+        let Slots { a, b, sign_a, sign_b, pair } = self.slots[index];
+        let (wa, wb) = (1.0 - share, share);
+        let scaled = |w: f64| k.map(|row| row.map(|v| v * w));
+        if let Some(p) = a {
+            self.add_point(p, sign_a, &scaled(wa * wa));
+        }
+        if let Some(q) = b {
+            self.add_point(q, sign_b, &scaled(wb * wb));
+        }
+        let (Some(p), Some(q)) = (a, b) else { return };
+        let entries = || (0..3).flat_map(|alpha| (0..3).map(move |beta| (alpha, beta)));
+        let w = wa * wb;
+        if p == q {
+            for (alpha, beta) in entries().filter(|(alpha, beta)| alpha <= beta) {
+                let at = self.diagonal(p, alpha, beta);
+                self.values[at] += w * (sign_a[alpha] * sign_b[beta] + sign_b[alpha] * sign_a[beta]) * k[alpha][beta];
+            }
+            return;
+        }
+        let ((lo, sign_lo), (hi, sign_hi)) =
+            if p < q { ((p, sign_a), (q, sign_b)) } else { ((q, sign_b), (p, sign_a)) };
+        for (alpha, beta) in entries() {
+            let at = self.off_diagonal(lo, hi, pair, alpha, beta);
+            self.values[at] += w * sign_lo[alpha] * sign_hi[beta] * k[alpha][beta];
+        }
+    }
+
     /// Adds `value` to the diagonal entry of unknown `q`'s coordinate `axis`.
     pub(super) fn add_diagonal(&mut self, q: usize, axis: usize, value: f64) {
         let at = self.diagonal(q, axis, axis);
@@ -220,7 +261,8 @@ mod tests {
         let problem = Problem::new(cols, rows, &pinned, &params);
         let sign = vec![[1.0; 3]; cols * rows];
         let mut hessian = Hessian::new(&problem.rank, &sign, problem.free.len(), &problem.terms);
-        problem.assemble(&x, &mut hessian, false);
+        let orbits = super::super::Orbits::new(&pinned, &[]);
+        problem.assemble(&x, &mut hessian, &orbits, false);
         let unknowns = 3 * problem.free.len();
         let direction: Vec<f64> = (0..unknowns).map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.5).collect();
         let shifted = |s: f64| {
