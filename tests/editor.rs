@@ -64,10 +64,23 @@ fn open_editor(workspace: &Workspace, scene: Scene, path: Option<PathBuf>) -> Ha
     harness
 }
 
-/// The editor on the workspace's copy of the bundled carpet, opened from its file.
+/// The editor on the workspace's copy of the bundled carpet, opened from
+/// its file, in the orbiting view: the *Camera* toggle turned off (the
+/// carpet opens looking through its shot camera).
 fn open_carpet(workspace: &Workspace) -> Harness<'static, DrapeApp> {
     let carpet = workspace.path("carpet.ron");
-    open_editor(workspace, scene::load(&carpet).unwrap(), Some(carpet))
+    let mut harness = open_editor(workspace, scene::load(&carpet).unwrap(), Some(carpet));
+    leave_shot_camera(&mut harness);
+    harness
+}
+
+/// Turns the *Camera* toggle off when the viewport looks through the shot
+/// camera: the orbiting view, framing the cloth, as a scene without one opens.
+fn leave_shot_camera(harness: &mut Harness<'_, DrapeApp>) {
+    if harness.state().looks_through_shot_camera() {
+        harness.get_by_role_and_label(Role::Button, "Camera").click();
+        harness.run_ok();
+    }
 }
 
 /// Lets the worker finish relaxing and the UI draw the result. Between
@@ -173,6 +186,7 @@ fn model_undo_save_and_reopen() {
 
     // Open a scene with File ▸ Open.
     open_through_the_menu(&mut harness, &carpet);
+    leave_shot_camera(&mut harness);
     let opened = scene::load(&carpet).unwrap();
     assert_eq!(harness.state().scene(), &opened);
     assert_eq!(harness.state().document().path(), Some(carpet.as_path()));
@@ -521,6 +535,7 @@ fn the_timeline_scrubs_adds_a_key_and_eases_it() {
     let workspace = Workspace::new();
     let carpet = workspace.path("carpet.ron");
     let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    leave_shot_camera(&mut harness);
     let keys_before = harness.state().scene().keys.clone();
 
     // Scrub: drag the playhead along the track; the mesh is evaluate at that frame.
@@ -605,6 +620,7 @@ fn a_wave_is_added_keyed_and_reordered() {
     let workspace = Workspace::new();
     let carpet = workspace.path("carpet.ron");
     let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    leave_shot_camera(&mut harness);
     let layers_before = harness.state().scene().layers.len();
 
     // Add a wave, key its magnitude at frame 0, then raise it at frame 48: a ramp.
@@ -789,6 +805,7 @@ fn the_curve_view_drags_a_parameter_key_and_eases_it_with_bezier_handles() {
     let workspace = Workspace::new();
     let carpet = workspace.path("carpet.ron");
     let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    leave_shot_camera(&mut harness);
     let index = add_keyed_wave(&mut harness);
     let keyed = param_keys(&harness, index, "magnitude");
     assert_eq!(keyed.iter().map(|k| (k.frame, k.value)).collect::<Vec<_>>(), [(0, 0.03), (48, 0.2)]);
@@ -2231,4 +2248,63 @@ fn help_shows_the_manuals_pages() {
     harness.run_ok();
     assert!(harness.query_by_label_contains("Manual: Tutorials").is_some(), "the page's window opens");
     assert!(harness.query_by_label_contains("## Your first tablecloth (five minutes)").is_some(), "with its text");
+}
+
+/// Whether every corner of the box `min..max` is drawn inside the viewport.
+fn box_on_screen(harness: &Harness<'_, DrapeApp>, (min, max): (glam::Vec3, glam::Vec3)) -> bool {
+    let rect = harness.state().viewport_rect();
+    drape::picture::framed::corners((min, max))
+        .into_iter()
+        .all(|corner| harness.state().screen_pos(corner).is_some_and(|p| rect.contains(p)))
+}
+
+/// The walker's box at `frame`, posed as drawn.
+fn walker_box(scene: &Scene, frame: f64) -> (glam::Vec3, glam::Vec3) {
+    let posed = drape::animate::references_at::reference_at(scene, 0, frame).expect("the walker was read");
+    let points: Vec<glam::Vec3> = posed.meshes().iter().flat_map(|m| m.positions.iter().map(|p| p.as_vec3())).collect();
+    drape::render::camera::bounds(&points).unwrap()
+}
+
+/// F frames the cloth with what it is pinned to: the cape with its wearer,
+/// head to feet, not the cape alone.
+#[test]
+fn f_frames_the_cape_with_the_walker_wearing_it() {
+    let workspace = Workspace::new();
+    let mut harness = open_cape(&workspace);
+    harness.state_mut().set_frame(9.0);
+    settle(&mut harness);
+    harness.key_press(Key::F);
+    harness.run_ok();
+    let walker = walker_box(harness.state().scene(), 9.0);
+    assert!(box_on_screen(&harness, walker), "the walker is in view, head to feet: {walker:?}");
+    assert!(cloth_on_screen(&harness));
+}
+
+/// A scene with a shot camera opens looking through it (the bundled
+/// carpet over its painted plate); turned off, it stays off while scrubbing
+/// and when saved and reopened, and a scene without one opens on the
+/// orbiting view.
+#[test]
+fn a_scene_with_a_shot_camera_opens_looking_through_it() {
+    let workspace = Workspace::new();
+    let carpet = workspace.path("carpet.ron");
+    let mut harness = open_editor(&workspace, scene::load(&carpet).unwrap(), Some(carpet.clone()));
+    assert!(harness.state().scene().camera.is_some());
+    assert!(harness.state().looks_through_shot_camera(), "the carpet opens through its shot camera");
+    let shot = drape::picture::scene_shot_camera_at(harness.state().scene(), 0.0, (1280, 720)).unwrap();
+    assert_eq!(harness.state().camera().eye(), shot.eye(), "the viewport looks from the shot camera");
+    harness.get_by_role_and_label(Role::Button, "Camera").click();
+    harness.run_ok();
+    assert!(!harness.state().looks_through_shot_camera());
+    harness.state_mut().set_frame(60.0);
+    settle(&mut harness);
+    assert!(!harness.state().looks_through_shot_camera(), "the choice is kept");
+    harness.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    harness.run_ok();
+    open_through_the_menu(&mut harness, &carpet);
+    settle(&mut harness);
+    assert!(!harness.state().looks_through_shot_camera(), "and saved with the view");
+
+    let without = open_editor(&workspace, new_scene(), None);
+    assert!(!without.state().looks_through_shot_camera());
 }

@@ -795,8 +795,9 @@ fn glb_reference() -> impl Strategy<Value = Reference> {
 
 fn view() -> impl Strategy<Value = View> {
     let frame = proptest::option::of(-100_000i32..100_000);
-    ((finite(), finite(), finite()), finite(), finite(), finite(), finite(), frame, any::<bool>()).prop_map(
-        |(target, yaw_deg, pitch_deg, distance_m, fov_y_deg, frame, follow)| View {
+    let flags = (any::<bool>(), any::<bool>());
+    ((finite(), finite(), finite()), finite(), finite(), finite(), finite(), frame, flags).prop_map(
+        |(target, yaw_deg, pitch_deg, distance_m, fov_y_deg, frame, (follow, through_camera))| View {
             target,
             yaw_deg,
             pitch_deg,
@@ -804,6 +805,7 @@ fn view() -> impl Strategy<Value = View> {
             fov_y_deg,
             frame,
             follow,
+            through_camera,
         },
     )
 }

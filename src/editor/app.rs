@@ -184,6 +184,11 @@ impl DrapeApp {
         self.work.frame()
     }
 
+    /// Whether the viewport looks through the scene's shot camera (View ▸ Camera).
+    pub fn looks_through_shot_camera(&self) -> bool {
+        self.work.session.through_camera
+    }
+
     /// Whether the viewport's camera follows the cloth (Follow).
     pub fn follows_cloth(&self) -> bool {
         self.work.session.follow
@@ -365,6 +370,7 @@ impl DrapeApp {
             });
             ui.menu_button("View", |ui| {
                 if ui.add(egui::Button::new("Frame all").shortcut_text("F")).clicked() {
+                    self.work.session.through_camera = false;
                     self.viewport.frame_all_pending = true;
                 }
                 ui.separator();

@@ -291,7 +291,12 @@ impl Files {
 
     /// Writes the scene (with the current camera) to `path` atomically; false and an error shown on failure.
     pub fn save_to(&mut self, w: &mut Workspace, camera: &OrbitCamera, path: &Path) -> bool {
-        let view = View { frame: Some(w.frame().round() as i32), follow: w.session.follow, ..camera.to_view() };
+        let view = View {
+            frame: Some(w.frame().round() as i32),
+            follow: w.session.follow,
+            through_camera: w.session.through_camera,
+            ..camera.to_view()
+        };
         w.doc.set_view_quietly(Some(view));
         // Mesh files are named relative to the scene file: saved elsewhere, they are renamed to match.
         let folder_of = |file: Option<&Path>| {

@@ -25,7 +25,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Delete", "Unpin the selected pins (or remove the selected collider, or delete the key selected on the timeline)"),
     ("K", "Add a rest-shape key at the playhead, from the current pose"),
     ("Ctrl+C / Ctrl+V", "Copy the selected pins' positions / paste them on the key being edited"),
-    ("F", "Frame the cloth in the viewport"),
+    ("F", "Frame the cloth and what it touches in the viewport"),
     ("Space", "Play / pause"),
     ("Left / Right", "Step one frame back / forward"),
     ("Up / Down", "Next / previous key (rest-shape keys and the selected collider's or layer's keys)"),

@@ -31,8 +31,13 @@ impl ViewportPanel {
             || (response.dragged_by(PointerButton::Primary) && alt && self.pin_drag.is_none())
             || (response.hovered() && ui.input(|i| i.smooth_scroll_delta.y) != 0.0);
         if navigates {
-            // Moving the view leaves the shot camera's (it stays where it was).
-            self.toggles.shot_camera = false;
+            // Moving the view leaves the shot camera's (it goes on from where it was).
+            if w.session.through_camera {
+                w.session.through_camera = false;
+                self.orbit_before_shot = None;
+                self.frame_all_pending = false;
+                self.reveal_pending = false;
+            }
         }
         if response.dragged_by(PointerButton::Middle) {
             if shift {

@@ -19,6 +19,7 @@ use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
 use crate::animate::colliders_at::shape_at;
+use crate::picture::framed::cloth_and_touched;
 use crate::picture::{SceneOverlays, collider_solids, key_overlay, reference_solids};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
@@ -50,8 +51,6 @@ pub struct ViewToggles {
     pub colliders: SolidLook,
     /// How referenced glTF files (characters, props) are drawn.
     pub references: SolidLook,
-    /// Looks through the scene's shot camera (View ▸ Camera).
-    pub shot_camera: bool,
     /// Shows the scene's background plate behind the cloth while looking through the shot camera.
     pub plate: bool,
     /// Draws in the toon style instead of lit (View ▸ Style).
@@ -97,7 +96,6 @@ impl Default for ViewToggles {
             onion_spacing: 4,
             colliders: SolidLook::Shaded,
             references: SolidLook::Shaded,
-            shot_camera: false,
             plate: true,
             toon: false,
         }
@@ -166,10 +164,13 @@ pub struct ViewportPanel {
     pub rect: egui::Rect,
     /// Whether the GPU viewport is available (false only in tests without wgpu).
     has_gpu: bool,
-    /// Frame the cloth once the viewport's shape is known (a scene without a saved view).
+    /// The orbiting camera while the shot camera is looked through.
+    pub(super) orbit_before_shot: Option<OrbitCamera>,
+    /// Frame the cloth once the viewport's shape is known (a scene without a
+    /// saved view), or once the shot camera is no longer looked through.
     pub frame_all_pending: bool,
     /// Frame the cloth once shown if the saved view does not see it at the opened frame.
-    reveal_pending: bool,
+    pub(super) reveal_pending: bool,
     /// The colliders last tessellated and what they were made from, so a
     /// repaint without a change (orbiting, hovering) does not build them again.
     solids_cache: Option<(SolidsKey, DrawnSolids)>,
@@ -231,6 +232,7 @@ impl ViewportPanel {
             follow_anchor: None,
             rect: egui::Rect::NOTHING,
             has_gpu,
+            orbit_before_shot: None,
             frame_all_pending: framed,
             reveal_pending: !framed,
             solids_cache: None,
@@ -297,11 +299,15 @@ impl ViewportPanel {
             }
         }
         self.refresh(w);
-        let reveal = std::mem::take(&mut self.reveal_pending);
-        if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.sees_cloth(w, area.aspect)) {
-            self.frame_all(w, area.aspect);
+        // Looking through the shot camera, its picture is the framing: the
+        // orbiting view is framed once the Camera toggle is turned off.
+        if !w.session.through_camera {
+            let reveal = std::mem::take(&mut self.reveal_pending);
+            if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.sees_cloth(w, area.aspect)) {
+                self.frame_cloth(w, area.aspect);
+            }
         }
-        if !self.toggles.shot_camera {
+        if !w.session.through_camera {
             self.follow_cloth(w);
         }
         if let Some((i, j)) = w.session.hovered
@@ -343,7 +349,7 @@ impl ViewportPanel {
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
-        if self.toggles.shot_camera
+        if w.session.through_camera
             && let Some(camera) = &w.doc.scene().camera
         {
             super::shot_view::paint_frame(ui.painter(), camera, area.rect);
@@ -401,10 +407,19 @@ impl ViewportPanel {
         (collider.enabled() && self.toggles.colliders != SolidLook::Hidden).then_some(index)
     }
 
-    /// Frames the cloth on screen.
-    pub fn frame_all(&mut self, w: &Workspace, aspect: f32) {
-        self.toggles.shot_camera = false;
-        if let Some((min, max)) = bounds(&w.shown.mesh.positions) {
+    /// Leaves the shot camera and frames the cloth on screen (F).
+    pub fn frame_all(&mut self, w: &mut Workspace, aspect: f32) {
+        w.session.through_camera = false;
+        if let Some(orbit) = self.orbit_before_shot.take() {
+            self.camera = orbit;
+        }
+        self.frame_cloth(w, aspect);
+    }
+
+    /// Frames the cloth on screen with the references and colliders it
+    /// touches at the playhead, keeping the camera's angles.
+    fn frame_cloth(&mut self, w: &Workspace, aspect: f32) {
+        if let Some((min, max)) = cloth_and_touched(&w.shown.scene, w.frame(), &w.shown.mesh.positions) {
             self.camera.frame_bounds(min, max, aspect);
         }
     }
@@ -676,7 +691,7 @@ impl ViewportPanel {
             // Greyed and off without a shot camera or plate, so the rows below hold still when one is added.
             let hint = "Look through the shot camera (orbiting leaves it)";
             let missing = "The scene has no shot camera: View ▸ Add camera from view adds one";
-            toggle_if_ui(ui, w.doc.scene().camera.is_some(), &mut self.toggles.shot_camera, "Camera", hint, missing);
+            toggle_if_ui(ui, w.doc.scene().camera.is_some(), &mut w.session.through_camera, "Camera", hint, missing);
             let hint = "The background plate behind the cloth, through the shot camera";
             let missing = "The scene has no plate: the Shot panel's Add plate… adds one";
             toggle_if_ui(ui, w.doc.scene().plate.is_some(), &mut self.toggles.plate, "Plate", hint, missing);

@@ -51,6 +51,9 @@ pub struct Session {
     /// The viewport's camera moves with the cloth's centre, keeping how it
     /// looks at it (saved with the view).
     pub follow: bool,
+    /// The viewport looks through the scene's shot camera (View ▸ Camera);
+    /// saved with the view.
+    pub through_camera: bool,
     /// Auto-key: an edit off a key adds a key at the playhead and changes
     /// that one (rest-shape keys, and layer parameters). Kept across documents.
     pub auto_key: bool,
@@ -79,14 +82,17 @@ impl Session {
         }
     }
 
-    /// A fresh session on `scene`: the playhead and Follow where its saved
-    /// view had them (the playhead kept on the timeline), else at the
-    /// timeline's start with Follow off.
+    /// A fresh session on `scene`: the playhead, Follow and the look
+    /// through the shot camera as its saved view had them (the playhead kept
+    /// on the timeline); without a saved view at the timeline's start with
+    /// Follow off, looking through the shot camera if there is one (the
+    /// picture the scene was made for).
     pub fn opening(scene: &Scene) -> Session {
         let timeline = &scene.timeline;
         let frame = scene.view.as_ref().and_then(|v| v.frame).unwrap_or(timeline.start);
         let mut session = Session::at(f64::from(frame.clamp(timeline.start, timeline.end)));
         session.follow = scene.view.as_ref().is_some_and(|v| v.follow);
+        session.through_camera = scene.camera.is_some() && scene.view.as_ref().is_none_or(|v| v.through_camera);
         session
     }
 

@@ -3,8 +3,8 @@
 
 use glam::{Vec2, Vec3};
 
+use super::framed::{corners, touched_bounds};
 use crate::animate::Evaluator;
-use crate::animate::references_at::reference_at;
 use crate::mesh::Mesh;
 use crate::render::camera::bounds;
 use crate::render::{Ground, OrbitCamera};
@@ -27,7 +27,12 @@ pub struct Framing {
 impl Framing {
     /// The scene's saved view if it has one; otherwise a camera framing all
     /// the keys, so the view holds still through the animation, for pictures
-    /// of `aspect` (width / height). The ground lies under every key.
+    /// of `aspect` (width / height). What is framed is the cloth with the
+    /// references and colliders it touches ([`framed_bounds`]): a cape with
+    /// its wearer, head to feet. A saved view of a cloth that stays in place
+    /// and cuts off part of that is widened to hold it all, keeping its
+    /// angles (a travelling cloth's saved view frames part of its way on
+    /// purpose and is kept). The ground lies under every key.
     /// When the cloth travels much farther than its own size (a flying carpet,
     /// see [`travels`]), a fixed view would show it tiny: the camera then keeps
     /// the framing of the largest single key and follows the cloth's centre
@@ -36,26 +41,27 @@ impl Framing {
     /// had at its saved frame (the timeline's start when it has none).
     pub fn of_scene(evaluator: &mut Evaluator, scene: &Scene, aspect: f32) -> Framing {
         let (rest_min, rest_max) = scene_bounds(evaluator, scene);
-        // The characters and props in the shot are framed too (the cloth's
-        // travel and ground are its own).
-        let (min, max) = match reference_bounds(scene) {
-            Some((lo, hi)) => padded((rest_min.min(lo), rest_max.max(hi))),
-            None => padded((rest_min, rest_max)),
-        };
+        let framed = framed_bounds(evaluator, scene);
+        let (min, max) = padded(framed);
         let key_extent_m = largest_key_extent(evaluator, scene);
         let ground_height_m = Ground::under(rest_min, rest_max).height_m;
+        // The cloth's own travel: a character it is pinned to makes it no traveller.
+        let (cloth_min, cloth_max) = padded((rest_min, rest_max));
+        let travelling = (cloth_max - cloth_min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m;
         let mut follow_offset = Vec3::ZERO;
         let (camera, mut ground, follow) = if let Some(view) = &scene.view {
-            let camera = OrbitCamera::from_view(view);
+            let mut camera = OrbitCamera::from_view(view);
             if view.follow {
                 let frame = view.frame.unwrap_or(scene.timeline.start).clamp(scene.timeline.start, scene.timeline.end);
                 let mesh = evaluator.evaluate_frame(scene, f64::from(frame));
                 if let Some((lo, hi)) = bounds(&mesh.positions) {
                     follow_offset = camera.target - (lo + hi) * 0.5;
                 }
+            } else if !travelling && !corners(framed).into_iter().all(|corner| camera.sees_any_of([corner], aspect)) {
+                camera.frame_bounds(framed.0, framed.1, aspect);
             }
             (camera, Ground::under(min, max), view.follow)
-        } else if (max - min).max_element() > FOLLOW_TRAVEL_RATIO * key_extent_m {
+        } else if travelling {
             let half = Vec3::splat(key_extent_m * 0.5);
             let center = (min + max) * 0.5;
             let mut camera = OrbitCamera::framing(min, max, aspect);
@@ -106,28 +112,32 @@ pub fn scene_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
     (min, max)
 }
 
-/// The largest side of any single key's rest shape box.
-/// The box round every visible reference of `scene` at its keys' frames
-/// and the timeline's ends; None without one.
-pub fn reference_bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
-    let frames = scene.keys.iter().map(|k| k.frame).chain([scene.timeline.start, scene.timeline.end]);
-    let mut found: Option<(Vec3, Vec3)> = None;
-    for frame in frames {
-        for (index, reference) in scene.references.iter().enumerate() {
-            let Some(posed) = reference_at(scene, index, f64::from(frame)).filter(|_| reference.visible) else {
-                continue;
-            };
-            for mesh in posed.meshes() {
-                let positions: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
-                if let Some((lo, hi)) = bounds(&positions) {
-                    found = Some(found.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-                }
-            }
-        }
+/// The box round every key's rest shape ([`scene_bounds`]) and what the
+/// cloth touches ([`touched_bounds`]) at each key, from its rest shape,
+/// and at the timeline's ends.
+pub fn framed_bounds(evaluator: &mut Evaluator, scene: &Scene) -> (Vec3, Vec3) {
+    let (mut min, mut max) = scene_bounds(evaluator, scene);
+    if scene.references.is_empty() && scene.colliders.is_empty() {
+        return (min, max);
     }
-    found
+    let mut add = |touched: Option<(Vec3, Vec3)>| {
+        if let Some((lo, hi)) = touched {
+            min = min.min(lo);
+            max = max.max(hi);
+        }
+    };
+    for key in &scene.keys {
+        let shape = evaluator.key_shape(scene, key);
+        add(touched_bounds(scene, f64::from(key.frame), &shape.positions));
+    }
+    for frame in [scene.timeline.start, scene.timeline.end] {
+        let mesh = evaluator.evaluate_frame(scene, f64::from(frame));
+        add(touched_bounds(scene, f64::from(frame), &mesh.positions));
+    }
+    (min, max)
 }
 
+/// The largest side of any single key's rest shape box.
 fn largest_key_extent(evaluator: &mut Evaluator, scene: &Scene) -> f32 {
     let mut extent_m: f32 = 0.0;
     for key in &scene.keys {
@@ -147,6 +157,7 @@ fn padded((min, max): (Vec3, Vec3)) -> (Vec3, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::animate::references_at::reference_at;
     use crate::scene;
 
     fn carpet() -> Scene {
@@ -156,6 +167,28 @@ mod tests {
     fn centre(mesh: &Mesh) -> Vec3 {
         let (lo, hi) = bounds(&mesh.positions).unwrap();
         (lo + hi) * 0.5
+    }
+
+    /// The cape's saved view, made for the editor's window, cuts off the
+    /// walker's feet: a render widens it to hold him, head to feet, at
+    /// every frame, from the same angles.
+    #[test]
+    fn a_saved_view_is_widened_to_hold_what_the_cloth_is_pinned_to() {
+        let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cape.ron"));
+        let scene = scene::load(path).unwrap();
+        let view = scene.view.clone().expect("the cape has a saved view");
+        let mut evaluator = Evaluator::new();
+        let framing = Framing::of_scene(&mut evaluator, &scene, 16.0 / 9.0);
+        assert_eq!((framing.camera.yaw_deg, framing.camera.pitch_deg), (view.yaw_deg as f32, view.pitch_deg as f32));
+        for frame in (0..=48).step_by(3) {
+            let posed = reference_at(&scene, 0, f64::from(frame)).expect("the walker was read");
+            let points: Vec<Vec3> =
+                posed.meshes().iter().flat_map(|m| m.positions.iter().map(|p| p.as_vec3())).collect();
+            let walker = bounds(&points).unwrap();
+            for corner in corners(walker) {
+                assert!(framing.camera.sees_any_of([corner], 16.0 / 9.0), "frame {frame}: {corner} cut off");
+            }
+        }
     }
 
     #[test]
@@ -182,6 +215,7 @@ mod tests {
             fov_y_deg: 35.0,
             frame: Some(36),
             follow: true,
+            through_camera: false,
         };
         scene.view = Some(view.clone());
         let mut framing = Framing::of_scene(&mut evaluator, &scene, 1.5);

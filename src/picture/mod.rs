@@ -4,7 +4,8 @@
 //! [`crate::render`] only draws meshes, overlays and a camera; this module
 //! decides what it draws:
 //!
-//! - [`framing`]: the camera and ground that show every key of a scene;
+//! - [`framing`]: the camera and ground that show every key of a scene, and
+//!   [`framed`]: the cloth with the references and colliders it touches, as framed;
 //! - [`key_overlay`](mod@key_overlay): the overlays of the key in effect (pins, catenary
 //!   network, triangulation) as plain lines and markers;
 //! - [`colliders`](mod@colliders): the scene's colliders at a frame as solids to draw;
@@ -14,6 +15,7 @@
 //! - [`scene_renderer`]: a scene at a frame to an image, frame after frame.
 
 pub mod colliders;
+pub mod framed;
 pub mod framing;
 pub mod key_overlay;
 pub mod plate;

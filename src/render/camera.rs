@@ -64,6 +64,7 @@ impl OrbitCamera {
             fov_y_deg: self.fov_y_deg as f64,
             frame: None,
             follow: false,
+            through_camera: false,
         }
     }
 

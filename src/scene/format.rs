@@ -193,6 +193,7 @@ mod tests {
                 fov_y_deg: 40.0,
                 frame: Some(36),
                 follow: true,
+                through_camera: true,
             }),
         }
     }

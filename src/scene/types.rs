@@ -154,6 +154,10 @@ pub struct View {
     /// Whether the editor's camera follows the cloth as it travels.
     #[serde(default, skip_serializing_if = "View::is_false")]
     pub follow: bool,
+    /// Whether the editor was looking through the shot camera: a scene
+    /// opens that way again (one with a shot camera and no view does too).
+    #[serde(default, skip_serializing_if = "View::is_false")]
+    pub through_camera: bool,
 }
 
 impl View {
