@@ -2308,3 +2308,108 @@ fn a_scene_with_a_shot_camera_opens_looking_through_it() {
     let without = open_editor(&workspace, new_scene(), None);
     assert!(!without.state().looks_through_shot_camera());
 }
+
+/// The round table, opened from the bundled file, with its top selected in the Colliders panel.
+fn open_round_table_with_top_selected(workspace: &Workspace) -> Harness<'static, DrapeApp> {
+    let path = std::fs::canonicalize("scenes/round_table.ron").unwrap();
+    let mut harness = open_editor(workspace, scene::load(&path).unwrap(), Some(path));
+    harness.get_by_label("top").click();
+    harness.run_ok();
+    assert_eq!(harness.state().selected_collider(), Some(0));
+    harness
+}
+
+/// Presses the left button at `from` and moves to `to` in `steps` frames, holding it.
+fn press_and_move(harness: &mut Harness<'_, DrapeApp>, from: Pos2, to: Pos2, steps: u32) {
+    let press = |pressed, pos| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    harness.event(Event::PointerMoved(from));
+    harness.step();
+    harness.event(press(true, from));
+    harness.step();
+    for step in 1..=steps {
+        harness.event(Event::PointerMoved(from.lerp(to, step as f32 / steps as f32)));
+        harness.step();
+    }
+}
+
+fn release(harness: &mut Harness<'_, DrapeApp>, at: Pos2) {
+    harness.event(Event::PointerButton {
+        pos: at,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+}
+
+/// While a dragged collider's new cloth is solved, the old cloth is drawn
+/// grey and the status bar says it is updating; once the shape is in, the
+/// cloth is drawn as usual.
+#[test]
+fn a_dragged_collider_greys_the_old_cloth_until_the_new_shape_is_in() {
+    use drape::editor::pin_drag::AxisLock;
+    let workspace = Workspace::new();
+    let mut harness = open_round_table_with_top_selected(&workspace);
+    assert!(!harness.state().cloth_drawn_stale());
+    let gizmo = harness.state().gizmo().expect("the table top's gizmo");
+    let origin = harness.state().screen_pos(gizmo.origin).unwrap();
+    let along = gizmo.tip(AxisLock::X).unwrap() - origin;
+    let grab = origin + along * 0.7;
+    let to = grab + along * 0.6;
+    press_and_move(&mut harness, grab, to, 3);
+    std::thread::sleep(drape::editor::stale_cloth::STALE_AFTER + Duration::from_millis(50));
+    harness.step();
+    assert_ne!(harness.state().scene(), harness.state().shown_scene(), "the new shape is being solved");
+    assert!(harness.state().cloth_drawn_stale(), "the old cloth is drawn as stale during the drag");
+    release(&mut harness, to);
+    harness.step();
+    assert!(harness.state().cloth_drawn_stale(), "and after it, until the shape is in");
+    assert!(harness.query_by_label_contains("updating").is_some(), "the status bar says so");
+    settle(&mut harness);
+    assert_eq!(harness.state().scene(), harness.state().shown_scene());
+    assert!(!harness.state().cloth_drawn_stale(), "the new shape is drawn as usual");
+    assert!(harness.query_by_label_contains("updating").is_none());
+}
+
+/// During a drag the cloth catches up with the moves whose shapes are in:
+/// with the button still held, the shape of an earlier move is shown
+/// before the last move's.
+#[test]
+fn a_collider_drag_shows_the_cloth_catching_up_while_held() {
+    use drape::editor::pin_drag::AxisLock;
+    let workspace = Workspace::new();
+    let mut harness = open_round_table_with_top_selected(&workspace);
+    let opened = harness.state().scene().colliders.clone();
+    let gizmo = harness.state().gizmo().expect("the table top's gizmo");
+    let origin = harness.state().screen_pos(gizmo.origin).unwrap();
+    let along = gizmo.tip(AxisLock::X).unwrap() - origin;
+    let grab = origin + along * 0.7;
+    press_and_move(&mut harness, grab, grab + along * 0.3, 1);
+    let first = harness.state().scene().colliders.clone();
+    assert_ne!(first, opened, "moved");
+    let to = grab + along * 0.6;
+    harness.event(Event::PointerMoved(to));
+    harness.step();
+    let last = harness.state().scene().colliders.clone();
+    assert_ne!(last, first, "moved again");
+    // The mouse keeps moving, so the last move's shape is never in yet.
+    let deadline = std::time::Instant::now() + RELAX_TIMEOUT;
+    let mut wiggle = 1.0;
+    while harness.state().shown_scene().colliders == opened {
+        assert!(std::time::Instant::now() < deadline, "the first move's shape came in");
+        std::thread::sleep(Duration::from_millis(20));
+        wiggle = -wiggle;
+        harness.event(Event::PointerMoved(to + along.normalized() * wiggle));
+        harness.step();
+    }
+    let shown = harness.state().shown_scene().colliders.clone();
+    assert_ne!(shown, harness.state().scene().colliders, "an earlier move is shown while the last is solved");
+    release(&mut harness, to);
+    settle(&mut harness);
+    assert_eq!(harness.state().shown_scene(), harness.state().scene(), "then the last");
+}

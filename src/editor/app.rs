@@ -222,6 +222,12 @@ impl DrapeApp {
         self.work.session.selected_collider
     }
 
+    /// Whether the viewport drew the cloth as stale last frame: grey, the
+    /// old shape on screen while the document's new one is solved.
+    pub fn cloth_drawn_stale(&self) -> bool {
+        self.viewport.stale.drawn_stale
+    }
+
     /// Whether a relaxation is pending or running.
     pub fn is_relaxing(&self) -> bool {
         self.work.shown.is_relaxing(&self.work.doc)
@@ -569,6 +575,10 @@ impl DrapeApp {
                 }
                 None => "Relaxing…".to_owned(),
             });
+            if self.viewport.stale.drawn_stale {
+                ui.label("· updating: the grey cloth is the old shape")
+                    .on_hover_text("The cloth is drawn in colour again once its new shape is solved");
+            }
         }
         let message = self.work.message.as_ref().filter(|m| m.at.elapsed().as_secs_f64() < MESSAGE_SECS);
         let (text, error) = match message {

@@ -61,6 +61,7 @@ mod shot_number;
 mod shot_panel;
 pub mod shot_view;
 pub mod shown;
+pub mod stale_cloth;
 mod timeline;
 mod timeline_zoom;
 mod typing_pace;

@@ -39,6 +39,11 @@ pub struct Shown {
     repaint_context: Arc<OnceLock<egui::Context>>,
     /// The shapes last asked of the worker, so a request is made once per change.
     requested: Option<(Cloth, Vec<KeyAmong>)>,
+    /// Versions of the document asked of the worker during a drag and not
+    /// shown yet: the oldest (likely the one being solved) and the newest.
+    /// Each is shown as soon as its shapes are in, so a drag shows the cloth
+    /// catching up while it goes on.
+    asked_during_drag: Vec<Scene>,
     /// The cloth at the playhead, in the stage shown.
     pub mesh: Arc<Mesh>,
     /// What `mesh` shows: (frame, stage, solo layer); `None` when it must be rebuilt.
@@ -80,6 +85,7 @@ impl Shown {
             shaper,
             repaint_context,
             requested: None,
+            asked_during_drag: Vec::new(),
             mesh: Arc::default(),
             mesh_of: None,
             ghosts: Arc::default(),
@@ -138,6 +144,7 @@ impl Shown {
     /// A new document: nothing asked of the worker, the mesh rebuilt.
     pub fn forget_document(&mut self) {
         self.requested = None;
+        self.asked_during_drag.clear();
         self.mesh_of = None;
     }
 
@@ -159,23 +166,20 @@ impl Shown {
 
     /// Takes finished shapes from the worker and asks it for the ones `doc` still lacks.
     pub fn sync(&mut self, doc: &Document) {
-        for built in self.shaper.take_built() {
+        let built = self.shaper.take_built();
+        let arrived = !built.is_empty();
+        for built in built {
             self.evaluator.cache_mut().insert(&built.cloth, &built.key, &built.obstacles, built.shape);
         }
         let scene = doc.scene();
         if *scene == self.scene {
+            self.asked_during_drag.clear();
             self.count_crossings();
             return;
         }
-        let cache = self.evaluator.cache();
-        let missing: Vec<KeyAmong> = scene
-            .keys
-            .iter()
-            .map(|k| (animate::attachments::posed_key(scene, k), key_obstacles(scene, k)))
-            .filter(|(k, among)| cache.get(&scene.cloth, k, among).is_none())
-            .map(|(k, among)| (k.into_owned(), among))
-            .collect();
+        let missing = self.missing_shapes(scene);
         if missing.is_empty() {
+            self.asked_during_drag.clear();
             self.scene = scene.clone();
             self.version += 1;
             self.mesh_of = None;
@@ -188,13 +192,53 @@ impl Shown {
             self.count_crossings();
             return;
         }
+        if arrived {
+            self.show_caught_up();
+        }
         let request = (scene.cloth.clone(), missing);
         if self.requested.as_ref() != Some(&request) {
             // The moves of a drag in progress do not cancel each other; anything else does.
             let supersede = !doc.in_gesture();
             self.shaper.request(&request.0, request.1.clone(), supersede);
             self.requested = Some(request);
+            if supersede {
+                self.asked_during_drag.clear();
+            } else {
+                // The pending request replaces the one before it, which will never run.
+                if self.asked_during_drag.len() > 1 {
+                    self.asked_during_drag.pop();
+                }
+                self.asked_during_drag.push(scene.clone());
+            }
         }
+    }
+
+    /// The keys of `scene` whose shapes are not in the cache, each among its colliders.
+    fn missing_shapes(&self, scene: &Scene) -> Vec<KeyAmong> {
+        let cache = self.evaluator.cache();
+        scene
+            .keys
+            .iter()
+            .map(|k| (animate::attachments::posed_key(scene, k), key_obstacles(scene, k)))
+            .filter(|(k, among)| cache.get(&scene.cloth, k, among).is_none())
+            .map(|(k, among)| (k.into_owned(), among))
+            .collect()
+    }
+
+    /// Shows the newest version asked during the drag whose shapes are all
+    /// in: the document as it was a moment ago, nearer than what is shown.
+    fn show_caught_up(&mut self) {
+        let Some(index) = (0..self.asked_during_drag.len())
+            .rev()
+            .find(|&i| self.missing_shapes(&self.asked_during_drag[i]).is_empty())
+        else {
+            return;
+        };
+        let caught_up = self.asked_during_drag.drain(..=index).next_back();
+        let Some(scene) = caught_up else { return };
+        self.scene = scene;
+        self.version += 1;
+        self.mesh_of = None;
     }
 
     /// Once per shown version: asks the worker to count the self-crossings of

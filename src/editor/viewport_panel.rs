@@ -15,6 +15,7 @@ use super::picking;
 use super::pin_drag::{AxisLock, PinDrag};
 use super::plate_view::PlateView;
 use super::shown::OnionSkin;
+use super::stale_cloth::{StaleCloth, stale_look};
 use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
@@ -166,6 +167,8 @@ pub struct ViewportPanel {
     has_gpu: bool,
     /// The orbiting camera while the shot camera is looked through.
     pub(super) orbit_before_shot: Option<OrbitCamera>,
+    /// Whether the cloth drawn is an old shape while the new one is solved.
+    pub stale: StaleCloth,
     /// Frame the cloth once the viewport's shape is known (a scene without a
     /// saved view), or once the shot camera is no longer looked through.
     pub frame_all_pending: bool,
@@ -233,6 +236,7 @@ impl ViewportPanel {
             rect: egui::Rect::NOTHING,
             has_gpu,
             orbit_before_shot: None,
+            stale: StaleCloth::default(),
             frame_all_pending: framed,
             reveal_pending: !framed,
             solids_cache: None,
@@ -299,6 +303,8 @@ impl ViewportPanel {
             }
         }
         self.refresh(w);
+        let behind = *w.doc.scene() != w.shown.scene;
+        let stale = self.stale.update(behind, ui.ctx());
         // Looking through the shot camera, its picture is the framing: the
         // orbiting view is framed once the Camera toggle is turned off.
         if !w.session.through_camera {
@@ -334,6 +340,9 @@ impl ViewportPanel {
         let mut overlay = self.overlay(w);
         overlay.segments.extend(wire.iter().cloned());
         let mut options = self.render_options(w);
+        if stale {
+            options = stale_look(options);
+        }
         if self.plate_backdrop_ui(ui, w, area.rect) {
             // The plate is painted behind: the cloth comes over it with alpha.
             options.ground = None;
