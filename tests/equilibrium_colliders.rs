@@ -5,7 +5,7 @@
 use std::ops::ControlFlow;
 
 use drape::shape::RelaxParams;
-use drape::shape::equilibrium::{EquilibriumReport, equilibrate_among, equilibrate_watched};
+use drape::shape::equilibrium::{Among, EquilibriumReport, equilibrate_among, equilibrate_watched};
 use drape::world::{ColliderShape, Obstacle};
 use glam::{DMat3, DVec3};
 
@@ -37,7 +37,8 @@ fn solve(
     obstacles: &[Obstacle],
     tolerance: f64,
 ) -> EquilibriumReport {
-    equilibrate_among(positions, n, n, pinned, &params(n, tolerance), obstacles, &mut |_| ControlFlow::Continue(()))
+    let among = Among { obstacles, friction: 0.0 };
+    equilibrate_among(positions, n, n, pinned, &params(n, tolerance), &among, &mut |_| ControlFlow::Continue(()))
         .expect("never cancelled")
 }
 
@@ -49,8 +50,8 @@ fn watched(
     watch: &mut dyn FnMut(&[DVec3]),
 ) -> EquilibriumReport {
     let mut go = |_| ControlFlow::Continue(());
-    equilibrate_watched(positions, (n, n), pinned, &params(n, 1e-7), obstacles, &mut go, watch)
-        .expect("never cancelled")
+    let among = Among { obstacles, friction: 0.0 };
+    equilibrate_watched(positions, (n, n), pinned, &params(n, 1e-7), &among, &mut go, watch).expect("never cancelled")
 }
 
 /// The deepest any point of the cloth (grid points, and `samples` points
@@ -164,12 +165,21 @@ fn tolerance_moves_a_cloth_on_a_ball_by_less_than_a_millimetre() {
     let n = 13;
     let obstacles = [ball()];
     let (start, pinned) = sheet(n, 1.0);
-    let (mut loose, mut tight) = (start.clone(), start);
-    let loose_report = solve(&mut loose, n, &pinned, &obstacles, 1e-5);
-    let tight_report = solve(&mut tight, n, &pinned, &obstacles, 1e-7);
-    assert!(loose_report.converged && tight_report.converged, "{loose_report:?} {tight_report:?}");
-    let moved = loose.iter().zip(&tight).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
-    assert!(moved < 1e-3, "{:.3} mm", moved * 1e3);
+    for friction in [0.0, 0.5] {
+        let among = Among { obstacles: &obstacles, friction };
+        let mut solve = |tolerance: f64| {
+            let mut x = start.clone();
+            let mut go = |_| ControlFlow::Continue(());
+            let report = equilibrate_among(&mut x, n, n, &pinned, &params(n, tolerance), &among, &mut go);
+            (x, report.expect("never cancelled"))
+        };
+        let (loose, loose_report) = solve(1e-5);
+        let (tight, tight_report) = solve(1e-7);
+        assert!(loose_report.converged && tight_report.converged, "{loose_report:?} {tight_report:?}");
+        let moved = loose.iter().zip(&tight).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
+        assert!(moved < 1e-3, "friction {friction}: {:.3} mm", moved * 1e3);
+        eprintln!("friction {friction}: {tight_report:?}, 1e-5 vs 1e-7 {:.4} mm", moved * 1e3);
+    }
 }
 
 #[test]
@@ -181,4 +191,49 @@ fn a_start_through_a_collider_is_refused_and_left_as_it_was() {
     let report = solve(&mut x, n, &pinned, &obstacles, 1e-7);
     assert!(report.start_inside > 0 && !report.converged, "{report:?}");
     assert_eq!(x, start);
+}
+
+/// A sheet lying on a slope `degrees` steep (descending towards +x), not
+/// pinned anywhere, and the slope: 10 cm thick, 4 m square.
+fn on_slope(n: usize, degrees: f64) -> (Vec<DVec3>, Vec<bool>, Obstacle) {
+    let turn = DMat3::from_rotation_z(-degrees.to_radians());
+    let slope = Obstacle {
+        shape: ColliderShape::Box { center: DVec3::ZERO, half: DVec3::new(2.0, 0.05, 2.0), world_from_local: turn },
+        thickness: 0.003,
+    };
+    let step = 1.0 / (n - 1) as f64;
+    let lift = 0.05 + 0.003 + 0.0005;
+    let positions = (0..n * n)
+        .map(|k| turn * DVec3::new(-0.5 + step * (k % n) as f64, lift, -0.5 + step * (k / n) as f64))
+        .collect();
+    (positions, vec![false; n * n], slope)
+}
+
+fn on_slope_with(friction: f64, max_steps: u32) -> (Vec<DVec3>, Vec<DVec3>, EquilibriumReport) {
+    let n = 9;
+    let (start, pinned, slope) = on_slope(n, 20.0);
+    let mut end = start.clone();
+    let among = Among { obstacles: std::slice::from_ref(&slope), friction };
+    let params = RelaxParams { max_iterations: max_steps, ..params(n, 1e-7) };
+    let report = equilibrate_among(&mut end, n, n, &pinned, &params, &among, &mut |_| ControlFlow::Continue(()))
+        .expect("never cancelled");
+    (start, end, report)
+}
+
+#[test]
+fn friction_above_the_slopes_tangent_holds_a_sheet_where_it_lies() {
+    // tan 20° = 0.364.
+    let (start, end, report) = on_slope_with(0.5, 2000);
+    assert!(report.converged, "{report:?}");
+    assert!(report.resting >= 81, "every point rests on the slope: {report:?}");
+    let moved = start.iter().zip(&end).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
+    assert!(moved < 1e-3, "moved {:.2} mm", moved * 1e3);
+}
+
+#[test]
+fn friction_below_the_slopes_tangent_lets_a_sheet_slide() {
+    let (start, end, report) = on_slope_with(0.3, 150);
+    assert!(!report.converged, "{report:?}");
+    let downhill = end.iter().zip(&start).map(|(b, a)| b.x - a.x).sum::<f64>() / start.len() as f64;
+    assert!(downhill > 0.01, "slid {:.1} mm", downhill * 1e3);
 }

@@ -34,6 +34,7 @@
 //! for one point of each mirror orbit (`orbits`).
 
 mod colliders;
+mod friction;
 mod hessian;
 mod mirror;
 mod orbits;
@@ -45,7 +46,7 @@ use glam::DVec3;
 
 use super::relax::{Cancelled, FabricLimits, RelaxParams, RelaxProgress};
 use crate::world::Obstacle;
-use colliders::{Colliders, Touch};
+use colliders::Colliders;
 use hessian::Hessian;
 use mirror::Mirror;
 use orbits::Orbits;
@@ -155,9 +156,10 @@ impl Problem {
     }
 
     /// Places `obstacles` around the solve's coordinates (`centre` added reaches the world's).
-    fn set_obstacles(&mut self, obstacles: &[Obstacle], centre: DVec3) {
+    fn set_obstacles(&mut self, among: &Among, centre: DVec3) {
         let spacing_m = self.max_step_m / MAX_STEP_SHARE;
-        self.colliders = Colliders::new(obstacles, centre, &self.free, &self.edges, spacing_m);
+        self.colliders = Colliders::new(among.obstacles, centre, &self.free, &self.edges, spacing_m);
+        self.colliders.friction.coefficient = among.friction.max(0.0);
     }
 
     fn energy(&self, x: &[DVec3]) -> f64 {
@@ -166,9 +168,9 @@ impl Problem {
         springs + height + self.colliders.energy(x)
     }
 
-    /// Adds `g`, the gradient for a site's position, to the site's ends.
-    fn add_site_gradient(&self, touch: &Touch, g: DVec3, out: &mut [f64]) {
-        let site = self.colliders.sites[touch.site];
+    /// Adds `g`, the gradient for site `site`'s position, to the site's ends.
+    fn add_site_gradient(&self, site: usize, g: DVec3, out: &mut [f64]) {
+        let site = self.colliders.sites[site];
         for (point, weight) in [(site.a, 1.0 - site.share), (site.b, site.share)] {
             let Some(p) = self.rank[point].filter(|_| weight != 0.0) else { continue };
             for axis in 0..3 {
@@ -190,7 +192,11 @@ impl Problem {
         let mut touches = Vec::new();
         self.colliders.touches(x, &mut touches);
         for touch in &touches {
-            self.add_site_gradient(touch, self.colliders.gradient(touch), out);
+            self.add_site_gradient(touch.site, self.colliders.gradient(touch), out);
+        }
+        let mu = self.colliders.friction.coefficient;
+        for (&(site, _), anchor) in &self.colliders.friction.anchors {
+            self.add_site_gradient(site, anchor.gradient(mu, self.colliders.sites[site].at(x)), out);
         }
     }
 
@@ -218,9 +224,13 @@ impl Problem {
         }
         let mut touches = Vec::new();
         self.colliders.touches(x, &mut touches);
-        for touch in &touches {
-            let site = self.colliders.sites[touch.site];
-            let block = self.colliders.hessian(x, touch, definite);
+        let blocks = touches.iter().map(|touch| (touch.site, self.colliders.hessian(x, touch, definite)));
+        let mu = self.colliders.friction.coefficient;
+        let anchors = self.colliders.friction.anchors.iter();
+        let blocks =
+            blocks.chain(anchors.map(|(&(site, _), a)| (site, a.hessian(mu, self.colliders.sites[site].at(x)))));
+        for (site, block) in blocks {
+            let site = self.colliders.sites[site];
             match site.term {
                 Some(term) => hessian.add_along(term, site.share, &block),
                 None => {
@@ -256,25 +266,38 @@ pub fn equilibrate(
     params: &RelaxParams,
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
 ) -> Result<EquilibriumReport, Cancelled> {
-    equilibrate_among(positions, cols, rows, pinned, params, &[], control)
+    equilibrate_among(positions, cols, rows, pinned, params, &Among::NOTHING, control)
+}
+
+/// What the cloth rests among: colliders, and the friction on them (the
+/// key's `friction`, a Coulomb coefficient).
+#[derive(Clone, Copy, Debug)]
+pub struct Among<'a> {
+    pub obstacles: &'a [Obstacle],
+    pub friction: f64,
+}
+
+impl Among<'_> {
+    pub const NOTHING: Among<'static> = Among { obstacles: &[], friction: 0.0 };
 }
 
 /// [`equilibrate`] among colliders: every free point and every point along
 /// an edge between free points keeps its obstacle's thickness from the
 /// solid through every step ([`colliders`]). The start must keep it too
 /// (else [`EquilibriumReport::start_inside`] counts where it does not, and
-/// nothing moves). Frictionless: a resting point slides until the cloth's
-/// own forces along the surface balance.
+/// nothing moves). A resting place holds with static Coulomb friction
+/// ([`friction`]): its force along the surface is at most `friction` times
+/// the force it presses the surface with.
 pub fn equilibrate_among(
     positions: &mut [DVec3],
     cols: usize,
     rows: usize,
     pinned: &[bool],
     params: &RelaxParams,
-    obstacles: &[Obstacle],
+    among: &Among,
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
 ) -> Result<EquilibriumReport, Cancelled> {
-    equilibrate_watched(positions, (cols, rows), pinned, params, obstacles, control, &mut |_| ())
+    equilibrate_watched(positions, (cols, rows), pinned, params, among, control, &mut |_| ())
 }
 
 /// [`equilibrate_among`], handing `watch` the whole shape (world
@@ -285,7 +308,7 @@ pub fn equilibrate_watched(
     (cols, rows): (usize, usize),
     pinned: &[bool],
     params: &RelaxParams,
-    obstacles: &[Obstacle],
+    among: &Among,
     control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     watch: &mut dyn FnMut(&[DVec3]),
 ) -> Result<EquilibriumReport, Cancelled> {
@@ -299,13 +322,13 @@ pub fn equilibrate_watched(
     // Solved about the cloth's centre, so rounding is relative to its size, not its place.
     let centre = positions.iter().copied().sum::<DVec3>() / positions.len() as f64;
     let mut x: Vec<DVec3> = positions.iter().map(|p| *p - centre).collect();
-    problem.set_obstacles(obstacles, centre);
+    problem.set_obstacles(among, centre);
     let start_inside = problem.colliders.sites.iter().filter(|s| problem.colliders.clearance(&x, s) <= 0.0).count();
     if start_inside > 0 {
         return Ok(EquilibriumReport { start_inside, ..EquilibriumReport::default() });
     }
     // Colliders need not be symmetric where the pins are.
-    let mirrors = if obstacles.is_empty() { Mirror::find(&x, cols, rows, pinned) } else { Vec::new() };
+    let mirrors = if among.obstacles.is_empty() { Mirror::find(&x, cols, rows, pinned) } else { Vec::new() };
     for mirror in &mirrors {
         mirror.apply(&mut x, pinned);
     }
@@ -322,6 +345,7 @@ pub fn equilibrate_watched(
     let mut trial = x.clone();
     let mut watched = positions.to_vec();
     let mut trial_gradient = vec![0.0; unknowns];
+    problem.colliders.update_anchors(&x);
     problem.gradient(&x, &mut gradient);
     let mut energy = problem.energy(&x);
     let mut report = EquilibriumReport { tolerance, residual: residual(&gradient), ..EquilibriumReport::default() };
@@ -379,6 +403,13 @@ pub fn equilibrate_watched(
         watched.iter_mut().zip(&x).for_each(|(w, p)| *w = *p + centre);
         watch(&watched);
         std::mem::swap(&mut gradient, &mut trial_gradient);
+        if among.friction > 0.0 && !among.obstacles.is_empty() {
+            // Friction's normal forces and anchors follow the step: the
+            // energy the next step lowers, and the residual, are up to date.
+            problem.colliders.update_anchors(&x);
+            problem.gradient(&x, &mut gradient);
+            energy = problem.energy(&x);
+        }
         report.residual = residual(&gradient);
         shift_share =
             if alpha == 1.0 { (shift_share * 0.25).max(1e-15) } else { (shift_share * 4.0).min(LARGEST_SHIFT) };

@@ -9,6 +9,7 @@
 
 use glam::DVec3;
 
+use super::friction::{Anchor, Friction};
 use super::terms::Block;
 use crate::world::Obstacle;
 
@@ -59,6 +60,7 @@ pub(super) struct Colliders {
     /// The barrier's stiffness: a point's weight rests at half the reach.
     kappa: f64,
     pub(super) reach_m: f64,
+    pub(super) friction: Friction,
 }
 
 impl Colliders {
@@ -89,7 +91,7 @@ impl Colliders {
         }
         // −b′(reach/2) = 1.193·reach: a point's weight holds it at half the reach.
         let kappa = 1.0 / (1.193 * reach_m);
-        Colliders { obstacles: obstacles.to_vec(), centre, sites, kappa, reach_m }
+        Colliders { obstacles: obstacles.to_vec(), centre, sites, kappa, reach_m, friction: Friction::default() }
     }
 
     pub(super) fn is_empty(&self) -> bool {
@@ -119,11 +121,35 @@ impl Colliders {
         }
     }
 
-    /// The barrier energy; infinite where a site has reached its thickness.
+    /// The barrier and friction energy; infinite where a site has reached its thickness.
     pub(super) fn energy(&self, x: &[DVec3]) -> f64 {
         let mut touches = Vec::new();
         self.touches(x, &mut touches);
-        touches.iter().map(|t| self.kappa * barrier(t.gap_m, self.reach_m)).sum()
+        let barrier: f64 = touches.iter().map(|t| self.kappa * barrier(t.gap_m, self.reach_m)).sum();
+        let mu = self.friction.coefficient;
+        let friction: f64 =
+            self.friction.anchors.iter().map(|(&(site, _), a)| a.energy(mu, self.sites[site].at(x))).sum();
+        barrier + friction
+    }
+
+    /// Anchors every site touching a surface where it is (keeping the anchor
+    /// of one that touched already) and takes its normal force and the
+    /// surface's direction from `x`; a site that left lets go. Nothing
+    /// without friction.
+    pub(super) fn update_anchors(&mut self, x: &[DVec3]) {
+        if self.friction.coefficient <= 0.0 {
+            return;
+        }
+        let mut touches = Vec::new();
+        self.touches(x, &mut touches);
+        let mut anchors = std::collections::BTreeMap::new();
+        for t in &touches {
+            let press = self.push(t);
+            let key = (t.site, t.obstacle);
+            let at = self.friction.anchors.get(&key).map_or_else(|| self.sites[t.site].at(x), |a| a.at);
+            anchors.insert(key, Anchor { at, normal: t.outward, press });
+        }
+        self.friction.anchors = anchors;
     }
 
     /// The force a touch pushes its site out with (point weights).
