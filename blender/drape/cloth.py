@@ -10,6 +10,7 @@ import array
 import os
 
 import bpy
+from mathutils import Vector
 
 from . import timing
 from .native import module as drape
@@ -112,10 +113,61 @@ def _buffer(point_count):
     return buf
 
 
-def show_frame(obj, bl_scene):
+def target_matrix(pin, depsgraph):
+    """World matrix of the bone (its head) or object carrying `pin`, as evaluated now; None if it is gone."""
+    target = pin.target
+    if target is None:
+        return None
+    evaluated = target.evaluated_get(depsgraph)
+    if not pin.bone:
+        return evaluated.matrix_world
+    if target.type != "ARMATURE" or pin.bone not in evaluated.pose.bones:
+        return None
+    return evaluated.matrix_world @ evaluated.pose.bones[pin.bone].matrix
+
+
+def pin_in_object_space(obj, pin, depsgraph):
+    """Where `pin`'s bone puts it now, in the cloth object's space (Blender's axes); None if it cannot."""
+    matrix = target_matrix(pin, depsgraph)
+    if matrix is None:
+        return None
+    world = matrix @ Vector(pin.offset)
+    return obj.evaluated_get(depsgraph).matrix_world.inverted() @ world
+
+
+def pin_arguments(obj, cloth, depsgraph):
+    """The `pins=` argument of evaluate_into: every pin whose bone is bound and sampled at every key."""
+    pins = []
+    for pin in obj.drape.pins:
+        if pin.target is None or len(pin.at_keys) != len(cloth.key_frames):
+            continue
+        now = pin_in_object_space(obj, pin, depsgraph)
+        if now is None:
+            continue
+        at_keys = [tuple(k.co) if k.sampled else None for k in pin.at_keys]
+        pins.append(((pin.grid[0], pin.grid[1]), tuple(now), at_keys))
+    return pins
+
+
+def sync_pins(obj, cloth):
+    """One entry of object.drape.pins per pin of the scene file, keeping the bindings of those still there."""
+    grids = [tuple(grid) for grid in cloth.pin_grids()]
+    pins = obj.drape.pins
+    for index in reversed(range(len(pins))):
+        if tuple(pins[index].grid) not in grids:
+            pins.remove(index)
+    have = {tuple(pin.grid) for pin in pins}
+    for grid in grids:
+        if grid not in have:
+            pins.add().grid = grid
+
+
+def show_frame(obj, bl_scene, depsgraph=None):
     """Writes Drape's cloth at the scene's current (sub-)frame into the object's shape key.
 
-    Returns True when it did; a problem goes to the panel and the console, never raises.
+    Pins bound to bones are read from `depsgraph` (the frame handler's; the
+    context's otherwise). Returns True when it did; a problem goes to the
+    panel and the console, never raises.
     """
     try:
         cloth = load(scene_file(obj))
@@ -137,8 +189,11 @@ def show_frame(obj, bl_scene):
         )
         return False
     buf = _buffer(cloth.point_count)
+    pins = None
+    if any(pin.target is not None for pin in obj.drape.pins):
+        pins = pin_arguments(obj, cloth, depsgraph or bpy.context.evaluated_depsgraph_get())
     try:
-        cloth.evaluate_into(time_of(obj, bl_scene), buf, z_up=True)
+        cloth.evaluate_into(time_of(obj, bl_scene), buf, z_up=True, pins=pins)
     except Exception as error:  # drape.EvaluationError: a bug, shown rather than crashing playback
         _set_error(obj, str(error))
         return False
@@ -148,10 +203,10 @@ def show_frame(obj, bl_scene):
     return True
 
 
-def show_all(bl_scene):
+def show_all(bl_scene, depsgraph=None):
     for obj in bl_scene.objects:
         if is_drape_object(obj) and obj.drape.live:
-            show_frame(obj, bl_scene)
+            show_frame(obj, bl_scene, depsgraph)
 
 
 def fill_mesh(mesh, cloth, bl_scene):
@@ -206,6 +261,7 @@ def create(context, path, name=None):
     obj = bpy.data.objects.new(name, mesh)
     context.collection.objects.link(obj)
     add_shape_keys(obj)
+    sync_pins(obj, cloth)
     obj.drape.scene_path = path  # last: setting it shows the frame
     # Handlers run on the render thread during F12: the interface must stay locked.
     bl_scene.render.use_lock_interface = True
@@ -225,4 +281,5 @@ def rebuild(obj, bl_scene):
     if old.users == 0:
         bpy.data.meshes.remove(old)
     add_shape_keys(obj)
+    sync_pins(obj, cloth)
     return show_frame(obj, bl_scene)

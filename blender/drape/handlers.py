@@ -14,8 +14,8 @@ WATCH_INTERVAL_S = 1.0
 
 
 @persistent
-def on_frame_change(scene, *_depsgraph):
-    cloth.show_all(scene)
+def on_frame_change(scene, depsgraph=None):
+    cloth.show_all(scene, depsgraph)
 
 
 @persistent

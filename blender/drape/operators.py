@@ -1,4 +1,4 @@
-"""Add ▸ Drape Cloth, Reload, Bake to a point cache, and Follow Bone."""
+"""Add ▸ Drape Cloth, Reload, Bake to a point cache, Follow Bone and Bind Pins."""
 
 import os
 import struct
@@ -60,6 +60,7 @@ class DRAPE_OT_reload(bpy.types.Operator):
         except drape.SceneError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
+        cloth.sync_pins(obj, scene)
         if len(obj.data.vertices) != scene.point_count or obj.data.shape_keys is None:
             cloth.rebuild(obj, context.scene)
         else:
@@ -148,11 +149,62 @@ class DRAPE_OT_follow_bone(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class DRAPE_OT_bind_pins(bpy.types.Operator):
+    """Bind each pin that has an object or bone to it where the pin is now, and sample where the
+    bone puts it at every key's frame: the keys are relaxed there, and at every other frame and
+    sub-frame the pin sits on its bone, read live. The samples live in the .blend, so a farm node
+    rendering one frame gets what this machine shows. Sample again after changing the animation
+    at a key's frame"""
+
+    bl_idname = "object.drape_bind_pins"
+    bl_label = "Bind Pins"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return cloth.is_drape_object(context.object)
+
+    def execute(self, context):
+        obj, bl_scene = context.object, context.scene
+        try:
+            scene = cloth.load(cloth.scene_file(obj))
+        except drape.SceneError as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        cloth.sync_pins(obj, scene)
+        bound = [pin for pin in obj.drape.pins if pin.target is not None]
+        columns = scene.grid[0]
+        positions = obj.data.shape_keys.key_blocks[cloth.SHAPE_KEY].data
+        depsgraph = context.evaluated_depsgraph_get()
+        for pin in bound:
+            matrix = cloth.target_matrix(pin, depsgraph)
+            if matrix is None:
+                self.report({"ERROR"}, f"pin {tuple(pin.grid)}: {pin.target.name} has no bone {pin.bone!r}")
+                return {"CANCELLED"}
+            # Where the pin is now, on screen, becomes its place on the bone.
+            here = obj.matrix_world @ positions[pin.grid[1] * columns + pin.grid[0]].co
+            pin.offset = matrix.inverted() @ here
+            pin.at_keys.clear()
+        frame, subframe = bl_scene.frame_current, bl_scene.frame_subframe
+        render = bl_scene.render
+        for key_frame in scene.key_frames:
+            at = timing.blender_frame(key_frame / scene.fps, obj.drape.time_offset_frames, render.fps, render.fps_base)
+            bl_scene.frame_set(at[0], subframe=at[1])
+            depsgraph = context.evaluated_depsgraph_get()
+            for pin in bound:
+                sample = pin.at_keys.add()
+                sample.co = cloth.pin_in_object_space(obj, pin, depsgraph)
+                sample.sampled = True
+        bl_scene.frame_set(frame, subframe=subframe)
+        self.report({"INFO"}, f"{len(bound)} pins bound, sampled at {len(scene.key_frames)} keys")
+        return {"FINISHED"}
+
+
 def add_menu(self, context):
     self.layout.operator(DRAPE_OT_add_cloth.bl_idname, text="Drape Cloth (.ron)", icon="MOD_CLOTH")
 
 
-classes = (DRAPE_OT_add_cloth, DRAPE_OT_reload, DRAPE_OT_bake, DRAPE_OT_follow_bone)
+classes = (DRAPE_OT_add_cloth, DRAPE_OT_reload, DRAPE_OT_bake, DRAPE_OT_follow_bone, DRAPE_OT_bind_pins)
 
 
 def register():

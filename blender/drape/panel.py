@@ -49,6 +49,19 @@ class DRAPE_PT_object(bpy.types.Panel):
         if target is not None and target.type == "ARMATURE":
             box.prop_search(settings, "follow_bone", target.data, "bones")
         box.operator("object.drape_follow_bone")
+        box = layout.box()
+        box.label(text="Pins on Blender's character")
+        for pin in settings.pins:
+            row = box.row(align=True)
+            row.label(text=f"pin ({pin.grid[0]}, {pin.grid[1]})")
+            row.prop(pin, "target", text="")
+            if pin.target is not None and pin.target.type == "ARMATURE":
+                row.prop_search(pin, "bone", pin.target.data, "bones", text="")
+            if pin.target is not None and len(pin.at_keys) != len(scene.key_frames):
+                row.label(text="", icon="ERROR")
+        if any(pin.target is not None and len(pin.at_keys) != len(scene.key_frames) for pin in settings.pins):
+            _problem(box, "Pins marked with a warning follow their bones once bound: press Bind Pins", icon="INFO")
+        box.operator("object.drape_bind_pins")
 
 
 def _problem(layout, text, icon="ERROR"):

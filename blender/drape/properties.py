@@ -11,6 +11,30 @@ def _show_again(settings, context):
         cloth.show_frame(obj, context.scene)
 
 
+class DrapePinAtKey(bpy.types.PropertyGroup):
+    co: bpy.props.FloatVectorProperty(
+        name="Position", size=3, subtype="TRANSLATION",
+        description="Where the pin's bone put it at this key's frame, in the cloth object's space",
+    )
+    sampled: bpy.props.BoolProperty(name="Sampled", default=False)
+
+
+class DrapePin(bpy.types.PropertyGroup):
+    """One pin of the scene file, optionally carried by a Blender object or bone."""
+
+    grid: bpy.props.IntVectorProperty(name="Grid", size=2, description="The pin's grid index (i, j)")
+    target: bpy.props.PointerProperty(
+        name="Object", type=bpy.types.Object,
+        description="The object (or armature, with a bone) that carries this pin; empty: the scene file's pin",
+    )
+    bone: bpy.props.StringProperty(name="Bone", description="The bone of the armature that carries the pin")
+    offset: bpy.props.FloatVectorProperty(
+        name="Offset", size=3, subtype="TRANSLATION",
+        description="The pin in the bone's (or object's) space, set by Bind Pins",
+    )
+    at_keys: bpy.props.CollectionProperty(type=DrapePinAtKey)
+
+
 class DrapeObjectSettings(bpy.types.PropertyGroup):
     scene_path: bpy.props.StringProperty(
         name="Scene File",
@@ -39,9 +63,10 @@ class DrapeObjectSettings(bpy.types.PropertyGroup):
         name="Bone",
         description="The bone of the Follow armature that carries the cloth (empty: the object itself)",
     )
+    pins: bpy.props.CollectionProperty(type=DrapePin)
 
 
-classes = (DrapeObjectSettings,)
+classes = (DrapePinAtKey, DrapePin, DrapeObjectSettings)
 
 
 def register():

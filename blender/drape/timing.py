@@ -10,6 +10,13 @@ def drape_seconds(frame, subframe, offset_frames, fps, fps_base):
     return (frame + subframe - offset_frames) * fps_base / fps
 
 
+def blender_frame(seconds, offset_frames, fps, fps_base):
+    """The Blender (frame, subframe) at which the Drape scene is `seconds` in: drape_seconds' inverse."""
+    exact = seconds * fps / fps_base + offset_frames
+    frame = int(exact // 1)
+    return frame, exact - frame
+
+
 def blender_fps(render):
     return render.fps / render.fps_base
 

@@ -55,6 +55,47 @@ def remove(obj):
     bpy.data.meshes.remove(mesh)
 
 
+def rising_bone(scene, frames, rise_m):
+    """An armature whose bone "hand" rises `rise_m` (its own +Y is world +Z) from frame 0 to `frames`, linearly."""
+    armature = bpy.data.armatures.new("Rig")
+    rig = bpy.data.objects.new("Rig", armature)
+    scene.collection.objects.link(rig)
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode="EDIT")
+    bone = armature.edit_bones.new("hand")
+    bone.head, bone.tail = (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    pose_bone = rig.pose.bones["hand"]
+    for frame, rise in ((0, 0.0), (frames, rise_m)):
+        pose_bone.location = (0.0, rise, 0.0)
+        pose_bone.keyframe_insert("location", frame=frame)
+    for curve in rig.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+    return rig
+
+
+def bone_through(scene, frames_and_heads):
+    """An armature whose bone "hand" has its head at each (frame, world point), moving straight between."""
+    armature = bpy.data.armatures.new("Hand rig")
+    rig = bpy.data.objects.new("Hand rig", armature)
+    scene.collection.objects.link(rig)
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode="EDIT")
+    bone = armature.edit_bones.new("hand")
+    bone.head, bone.tail = (0.0, 0.0, 0.0), (0.0, 0.0, 0.2)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    pose_bone = rig.pose.bones["hand"]
+    for frame, head in frames_and_heads:
+        # The rest bone stands at the origin with its +Y along world +Z.
+        pose_bone.location = (head.x, head.z, -head.y)
+        pose_bone.keyframe_insert("location", frame=frame)
+    for curve in rig.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+    return rig
+
+
 class LiveCloth(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -218,22 +259,7 @@ class LiveCloth(unittest.TestCase):
     def test_9_a_cloth_following_an_animated_bone_rides_with_it_at_a_subframe(self):
         bpy.ops.object.drape_add_cloth(filepath=str(common.CARPET))
         obj = bpy.context.object
-        armature = bpy.data.armatures.new("Rig")
-        rig = bpy.data.objects.new("Rig", armature)
-        self.scene.collection.objects.link(rig)
-        bpy.context.view_layer.objects.active = rig
-        bpy.ops.object.mode_set(mode="EDIT")
-        bone = armature.edit_bones.new("hand")
-        bone.head, bone.tail = (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)
-        bpy.ops.object.mode_set(mode="OBJECT")
-        # The bone rises 2 m (its own +Y is world +Z) from frame 0 to 20, linearly.
-        pose_bone = rig.pose.bones["hand"]
-        for frame, rise in ((0, 0.0), (20, 2.0)):
-            pose_bone.location = (0.0, rise, 0.0)
-            pose_bone.keyframe_insert("location", frame=frame)
-        for curve in rig.animation_data.action.fcurves:
-            for point in curve.keyframe_points:
-                point.interpolation = "LINEAR"
+        rig = rising_bone(self.scene, frames=20, rise_m=2.0)
         self.scene.frame_set(0)
         bpy.context.view_layer.objects.active = obj
         obj.drape.follow_target, obj.drape.follow_bone = rig, "hand"
@@ -248,6 +274,38 @@ class LiveCloth(unittest.TestCase):
         pin = world @ Vector(local[0:3])
         expected = Vector(drape_now[0:3]) + Vector((0.0, 0.0, 2.0 * 10.5 / 20))
         self.assertLess((pin - expected).length, 1e-5, f"{pin} != {expected}")
+        bpy.data.objects.remove(rig)
+        remove(obj)
+
+    def test_9_a_pin_bound_to_an_animated_bone_sits_on_it_at_a_subframe(self):
+        bpy.ops.object.drape_add_cloth(filepath=str(common.CARPET))
+        obj = bpy.context.object
+        # A hand that carries the corner pin (0, 0) along its path in the file, 2 cm higher
+        # at each key than the file has it, moving straight between keys.
+        keys = range(len(self.native.key_frames))
+        carried = [Vector(dict(self.native.key_pins(k, z_up=True))[(0, 0)]) + Vector((0, 0, 0.02 * k)) for k in keys]
+        rig = bone_through(self.scene, list(zip(self.native.key_frames, carried)))
+        self.scene.frame_set(0)
+        bpy.context.view_layer.objects.active = obj
+        self.assertEqual([tuple(pin.grid) for pin in obj.drape.pins], [(0, 0), (20, 0), (0, 32), (20, 32)])
+        obj.drape.pins[0].target, obj.drape.pins[0].bone = rig, "hand"
+        self.assertEqual(bpy.ops.object.drape_bind_pins(), {"FINISHED"})
+        self.assertEqual(self.scene.frame_current, 0)
+        for sample, expected in zip(obj.drape.pins[0].at_keys, carried):
+            self.assertLess((Vector(sample.co) - expected).length, 1e-5)
+        self.scene.frame_set(30, subframe=0.5)
+        local = common.evaluated_positions(obj)
+        # Between keys 24 and 48 the hand is a quarter of the way plus a 48th.
+        now = carried[1].lerp(carried[2], 6.5 / 24)
+        self.assertLess((Vector(local[0:3]) - now).length, 1e-5, f"{local[0:3]} != {now}")
+        at_keys = [tuple(sample.co) for sample in obj.drape.pins[0].at_keys]
+        module = self.native.evaluate(30.5 / 24, z_up=True, pins=[((0, 0), tuple(now), at_keys)])
+        self.assertLessEqual(common.max_difference(local, module), 1e-5)
+        # The pins left to the scene file stay where its keys put them.
+        columns, rows = self.native.grid
+        far = 3 * (columns * rows - 1)
+        plain = self.native.evaluate(30.5 / 24, z_up=True)
+        self.assertLessEqual(common.max_difference(local[far:far + 3], plain[far:far + 3]), 1e-5)
         bpy.data.objects.remove(rig)
         remove(obj)
 

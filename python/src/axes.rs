@@ -4,7 +4,7 @@
 //! Drape's rotated +90° about X: Blender (x, y, z) = Drape (x, −z, y), a
 //! proper rotation, so triangles keep their winding and normals turn with it.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// The axes positions are written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -23,6 +23,16 @@ pub fn z_up_from_y_up(p: Vec3) -> Vec3 {
 /// A Blender point in Drape's axes (the inverse of [`z_up_from_y_up`]).
 pub fn y_up_from_z_up(p: Vec3) -> Vec3 {
     Vec3::new(p.x, p.z, -p.y)
+}
+
+/// [`z_up_from_y_up`] in double precision (pins).
+pub fn z_up_from_y_up_f64(p: DVec3) -> DVec3 {
+    DVec3::new(p.x, -p.z, p.y)
+}
+
+/// A Blender point in Drape's axes, in double precision (pin targets).
+pub fn y_up_from_z_up_f64(p: DVec3) -> DVec3 {
+    DVec3::new(p.x, p.z, -p.y)
 }
 
 /// Flattens `positions` into x, y, z triples in `axes`, replacing `out`'s contents.
@@ -56,6 +66,8 @@ mod tests {
         assert_eq!(ra.dot(rb), a.dot(b));
         assert_eq!(ra.cross(rb), z_up_from_y_up(a.cross(b)));
         assert_eq!(y_up_from_z_up(ra), a);
+        assert_eq!(y_up_from_z_up_f64(ra.as_dvec3()), a.as_dvec3());
+        assert_eq!(z_up_from_y_up_f64(a.as_dvec3()), ra.as_dvec3());
     }
 
     #[test]

@@ -13,6 +13,7 @@
 //! caught and raised as `drape.EvaluationError`.
 
 pub mod axes;
+pub mod pin_targets;
 mod scene;
 
 use pyo3::prelude::*;
@@ -27,14 +28,14 @@ mod drape_module {
 
     /// A point (x, y, z) in Drape's Y-up axes as Blender's Z-up: (x, −z, y).
     #[pyfunction]
-    fn z_up_from_y_up(point: (f32, f32, f32)) -> (f32, f32, f32) {
-        crate::axes::z_up_from_y_up(point.into()).into()
+    fn z_up_from_y_up(point: (f64, f64, f64)) -> (f64, f64, f64) {
+        crate::axes::z_up_from_y_up_f64(point.into()).into()
     }
 
     /// A point (x, y, z) in Blender's Z-up axes as Drape's Y-up: (x, z, −y).
     #[pyfunction]
-    fn y_up_from_z_up(point: (f32, f32, f32)) -> (f32, f32, f32) {
-        crate::axes::y_up_from_z_up(point.into()).into()
+    fn y_up_from_z_up(point: (f64, f64, f64)) -> (f64, f64, f64) {
+        crate::axes::y_up_from_z_up_f64(point.into()).into()
     }
 
     #[pymodule_init]

@@ -9,12 +9,14 @@ use std::sync::Mutex;
 use drape::animate::{EvaluateOptions, Evaluator};
 use drape::mesh::Mesh;
 use drape::scene::{self as document, Collider};
+use glam::DVec3;
 use pyo3::buffer::PyBuffer;
 use pyo3::exceptions::{PyException, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::axes::{Axes, write_flat};
+use crate::axes::{Axes, write_flat, y_up_from_z_up_f64, z_up_from_y_up_f64};
+use crate::pin_targets::{self, PinTarget};
 
 pyo3::create_exception!(
     drape,
@@ -51,9 +53,14 @@ struct State {
 impl State {
     /// Evaluates into `self.flat`; a panic inside the library becomes an error
     /// message, and the caches it may have left half-written are dropped.
-    fn evaluate(&mut self, scene: &document::Scene, t_secs: f64, axes: Axes) -> Result<(), String> {
+    fn evaluate(&mut self, scene: &document::Scene, t_secs: f64, axes: Axes, pins: &[PinTarget]) -> Result<(), String> {
         let result = catch_unwind(AssertUnwindSafe(|| {
-            self.evaluator.evaluate_into(scene, t_secs, EvaluateOptions::default(), &mut self.mesh);
+            if pins.is_empty() {
+                self.evaluator.evaluate_into(scene, t_secs, EvaluateOptions::default(), &mut self.mesh);
+            } else {
+                let posed = pin_targets::scene_with_targets(scene, pins, t_secs);
+                self.evaluator.evaluate_into(&posed, t_secs, EvaluateOptions::default(), &mut self.mesh);
+            }
             write_flat(&self.mesh.positions, axes, &mut self.flat);
         }));
         result.map_err(|payload| {
@@ -73,6 +80,12 @@ fn panic_message(payload: &(dyn Any + Send)) -> String {
     }
 }
 
+/// A pin's grid (i, j) and a point.
+type GridAndPoint = ((u32, u32), (f64, f64, f64));
+
+/// One pin placed by the caller: its grid (i, j), where it is now, and where it is at each key's frame.
+type PinArgument = ((u32, u32), (f64, f64, f64), Vec<Option<(f64, f64, f64)>>);
+
 fn axes(z_up: bool) -> Axes {
     if z_up { Axes::ZUp } else { Axes::YUp }
 }
@@ -89,6 +102,24 @@ impl Scene {
         self.scene.cloth.cols() * self.scene.cloth.rows()
     }
 
+    /// The caller's pins in Drape's axes, checked against the scene.
+    fn pin_targets(&self, pins: Vec<PinArgument>, z_up: bool) -> PyResult<Vec<PinTarget>> {
+        let to_drape = |(x, y, z): (f64, f64, f64)| {
+            let p = DVec3::new(x, y, z);
+            if z_up { y_up_from_z_up_f64(p) } else { p }
+        };
+        let targets: Vec<PinTarget> = pins
+            .into_iter()
+            .map(|(grid, now, at_keys)| PinTarget {
+                grid,
+                now: to_drape(now),
+                at_keys: at_keys.into_iter().map(|at| at.map(to_drape)).collect(),
+            })
+            .collect();
+        pin_targets::check(&self.scene, &targets).map_err(PyValueError::new_err)?;
+        Ok(targets)
+    }
+
     /// Evaluates at `t_seconds` and hands the flat positions to `use_flat`.
     /// The evaluation (and any wait for another thread's) runs without the GIL.
     fn evaluate_then<R>(
@@ -96,6 +127,7 @@ impl Scene {
         py: Python<'_>,
         t_seconds: f64,
         z_up: bool,
+        pins: Option<Vec<PinArgument>>,
         use_flat: impl FnOnce(&[f32]) -> PyResult<R>,
     ) -> PyResult<R> {
         if !t_seconds.is_finite() {
@@ -103,10 +135,11 @@ impl Scene {
                 "t_seconds must be a finite number of seconds, not {t_seconds}"
             )));
         }
+        let pins = self.pin_targets(pins.unwrap_or_default(), z_up)?;
         let scene = &self.scene;
         let flat = py.detach(|| {
             let mut state = self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-            state.evaluate(scene, t_seconds, axes(z_up)).map(|()| std::mem::take(&mut state.flat))
+            state.evaluate(scene, t_seconds, axes(z_up), &pins).map(|()| std::mem::take(&mut state.flat))
         });
         let flat = flat.map_err(|message| {
             EvaluationError::new_err(format!(
@@ -183,6 +216,30 @@ impl Scene {
         (self.scene.timeline.start, self.scene.timeline.end)
     }
 
+    /// The frame of each key, in order.
+    #[getter]
+    fn key_frames(&self) -> Vec<i32> {
+        self.scene.keys.iter().map(|key| key.frame).collect()
+    }
+
+    /// Key `index`'s pins as ((i, j), (x, y, z)) in file order, in Drape's axes or Blender's with `z_up=True`.
+    #[pyo3(signature = (index, z_up = false))]
+    fn key_pins(&self, index: usize, z_up: bool) -> PyResult<Vec<GridAndPoint>> {
+        let key = self.scene.keys.get(index).ok_or_else(|| {
+            PyValueError::new_err(format!("the scene has {} keys; there is no key {index}", self.scene.keys.len()))
+        })?;
+        let axes = |p: (f64, f64, f64)| if z_up { z_up_from_y_up_f64(p.into()).into() } else { p };
+        Ok(key.pins.iter().map(|pin| (pin.grid, axes(pin.pos))).collect())
+    }
+
+    /// The grid index (i, j) of every pin of any key, each once, sorted.
+    fn pin_grids(&self) -> Vec<(u32, u32)> {
+        let mut grids: Vec<(u32, u32)> = self.scene.keys.iter().flat_map(|k| k.pins.iter().map(|p| p.grid)).collect();
+        grids.sort_unstable_by_key(|&(i, j)| (j, i));
+        grids.dedup();
+        grids
+    }
+
     /// Triangle corners as a flat `array('I')`, three per triangle, two triangles
     /// per grid quad, wound as in every Drape export.
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -218,8 +275,20 @@ impl Scene {
     /// memoryview) as x, y, z triples in vertex order, in Drape's Y-up metres,
     /// or Blender's Z-up ones with `z_up=True`. The same t always gives the same
     /// floats, however it was reached.
-    #[pyo3(signature = (t_seconds, buffer, z_up = false))]
-    fn evaluate_into(&self, py: Python<'_>, t_seconds: f64, buffer: &Bound<'_, PyAny>, z_up: bool) -> PyResult<()> {
+    ///
+    /// `pins` places pins from outside (Blender's bones): a sequence of
+    /// `((i, j), now_xyz, [xyz at each key's frame, or None])`, in the axes
+    /// `z_up` names. Every key is relaxed with those pins at their key
+    /// positions, and the cloth is carried so each sits exactly at `now_xyz`.
+    #[pyo3(signature = (t_seconds, buffer, z_up = false, pins = None))]
+    fn evaluate_into(
+        &self,
+        py: Python<'_>,
+        t_seconds: f64,
+        buffer: &Bound<'_, PyAny>,
+        z_up: bool,
+        pins: Option<Vec<PinArgument>>,
+    ) -> PyResult<()> {
         let expected = self.point_count() * 3;
         let target = PyBuffer::<f32>::get(buffer).map_err(|error| {
             PyTypeError::new_err(format!(
@@ -236,13 +305,19 @@ impl Scene {
                 self.point_count()
             )));
         }
-        self.evaluate_then(py, t_seconds, z_up, |flat| target.copy_from_slice(py, flat))
+        self.evaluate_then(py, t_seconds, z_up, pins, |flat| target.copy_from_slice(py, flat))
     }
 
     /// The cloth at `t_seconds` as a new `array('f')` of x, y, z triples (see `evaluate_into`).
-    #[pyo3(signature = (t_seconds, z_up = false))]
-    fn evaluate<'py>(&self, py: Python<'py>, t_seconds: f64, z_up: bool) -> PyResult<Bound<'py, PyAny>> {
-        self.evaluate_then(py, t_seconds, z_up, |flat| new_array(py, "f", flat))
+    #[pyo3(signature = (t_seconds, z_up = false, pins = None))]
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        t_seconds: f64,
+        z_up: bool,
+        pins: Option<Vec<PinArgument>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.evaluate_then(py, t_seconds, z_up, pins, |flat| new_array(py, "f", flat))
     }
 
     fn __repr__(&self) -> String {

@@ -175,5 +175,63 @@ class SceneTests(unittest.TestCase):
         self.assertTrue(any(re.search(r"\.gl(b|tf)$", str(p)) for p in cape.referenced_files()))
 
 
+class PinsFromOutside(unittest.TestCase):
+    """Pins placed by the caller (Blender's bones) through `pins=`."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.scene = drape.Scene.load(str(CARPET))
+        # Where the corner pin (0, 0) is at each key, as the file says.
+        cls.corner_at_keys = [dict(cls.scene.key_pins(k))[(0, 0)] for k in range(len(cls.scene.key_frames))]
+
+    def test_the_scene_lists_its_keys_and_pins(self):
+        self.assertEqual(self.scene.key_frames, [0, 24, 48, 72, 120])
+        self.assertEqual(self.scene.pin_grids(), [(0, 0), (20, 0), (0, 32), (20, 32)])
+
+    def test_key_pins_are_the_files_in_either_axes(self):
+        self.assertEqual(self.scene.key_pins(0)[0], ((0, 0), (-0.5, 1.0, 0.0)))
+        self.assertEqual(self.scene.key_pins(0, z_up=True)[2], ((0, 32), (-0.5, 1.58, 1.0)))
+        with self.assertRaisesRegex(ValueError, "no key 5"):
+            self.scene.key_pins(5)
+
+    def test_pins_where_the_keys_have_them_change_nothing(self):
+        for k, frame in enumerate(self.scene.key_frames):
+            t = frame / self.scene.fps
+            pins = [((0, 0), self.corner_at_keys[k], self.corner_at_keys)]
+            self.assertLess(max_difference(self.scene.evaluate(t, pins=pins), self.scene.evaluate(t)), 1e-6)
+
+    def test_a_moved_pin_sits_on_its_target_and_carries_the_cloth(self):
+        t = 30.5 / self.scene.fps
+        plain = self.scene.evaluate(t)
+        target = (plain[0], plain[1] + 0.05, plain[2])
+        moved = self.scene.evaluate(t, pins=[((0, 0), target, self.corner_at_keys)])
+        self.assertLess(max_difference(moved[0:3], target), 1e-5)
+        columns, rows = self.scene.grid
+        far = 3 * (columns * rows - 1)  # the pin at (20, 32) stays where the keys put it
+        self.assertLess(max_difference(moved[far:far + 3], plain[far:far + 3]), 1e-5)
+        near = 3 * 1  # its neighbour follows most of the way
+        self.assertGreater(moved[near + 1] - plain[near + 1], 0.025)
+
+    def test_pins_in_blenders_axes_are_converted_like_positions(self):
+        t = 30.5 / self.scene.fps
+        plain = self.scene.evaluate(t)
+        target = (plain[0], plain[1] + 0.05, plain[2])
+        y_up = self.scene.evaluate(t, pins=[((0, 0), target, self.corner_at_keys)])
+        z_up = self.scene.evaluate(
+            t,
+            z_up=True,
+            pins=[((0, 0), drape.z_up_from_y_up(target), [drape.z_up_from_y_up(p) for p in self.corner_at_keys])],
+        )
+        for k in range(0, len(y_up), 3):
+            x, y, z = y_up[k:k + 3]
+            self.assertLess(max_difference(z_up[k:k + 3], (x, -z, y)), 1e-6)
+
+    def test_pins_that_do_not_fit_are_refused(self):
+        with self.assertRaisesRegex(ValueError, "key positions"):
+            self.scene.evaluate(0.0, pins=[((0, 0), (0.0, 0.0, 0.0), [None])])
+        with self.assertRaisesRegex(ValueError, r"no key of the scene has a pin at grid \(5, 5\)"):
+            self.scene.evaluate(0.0, pins=[((5, 5), (0.0, 0.0, 0.0), [None] * 5)])
+
+
 if __name__ == "__main__":
     unittest.main()
