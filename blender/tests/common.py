@@ -38,6 +38,20 @@ def evaluated_positions(obj):
     return flat
 
 
+def save_positions(path, scene):
+    """Every Drape object's "Drape" shape key, by object name, as JSON (floats exact)."""
+    import json
+
+    saved = {}
+    for obj in scene.objects:
+        if obj.type == "MESH" and obj.drape.scene_path:
+            key = obj.data.shape_keys.key_blocks["Drape"]
+            positions = array.array("f", bytes(12 * len(key.data)))
+            key.data.foreach_get("co", positions)
+            saved[obj.name] = list(positions)
+    Path(path).write_text(json.dumps(saved))
+
+
 def max_difference(a, b):
     assert len(a) == len(b), (len(a), len(b))
     return max(abs(x - y) for x, y in zip(a, b))

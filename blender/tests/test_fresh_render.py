@@ -8,7 +8,6 @@ cloth the render saw; the comparison runs once Blender has written the
 picture (test_compare_renders.py).
 """
 
-import array
 import sys
 from pathlib import Path
 
@@ -24,12 +23,7 @@ OUT = Path(common.arguments()["out"])
 
 @persistent
 def record(scene, *_):
-    obj = next(o for o in scene.objects if o.type == "MESH" and o.drape.scene_path)
-    key = obj.data.shape_keys.key_blocks["Drape"]
-    positions = array.array("f", bytes(12 * len(key.data)))
-    key.data.foreach_get("co", positions)
-    with open(OUT / "fresh_90.bin", "wb") as out:
-        positions.tofile(out)
+    common.save_positions(OUT / "fresh_90.json", scene)
     (OUT / "fresh_frame.txt").write_text(f"{scene.frame_current} {scene.frame_subframe}\n")
 
 
