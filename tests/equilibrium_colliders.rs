@@ -167,7 +167,7 @@ fn tolerance_moves_a_cloth_on_a_ball_by_less_than_a_millimetre() {
     let (start, pinned) = sheet(n, 1.0);
     for friction in [0.0, 0.5] {
         let among = Among { obstacles: &obstacles, friction };
-        let mut solve = |tolerance: f64| {
+        let solve = |tolerance: f64| {
             let mut x = start.clone();
             let mut go = |_| ControlFlow::Continue(());
             let report = equilibrate_among(&mut x, n, n, &pinned, &params(n, tolerance), &among, &mut go);

@@ -20,8 +20,9 @@ pub(super) const STEP_SHARE: f64 = 0.8;
 /// rests within this of its thickness. A tenth of the spacing on fine grids.
 const REACH_M: f64 = 1e-3;
 
-/// Most sites an edge gets between its ends.
-const MAX_EDGE_SITES: usize = 8;
+/// Most sites an edge gets between its ends: enough for a 0.5 m edge at the
+/// thinnest thickness (beyond it an edge may dip into a solid between sites).
+const MAX_EDGE_SITES: usize = 256;
 
 /// A place on the cloth that keeps clear of the colliders: a grid point, or
 /// a point along an edge at `share` of the way from `a` to `b`.
