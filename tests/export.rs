@@ -987,7 +987,7 @@ fn a_full_disk_is_reported_with_the_file() {
 
 // ------------------------------------------------------------------ Blender
 
-/// Blender itself, when it is installed (not in CI: it is a large package):
+/// Blender itself, when it is installed (CI installs Debian's, with numpy for its glTF importer):
 /// the PC2 and MDD caches on the base OBJ through the Mesh Cache modifier,
 /// and the `.glb` through Blender's glTF importer, each compared at several
 /// frames with Drape's OBJ of that frame imported into Blender the same way.
