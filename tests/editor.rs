@@ -2399,19 +2399,21 @@ fn a_collider_drag_shows_the_cloth_catching_up_while_held() {
     harness.step();
     let last = harness.state().scene().colliders.clone();
     assert_ne!(last, first, "moved again");
-    // The mouse keeps moving, so the last move's shape is never in yet.
+    // The mouse keeps moving on, never back to a place it was, so the last
+    // move's shape is never in yet.
     let deadline = std::time::Instant::now() + RELAX_TIMEOUT;
-    let mut wiggle = 1.0;
+    let mut pointer = to;
     while harness.state().shown_scene().colliders == opened {
         assert!(std::time::Instant::now() < deadline, "the first move's shape came in");
-        std::thread::sleep(Duration::from_millis(20));
-        wiggle = -wiggle;
-        harness.event(Event::PointerMoved(to + along.normalized() * wiggle));
+        // Slowly: the frames drawn on a software GPU would take the solver's CPU.
+        std::thread::sleep(Duration::from_millis(250));
+        pointer += along.normalized() * 0.5;
+        harness.event(Event::PointerMoved(pointer));
         harness.step();
     }
     let shown = harness.state().shown_scene().colliders.clone();
     assert_ne!(shown, harness.state().scene().colliders, "an earlier move is shown while the last is solved");
-    release(&mut harness, to);
+    release(&mut harness, pointer);
     settle(&mut harness);
     assert_eq!(harness.state().shown_scene(), harness.state().scene(), "then the last");
 }

@@ -14,9 +14,10 @@ use crate::scene::ClothTexture;
 /// How long the cloth may lag the document before it is drawn as stale.
 pub const STALE_AFTER: Duration = Duration::from_millis(250);
 
-/// The stale cloth's grey, front and back: dull, so it reads as a placeholder.
-const STALE_FRONT: [f32; 3] = [0.40, 0.41, 0.44];
-const STALE_BACK: [f32; 3] = [0.28, 0.29, 0.31];
+/// The stale cloth's grey, front and back: dark enough that, lit, it reads
+/// as dimmed beside any fabric rather than as a pale cloth of its own.
+const STALE_FRONT: [f32; 3] = [0.22, 0.23, 0.25];
+const STALE_BACK: [f32; 3] = [0.15, 0.16, 0.17];
 
 /// Whether the cloth shown lags the document, and since when.
 #[derive(Default)]
