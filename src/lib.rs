@@ -27,10 +27,11 @@
 //! main.rs    the command line: `drape check | export | render`, or the editor
 //! ```
 //!
-//! Beside the pipeline: [`world`] (colliders as geometry at one moment), [`mesh`] (the grid as triangles), [`image`] (an RGBA
-//! picture and PNG decoding), [`look`] (the cloth's tints and textures, so a
-//! picture and an export agree) and [`atomic_file`] (writes that never leave
-//! a partial file).
+//! Beside the pipeline: [`world`] (colliders and referenced glTF rigs as
+//! geometry at one moment), [`mesh`] (the grid as triangles), [`image`] (an
+//! RGBA picture and PNG decoding), [`look`] (the cloth's tints and textures,
+//! so a picture and an export agree) and [`atomic_file`] (writes that never
+//! leave a partial file).
 //!
 //! # Who may import whom
 //!
@@ -40,16 +41,21 @@
 //!
 //! | module | may import |
 //! |---|---|
-//! | `atomic_file`, `mesh`, `image`, `world` | nothing of Drape |
+//! | `atomic_file`, `mesh`, `image` | nothing of Drape |
+//! | `world` | `image` |
 //! | `scene` | `atomic_file`, `image`, `world` |
 //! | `shape` | `scene`, `mesh`, `world` |
 //! | `animate` | `scene`, `shape`, `mesh`, `world` |
 //! | `look` | `scene` |
-//! | `render` | `scene`, `mesh`, `image`, `look`, `world` |
+//! | `render` | `scene`, `mesh`, `image`, `look` |
 //! | `picture` | `scene`, `shape`, `animate`, `mesh`, `image`, `render`, `world` |
 //! | `export` | `scene`, `animate`, `mesh`, `image`, `look`, `atomic_file` |
 //! | `render_job` | `scene`, `image`, `picture`, `render`, `export`, `atomic_file` |
 //! | `editor` | `scene`, `shape`, `animate`, `mesh`, `image`, `picture`, `render`, `export`, `render_job`, `atomic_file`, `world` |
+//!
+//! `render` is a leaf that draws what it is handed: it never imports
+//! `world`, `shape` or `animate` (a reference's texture reaches it as an
+//! [`image::RgbaImage`], its triangles as numbers).
 //!
 //! Only [`render`] and [`editor`] touch wgpu, only [`editor`] egui; the
 //! command line (`main.rs`) may use everything. Those two, with [`picture`]

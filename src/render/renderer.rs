@@ -546,13 +546,7 @@ impl Renderer {
                 let material = &self.solids[index].material;
                 let bind_group = match &set.texture {
                     Some(texture) => {
-                        let rgba = &texture.0;
-                        let image = crate::image::RgbaImage {
-                            width: rgba.width,
-                            height: rgba.height,
-                            pixels: rgba.rgba.clone(),
-                        };
-                        let uploaded = textures::upload(device, queue, &image, "solid texture");
+                        let uploaded = textures::upload(device, queue, &texture.0, "solid texture");
                         let view = uploaded.create_view(&wgpu::TextureViewDescriptor::default());
                         self.material_bind_group_with_view(device, material, &view)
                     }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use crate::world::rig::RigTexture;
+use crate::image::RgbaImage;
 
 /// Triangles with a normal per vertex, wound counter-clockwise seen from
 /// outside, drawn in one colour, or in a texture tinted by it.
@@ -28,7 +28,7 @@ pub struct Solids {
 /// A texture shared by reference: two are equal when they are the same
 /// texture (comparing pixels every frame would cost more than drawing).
 #[derive(Clone, Debug)]
-pub struct SolidTexture(pub Arc<RigTexture>);
+pub struct SolidTexture(pub Arc<RgbaImage>);
 
 impl PartialEq for SolidTexture {
     fn eq(&self, other: &Self) -> bool {

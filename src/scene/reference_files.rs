@@ -23,7 +23,7 @@ use super::references::{Attachment, LoadedRig};
 use super::types::Scene;
 use crate::image::RgbaImage;
 use crate::world::rig::{
-    Channel, Clip, Influences, Interpolation, Projection, Property, Rig, RigCamera, RigMesh, RigNode, RigTexture, Skin,
+    Channel, Clip, Influences, Interpolation, Projection, Property, Rig, RigCamera, RigMesh, RigNode, Skin,
     Trs,
 };
 
@@ -257,7 +257,7 @@ fn read_skins(document: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Vec<Skin
 fn read_meshes(
     document: &gltf::Document,
     buffers: &[Vec<u8>],
-    images: &[Arc<RigTexture>],
+    images: &[Arc<RgbaImage>],
 ) -> Result<Vec<RigMesh>, String> {
     let Some(scene) = document.default_scene().or_else(|| document.scenes().next()) else {
         return Ok(Vec::new());
@@ -284,7 +284,7 @@ fn read_primitive(
     mesh: &gltf::Mesh,
     primitive: &gltf::Primitive,
     buffers: &[Vec<u8>],
-    images: &[Arc<RigTexture>],
+    images: &[Arc<RgbaImage>],
 ) -> Result<Option<RigMesh>, String> {
     use gltf::mesh::Mode;
     let name = mesh.name().unwrap_or_default().to_owned();
@@ -359,7 +359,7 @@ fn read_primitive(
 
 /// Every image of the file decoded (PNG or JPEG, from a buffer or a file
 /// beside it), in the file's order.
-fn read_images(document: &gltf::Document, buffers: &[Vec<u8>], folder: &Path) -> Result<Vec<Arc<RigTexture>>, String> {
+fn read_images(document: &gltf::Document, buffers: &[Vec<u8>], folder: &Path) -> Result<Vec<Arc<RgbaImage>>, String> {
     use gltf::image::Source;
     let mut images = Vec::new();
     for image in document.images() {
@@ -379,16 +379,10 @@ fn read_images(document: &gltf::Document, buffers: &[Vec<u8>], folder: &Path) ->
                 (read_file_bytes(&folder.join(uri)).map_err(|why| format!("{what} ({uri:?}): {why}"))?, mime_type)
             }
         };
-        let texture = decode_image(&bytes, mime_type).map_err(|why| format!("{what}: {why}"))?;
+        let texture = RgbaImage::decode(&bytes, mime_type).map_err(|why| format!("{what}: {why}"))?;
         images.push(Arc::new(texture));
     }
     Ok(images)
-}
-
-/// PNG or JPEG bytes as sRGB RGBA, as a rig's texture.
-fn decode_image(bytes: &[u8], mime_type: Option<&str>) -> Result<RigTexture, String> {
-    let image = RgbaImage::decode(bytes, mime_type)?;
-    Ok(RigTexture { width: image.width, height: image.height, rgba: image.pixels })
 }
 
 /// Every animation, its channels' samplers read out in full.
@@ -433,18 +427,18 @@ mod tests {
     #[test]
     fn png_and_jpeg_textures_decode_and_other_images_say_what_is_read() {
         // An 8 × 8 JPEG of one red, made by tests/data/textures/make_textures.sh.
-        let jpeg = decode_image(include_bytes!("../../tests/data/textures/red.jpg"), None).unwrap();
-        assert_eq!((jpeg.width, jpeg.height, jpeg.rgba.len()), (8, 8, 256));
-        let [r, g, b, a] = [jpeg.rgba[0], jpeg.rgba[1], jpeg.rgba[2], jpeg.rgba[3]].map(i32::from);
+        let jpeg = RgbaImage::decode(include_bytes!("../../tests/data/textures/red.jpg"), None).unwrap();
+        assert_eq!((jpeg.width, jpeg.height, jpeg.pixels.len()), (8, 8, 256));
+        let [r, g, b, a] = [jpeg.pixels[0], jpeg.pixels[1], jpeg.pixels[2], jpeg.pixels[3]].map(i32::from);
         assert!((r - 0xe0).abs() <= 3 && (g - 0x10).abs() <= 3 && (b - 0x10).abs() <= 3 && a == 255, "{r} {g} {b} {a}");
         let mut png = Vec::new();
         let image = RgbaImage { width: 1, height: 2, pixels: vec![1, 2, 3, 255, 4, 5, 6, 128] };
         let mut encoder = png::Encoder::new(&mut png, 1, 2);
         encoder.set_color(png::ColorType::Rgba);
         encoder.write_header().unwrap().write_image_data(&image.pixels).unwrap();
-        let decoded = decode_image(&png, Some("image/png")).unwrap();
-        assert_eq!((decoded.width, decoded.height, decoded.rgba), (1, 2, image.pixels));
-        assert!(decode_image(b"GIF89a", Some("image/gif")).unwrap_err().contains("only PNG and JPEG"));
-        assert!(decode_image(&[0xFF, 0xD8, 0, 0], None).unwrap_err().contains("not a readable JPEG"));
+        let decoded = RgbaImage::decode(&png, Some("image/png")).unwrap();
+        assert_eq!((decoded.width, decoded.height, decoded.pixels), (1, 2, image.pixels));
+        assert!(RgbaImage::decode(b"GIF89a", Some("image/gif")).unwrap_err().contains("only PNG and JPEG"));
+        assert!(RgbaImage::decode(&[0xFF, 0xD8, 0, 0], None).unwrap_err().contains("not a readable JPEG"));
     }
 }

@@ -1,7 +1,7 @@
 //! The world around the cloth as geometry: colliders at one moment, with the
 //! distance and the outward direction from any point to their surface.
 //!
-//! Pure math on numbers already sampled at a frame (`animate::world_at`
+//! Pure math on numbers already sampled at a frame (`animate::colliders_at`
 //! samples a scene's colliders): shape and animate use it to keep the cloth
 //! outside, render to draw it. [`rig`] poses the nodes and skinned meshes
 //! of referenced glTF files at any time.

@@ -18,6 +18,8 @@ use std::sync::Arc;
 
 use glam::{DMat4, DQuat, DVec3};
 
+use crate::image::RgbaImage;
+
 pub use camera::{CameraPose, Projection, RigCamera};
 pub use clip::{Channel, Clip, Interpolation, Property};
 pub use pose::Pose;
@@ -93,26 +95,11 @@ pub struct RigMesh {
     pub morph_targets: Vec<Vec<DVec3>>,
     /// Base colour (linear RGBA) of its material.
     pub color: [f32; 4],
-    /// Its material's base-colour texture, if any, multiplied by `color`.
-    pub texture: Option<Arc<RigTexture>>,
+    /// Its material's base-colour texture (sRGB), if any, multiplied by `color`.
+    pub texture: Option<Arc<RgbaImage>>,
     /// Texture coordinates per vertex (glTF's: (0, 0) the image's top
     /// left); empty without a texture.
     pub uvs: Vec<[f32; 2]>,
-}
-
-/// A base-colour texture: sRGB-encoded RGBA rows, top row first.
-#[derive(Clone, PartialEq)]
-pub struct RigTexture {
-    pub width: u32,
-    pub height: u32,
-    /// `width × height × 4` bytes.
-    pub rgba: Vec<u8>,
-}
-
-impl std::fmt::Debug for RigTexture {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "RigTexture({} × {})", self.width, self.height)
-    }
 }
 
 /// A checked rig, ready to pose.
@@ -288,7 +275,7 @@ fn check_mesh(mesh: &RigMesh, nodes: &[RigNode], skins: &[Skin]) -> Result<(), S
         return Err(format!("{what} has {} texture coordinates for {count} vertices", mesh.uvs.len()));
     }
     if let Some(texture) = &mesh.texture
-        && texture.rgba.len() as u64 != u64::from(texture.width) * u64::from(texture.height) * 4
+        && texture.pixels.len() as u64 != u64::from(texture.width) * u64::from(texture.height) * 4
     {
         return Err(format!("{what}: its texture's pixels do not fill {} × {}", texture.width, texture.height));
     }
