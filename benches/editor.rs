@@ -15,17 +15,15 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::editor::DrapeApp;
 use drape::scene::{
-    Cloth, Ease, FollowThrough, Gusts, Key, Layer, Param, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
+    Cloth, Ease, FollowThrough, Gusts, Key, Layer, Param, Pin, RelaxSettings, Scene, Sway, Wave, WaveAxis,
 };
 use egui_kittest::Harness;
 
 fn tablecloth(n: u32) -> Scene {
     let last = n - 1;
     Scene {
-        version: 1,
         name: "tablecloth".to_owned(),
         cloth: Cloth::new((2.0, 2.0), (n, n)),
-        timeline: Timeline::default(),
         keys: vec![Key {
             frame: 0,
             pins: vec![
@@ -43,13 +41,7 @@ fn tablecloth(n: u32) -> Scene {
             friction: drape::scene::DEFAULT_FRICTION,
             placement: None,
         }],
-        layers: Vec::new(),
-        view: None,
-        colliders: Vec::new(),
-        references: Vec::new(),
-        follow: None,
-        camera: None,
-        plate: None,
+        ..Scene::default()
     }
 }
 

@@ -9,9 +9,7 @@ use criterion::measurement::WallTime;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use drape::animate::{EvaluateOptions, Evaluator};
 use drape::mesh::Mesh;
-use drape::scene::{
-    Cloth, Ease, Gusts, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Timeline, Wave, WaveAxis,
-};
+use drape::scene::{Cloth, Ease, Gusts, Key, Layer, Param, ParamKey, Pin, RelaxSettings, Scene, Sway, Wave, WaveAxis};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -57,10 +55,8 @@ fn wave(name: &str, magnitude: f64, frequency: f64, direction_deg: f64) -> Layer
 /// Keys far apart so that frames 1 and 100 000 are both in-betweens.
 fn scene(n: u32) -> Scene {
     Scene {
-        version: 1,
         name: format!("bench {n}"),
         cloth: Cloth::new((2.0, 2.0), (n, n)),
-        timeline: Timeline::default(),
         keys: vec![key(0, n, 0.0), key(200_000, n, 0.3)],
         layers: vec![
             Layer::Sway(Sway {
@@ -90,12 +86,7 @@ fn scene(n: u32) -> Scene {
                 falloff: 1.0.into(),
             }),
         ],
-        view: None,
-        colliders: Vec::new(),
-        references: Vec::new(),
-        follow: None,
-        camera: None,
-        plate: None,
+        ..Scene::default()
     }
 }
 

@@ -10,7 +10,7 @@ use drape::animate::evaluate;
 use drape::render::camera::bounds;
 use drape::render::readback::read_texture;
 use drape::render::{FrameInput, GpuContext, OffscreenTarget, OrbitCamera, Overlay, RenderOptions, Renderer};
-use drape::scene::{Cloth, Key, Pin, RelaxSettings, Scene, Timeline};
+use drape::scene::{Cloth, Key, Pin, RelaxSettings, Scene};
 
 const SIZE_PX: (u32, u32) = (1280, 720);
 
@@ -19,10 +19,8 @@ fn scene(n: u32) -> Scene {
     let pin = |i, j, x, z| Pin::at((i, j), (x, 1.5, z));
     let last = n - 1;
     Scene {
-        version: 1,
         name: format!("{n}x{n}"),
         cloth: Cloth::new((2.0, 2.0), (n, n)),
-        timeline: Timeline::default(),
         keys: vec![Key {
             frame: 0,
             pins: vec![
@@ -40,13 +38,7 @@ fn scene(n: u32) -> Scene {
             friction: drape::scene::DEFAULT_FRICTION,
             placement: None,
         }],
-        layers: vec![],
-        view: None,
-        colliders: Vec::new(),
-        references: Vec::new(),
-        follow: None,
-        camera: None,
-        plate: None,
+        ..Scene::default()
     }
 }
 

@@ -39,7 +39,6 @@ fn key(frame: i32, pins: Vec<Pin>, elasticity: f64, ease: Ease) -> Key {
 fn scene(layers: Vec<Layer>) -> Scene {
     let last = COLS - 1;
     Scene {
-        version: 1,
         name: "test".into(),
         cloth: Cloth::new((1.2, 0.8), (COLS, ROWS)),
         timeline: Timeline { fps: 24.0, start: 0, end: 48 },
@@ -54,12 +53,7 @@ fn scene(layers: Vec<Layer>) -> Scene {
             key(48, vec![pin(0, 0, (-0.6, 1.0, 0.0)), pin(last, 0, (0.6, 1.0, 0.0))], 1.1, Ease::EaseInOut),
         ],
         layers,
-        view: None,
-        colliders: Vec::new(),
-        references: Vec::new(),
-        follow: None,
-        camera: None,
-        plate: None,
+        ..Scene::default()
     }
 }
 

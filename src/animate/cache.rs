@@ -313,7 +313,7 @@ impl RestShapeCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Ease, Pin, RelaxSettings, Timeline};
+    use crate::scene::{Ease, Pin, RelaxSettings};
 
     fn key(frame: i32, height: f64) -> Key {
         Key {
@@ -331,20 +331,7 @@ mod tests {
     }
 
     fn scene(keys: Vec<Key>) -> Scene {
-        Scene {
-            version: 1,
-            name: String::new(),
-            cloth: Cloth::new((1.0, 1.0), (9, 9)),
-            timeline: Timeline::default(),
-            keys,
-            layers: vec![],
-            view: None,
-            colliders: Vec::new(),
-            references: Vec::new(),
-            follow: None,
-            camera: None,
-            plate: None,
-        }
+        Scene { cloth: Cloth::new((1.0, 1.0), (9, 9)), keys, ..Scene::default() }
     }
 
     #[test]

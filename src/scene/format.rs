@@ -146,7 +146,6 @@ mod tests {
                 .collect(),
         );
         Scene {
-            version: 1,
             name: "Round \"trip\" (ü) // not a comment".into(),
             cloth: Cloth { texture: ClothTexture::Carpet, ..Cloth::new((2.0, 1.5), (33, 25)) },
             timeline: Timeline { fps: 29.97, start: -10, end: 200 },
@@ -180,11 +179,6 @@ mod tests {
                     ..Wave::with_start_values()
                 }),
             ],
-            colliders: Vec::new(),
-            references: Vec::new(),
-            follow: None,
-            camera: None,
-            plate: None,
             view: Some(View {
                 target: (0.5, 1.2, -0.25),
                 yaw_deg: 30.0,
@@ -195,6 +189,7 @@ mod tests {
                 follow: true,
                 through_camera: true,
             }),
+            ..Scene::default()
         }
     }
 

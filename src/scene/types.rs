@@ -55,6 +55,28 @@ pub struct Scene {
     pub view: Option<View>,
 }
 
+/// Format version 1, a 1 m square cloth on a 33 × 33 grid, the default
+/// timeline, and nothing else: no key yet, so not valid until one is added
+/// (a literal names what it needs and takes the rest from here).
+impl Default for Scene {
+    fn default() -> Scene {
+        Scene {
+            version: 1,
+            name: String::new(),
+            cloth: Cloth::new((1.0, 1.0), (33, 33)),
+            timeline: Timeline::default(),
+            keys: Vec::new(),
+            layers: Vec::new(),
+            colliders: Vec::new(),
+            references: Vec::new(),
+            follow: None,
+            camera: None,
+            plate: None,
+            view: None,
+        }
+    }
+}
+
 impl Scene {
     /// The key in effect at `frame`: the last one at or before it, else the
     /// first (frames before the first key hold it). Panics on a scene with no

@@ -979,14 +979,12 @@ impl Checker {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Cloth, FollowThrough, ParamKey, RelaxSettings, Timeline, Wave};
+    use crate::scene::{Cloth, FollowThrough, ParamKey, RelaxSettings, Wave};
 
     fn scene() -> Scene {
         Scene {
-            version: 1,
             name: "t".into(),
             cloth: Cloth::new((2.0, 1.5), (33, 25)),
-            timeline: Timeline::default(),
             keys: vec![Key {
                 frame: 0,
                 pins: vec![Pin::at((0, 0), (-1.0, 2.0, 0.0)), Pin::at((32, 0), (1.0, 2.0, 0.0))],
@@ -999,13 +997,7 @@ mod tests {
                 friction: crate::scene::DEFAULT_FRICTION,
                 placement: None,
             }],
-            layers: vec![],
-            view: None,
-            colliders: Vec::new(),
-            references: Vec::new(),
-            follow: None,
-            camera: None,
-            plate: None,
+            ..Scene::default()
         }
     }
 
