@@ -23,8 +23,7 @@ use super::references::{Attachment, LoadedRig};
 use super::types::Scene;
 use crate::image::RgbaImage;
 use crate::world::rig::{
-    Channel, Clip, Influences, Interpolation, Projection, Property, Rig, RigCamera, RigMesh, RigNode, Skin,
-    Trs,
+    Channel, Clip, Influences, Interpolation, Projection, Property, Rig, RigCamera, RigMesh, RigNode, Skin, Trs,
 };
 
 /// Most vertices all the meshes of one referenced file may have together.
