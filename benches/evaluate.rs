@@ -204,7 +204,7 @@ fn with_a_mesh_collider(c: &mut Criterion) {
     let solid = drape::world::MeshSolid::new(&vertices, &triangles).expect("a solid ball");
     assert_eq!(solid.triangle_count(), 20_480);
     if let Some(drape::scene::Collider::Mesh(mesh)) = scene.colliders.first_mut() {
-        mesh.solid = drape::scene::LoadedMesh(Some(std::sync::Arc::new(solid)));
+        mesh.solid = drape::scene::Loaded(Some(std::sync::Arc::new(solid)));
     }
     bench_frames_1_and_100000(&mut group, "128x128 20k-triangle mesh", &scene);
     group.finish();

@@ -6,13 +6,10 @@
 //! ball can roll. The math (distance to the surface at a frame) is in
 //! `world::collider_shape`; this module is only the document.
 
-use std::fmt;
-use std::sync::Arc;
-
 use serde::{Deserialize, Serialize};
 
+use super::loaded::LoadedMesh;
 use super::param::Param;
-use crate::world::MeshSolid;
 
 /// A vector whose three components are each animatable: `(0.0, 0.72, 0.0)`,
 /// or with keys in place of any number.
@@ -59,26 +56,6 @@ pub struct MeshCollider {
     /// editor read it); not written to the file.
     #[serde(skip)]
     pub solid: LoadedMesh,
-}
-
-/// A mesh file's solid once read; empty until then. Two are equal whatever
-/// they hold: what a scene means is its `file`, and this is a cache of it.
-#[derive(Clone, Default)]
-pub struct LoadedMesh(pub Option<Arc<MeshSolid>>);
-
-impl PartialEq for LoadedMesh {
-    fn eq(&self, _: &Self) -> bool {
-        true
-    }
-}
-
-impl fmt::Debug for LoadedMesh {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.0 {
-            Some(solid) => write!(f, "{solid:?}"),
-            None => f.write_str("not read"),
-        }
-    }
 }
 
 /// A ground plane.

@@ -13,7 +13,8 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::colliders::{Collider, LoadedMesh};
+use super::colliders::Collider;
+use super::loaded::Loaded;
 use super::error::SceneError;
 use super::gltf_structure::{
     check_accessor_types, check_accessors, check_animation_targets, check_images, check_node_trees, read_gltf,
@@ -51,7 +52,7 @@ pub fn read_meshes(scene: &mut Scene, scene_file: &Path, text: &str) -> Result<(
                 solid
             }
         };
-        mesh.solid = LoadedMesh(Some(solid));
+        mesh.solid = Loaded(Some(solid));
     }
     Ok(())
 }

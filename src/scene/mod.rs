@@ -27,6 +27,7 @@ mod gltf_structure;
 mod io;
 mod layers;
 mod locate;
+mod loaded;
 mod mesh_files;
 mod param;
 mod plate;
@@ -42,7 +43,7 @@ mod types;
 mod validate;
 
 pub use colliders::{
-    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, LoadedMesh, Measure, MeshCollider,
+    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, Measure, MeshCollider,
     ParamVec3, Sphere,
 };
 pub use display::{
@@ -62,7 +63,8 @@ pub use plate_files::{CheckedPlate, PlateFiles, PlateFrame, check_plate, frame_l
 pub use plate_header::{PictureFormat, PlatePicture, read_plate_header};
 pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig, rig_from_bytes};
-pub use references::{Attachment, ClipFrames, Follow, LoadedRig, NodeAttachment, Reference, SurfaceAttachment};
+pub use loaded::{Loaded, LoadedMesh, LoadedRig};
+pub use references::{Attachment, ClipFrames, Follow, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use shot_camera::{
     DEFAULT_FOCAL_LENGTH_MM, DEFAULT_SENSOR_WIDTH_MM, ReferenceCamera, ShotCamera, focal_length_from_yfov,

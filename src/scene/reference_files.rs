@@ -19,7 +19,8 @@ use super::error::SceneError;
 use super::gltf_structure::{read_gltf, scene_nodes};
 use super::locate::locate;
 use super::mesh_files::{gltf_buffers, read_file_bytes};
-use super::references::{Attachment, LoadedRig};
+use super::loaded::Loaded;
+use super::references::Attachment;
 use super::types::Scene;
 use crate::image::RgbaImage;
 use crate::world::rig::{
@@ -63,7 +64,7 @@ pub fn read_references(scene: &mut Scene, scene_file: &Path, text: &str) -> Resu
             let message = format!("{what}: {:?} has no animation {name:?} ({has})", reference.file);
             return Err(SceneError::invalid(&label, at, message));
         }
-        reference.rig = LoadedRig(Some(rig));
+        reference.rig = Loaded(Some(rig));
     }
     check_attachments(scene, &label, text)?;
     check_shot_camera(scene, &label, text)

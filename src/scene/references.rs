@@ -6,14 +6,11 @@
 //! [`super::read_references`]; posing it is `world::rig`'s, sampling it at a
 //! frame `animate`'s.
 
-use std::fmt;
-use std::sync::Arc;
-
 use serde::{Deserialize, Serialize};
 
 use super::colliders::{ParamVec3, is_true, one, yes, zeros};
+use super::loaded::LoadedRig;
 use super::param::Param;
-use crate::world::rig::Rig;
 
 /// A glTF file in the scene. A reference point m of the file is at
 /// `center + rotation · (scale · m)` in the scene.
@@ -192,26 +189,6 @@ pub struct ClipFrames {
     pub frames: (f64, f64),
     /// Whether it plays over and over.
     pub repeat: bool,
-}
-
-/// A reference's rig once read; empty until then. Two are equal whatever
-/// they hold: what a scene means is its `file`, and this is a cache of it.
-#[derive(Clone, Default)]
-pub struct LoadedRig(pub Option<Arc<Rig>>);
-
-impl PartialEq for LoadedRig {
-    fn eq(&self, _: &Self) -> bool {
-        true
-    }
-}
-
-impl fmt::Debug for LoadedRig {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.0 {
-            Some(rig) => write!(f, "rig of {} nodes, {} vertices", rig.nodes().len(), rig.vertex_count()),
-            None => f.write_str("not read"),
-        }
-    }
 }
 
 fn one_f64() -> f64 {

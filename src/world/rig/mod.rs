@@ -102,8 +102,9 @@ pub struct RigMesh {
     pub uvs: Vec<[f32; 2]>,
 }
 
-/// A checked rig, ready to pose.
-#[derive(Clone, Debug, PartialEq)]
+/// A checked rig, ready to pose. Equal rigs hold equal nodes, meshes,
+/// skins, clips and cameras; its `Debug` says only how large it is.
+#[derive(Clone, PartialEq)]
 pub struct Rig {
     nodes: Vec<RigNode>,
     meshes: Vec<RigMesh>,
@@ -117,6 +118,12 @@ pub struct Rig {
 
 /// Most nodes, skins' joints, cameras, morph targets per mesh, or influences per vertex a rig may have.
 pub const MAX_RIG_ITEMS: usize = 1 << 16;
+
+impl std::fmt::Debug for Rig {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "rig of {} nodes, {} vertices", self.nodes.len(), self.vertex_count())
+    }
+}
 
 impl Rig {
     /// Checks the parts and makes a rig of them, or says, in a user's words,
