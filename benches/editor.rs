@@ -138,7 +138,7 @@ fn scrub_frame(c: &mut Criterion) {
             })
         });
     }
-    // The references issue's case: the bundled cape at 128 × 128, its pins
+    // The bundled cape at 128 × 128, its pins
     // attached to the 10 072-vertex walker (posed every frame), the walker not a collider.
     let cape = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cape.ron");
     let mut scene = drape::scene::load(&cape).expect("the bundled cape");

@@ -1,5 +1,5 @@
-//! `evaluate` with the rest shapes cached, as the animation issue's targets
-//! state them: a 128² and a 256² cloth with a sway, two waves and a gusts
+//! `evaluate` with the rest shapes cached, at the sizes the README's targets
+//! name: a 128² and a 256² cloth with a sway, two waves and a gusts
 //! layer, and frame 100 000 against frame 1 (the cost must not grow with t),
 //! also timed in alternation for a ratio the machine's drift cannot skew.
 //! On a CPU with AVX2 this times evaluate's AVX2 build of its per-vertex
@@ -147,7 +147,7 @@ fn late_frame_ratio(_: &mut Criterion) {
     );
 }
 
-/// The collider case: the same 128² cloth with three primitive
+/// Among colliders: the same 128² cloth with three primitive
 /// colliders it touches (a ball under its middle, a capsule across it and
 /// the ground), frame 1 and frame 100 000.
 fn with_colliders(c: &mut Criterion) {
@@ -192,7 +192,7 @@ fn built_on_first_use<'a>(
     (evaluator, mesh)
 }
 
-/// The mesh case: the same 128² cloth over a 20 480-triangle ball
+/// Over a mesh collider: the same 128² cloth over a 20 480-triangle ball
 /// (a subdivided icosahedron, built here) where the primitive ball was.
 fn with_a_mesh_collider(c: &mut Criterion) {
     let mut group = c.benchmark_group("evaluate");
@@ -210,7 +210,7 @@ fn with_a_mesh_collider(c: &mut Criterion) {
     group.finish();
 }
 
-/// The references issue's case: `scenes/cape.ron` at 64 × 64 (its pins
+/// A character: `scenes/cape.ron` at 64 × 64 (its pins
 /// attached to the 10 072-vertex skinned walker's chest) with two layers (its
 /// wave and a sway), every call the next frame of the walk, so each one
 /// poses the character afresh; then the same with the walker a collider

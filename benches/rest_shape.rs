@@ -1,5 +1,5 @@
 //! Building a rest shape (approximate + relax) for square grids hung from four
-//! corners, as the modelling issue's targets state them: 32², 64², 128², 256²,
+//! corners, at the sizes the README's targets name: 32², 64², 128², 256²,
 //! and a table top held by 300 pins on 65². Every case runs at the default
 //! relaxation settings and settles (checked before measuring), so the figures
 //! are for the converged shape. The approximation alone is measured too: it
@@ -88,8 +88,8 @@ fn approximation(c: &mut Criterion) {
 }
 
 /// A 1.6 × 1.2 m tablecloth on a 64 × 64 grid pinned at four points on a
-/// 1.2 × 0.8 m table top: the key falls onto the table (the colliders issue's
-/// "rest shape on a table", here with pins: keys without pins are not read yet).
+/// 1.2 × 0.8 m table top: the key falls onto the table (the README's
+/// "rest shape of a tablecloth falling onto a table").
 fn on_a_table(c: &mut Criterion) {
     let mut group = c.benchmark_group("rest_shape_on_a_table");
     group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));

@@ -7,8 +7,8 @@
 //! stiffness instead of a random one; `--sides` draws the grid's sides from
 //! MIN..=MAX points instead of 9..=65; `--each` prints every layout with its
 //! time, whether it was relaxed again keeping its folds apart, and how many
-//! edges cross the cloth. The modelling issue asks for every
-//! valid scene up to 256² to settle at the default settings; a property test
+//! edges cross the cloth. Every valid scene up to 256² should settle at
+//! the default settings; a property test
 //! in `tests/rest_shapes.rs` asserts it for soft cloth (stiffness 0), and this
 //! measures the rest (BENCHMARKS.md has the figures).
 //!

@@ -1097,7 +1097,7 @@ fn check_says_where_a_travelling_camera_starts_and_ends() {
     );
 }
 
-/// `drape check scenes/*.ron`, as the modelling issue asks for it: every
+/// `drape check scenes/*.ron`: every
 /// bundled scene is valid and every key's rest shape settled. A scene that is
 /// not valid among valid ones is reported, the others still checked, and
 /// the command fails.

@@ -574,7 +574,7 @@ fn an_alpha_render_is_transparent_off_the_cloth_and_opaque_on_it() {
     assert!(!run.status.success() && stderr.contains("a GIF has no alpha channel"), "{stderr}");
 }
 
-/// The toon style on the scenes issue 20 names, at the frames the other
+/// The toon style on the magic carpet and the flag, at the frames the other
 /// goldens use: flat tone bands, the texture kept, ink on the border,
 /// silhouette and creases, in the scenes' default toon settings.
 #[test]

@@ -239,10 +239,9 @@ fn the_drape_does_not_depend_on_the_parity_of_the_grid() {
     assert!(spread < 0.02, "lowest points at 63, 64, 65 points a side: {lowest:?}");
 }
 
-/// A stiff strip on one pin, case 68 of `examples/random_layouts.rs`: it
-/// needed 10 336 fine sweeps, past the old default cap of 10 000, so it said
-/// "NOT settled" at the default settings (the default cap is 40 000 now, and
-/// with the bending bounds at half weight it settles in 5 612).
+/// A stiff strip on one pin, case 68 of `examples/random_layouts.rs`: with
+/// the bending bounds at half weight it settles in 5 612 fine sweeps, within
+/// the default cap of 40 000 (at full weight it needs 10 336).
 #[test]
 fn a_stiff_strip_on_one_pin_settles_at_the_default_settings() {
     let cloth = Cloth::new((0.5159015747802351, 1.8572456692088466), (16, 55));
@@ -447,10 +446,10 @@ fn squeezed_layout(
 
 proptest! {
     // 12 cases: a crumpled 256² layout can take a minute with contact
-    // (BENCHMARKS.md, session 27), and CI runs this on two cores. Drawn from
-    // a fixed seed unless PROPTEST_RNG_SEED is set: one random draw on CI
-    // ran contact for over 50 minutes (BENCHMARKS.md, session 28), past
-    // CI's time limit; seed 28's twelve take about two minutes.
+    // (BENCHMARKS.md, "Self-contact"), and CI runs this on two cores. Drawn
+    // from a fixed seed unless PROPTEST_RNG_SEED is set: a random draw can
+    // run contact for most of an hour, past CI's time limit; seed 28's
+    // twelve take about two minutes.
     #![proptest_config(ProptestConfig {
         cases: 12,
         rng_seed: if std::env::var_os("PROPTEST_RNG_SEED").is_some() {
@@ -468,9 +467,9 @@ proptest! {
     /// weight, 80 of 80 layouts of random stiffness up to 65² and 20 of 20
     /// from 129² to 256² at the default Stiffness 0.2 settle, but one of 300
     /// small ones at 0.2 (a 55 × 11 strip) still stops at the cap
-    /// (BENCHMARKS.md, session 22). Most of these layouts pass through
+    /// (BENCHMARKS.md, "Stiff cloth"). Most of these layouts pass through
     /// themselves without contact, so this also covers contact settling or
-    /// giving way to the drape without it (session 27).
+    /// giving way to the drape without it.
     #[test]
     fn soft_cloth_settles_at_the_default_settings_whatever_its_pins(
         cols in 9u32..=256,

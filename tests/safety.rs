@@ -680,8 +680,8 @@ fn run_measuring_memory(dir: &Path, args: &[&str]) -> (Option<i32>, String, u64)
     (code, text, usage.ru_maxrss as u64)
 }
 
-/// The bound: a 1000-pin table top is checked and exported well
-/// within 1 GB (it took over 24 GB before the approximation went local).
+/// A 1000-pin table top is checked and exported well within 1 GB: the
+/// approximation is local, so memory does not grow with pins × points.
 #[test]
 fn a_thousand_pins_stay_within_a_gigabyte() {
     let dir = tempfile::tempdir().unwrap();

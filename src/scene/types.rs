@@ -332,8 +332,8 @@ impl Pin {
 /// `iterations` sweeps per grid level. The cap never changes a shape that
 /// settles within it (the coarsest level's settling is a fixed schedule on
 /// top of it). The default, 40 000, lets stiff cloth pinned tightly finish
-/// its slow slides: a stiff strip on one pin needed 10 336 sweeps before its
-/// bending bounds counted half, 5 612 since (BENCHMARKS.md).
+/// its slow slides: a stiff strip on one pin needs 5 612 sweeps
+/// (BENCHMARKS.md, "Stiff cloth").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RelaxSettings {

@@ -441,11 +441,12 @@ fn solve_on_coarser_grid(
 ///
 /// Several fine pins can map to one coarse point (a pin lattice denser than
 /// the coarse grid). Choosing the nearest keeps a mirror-symmetric layout
-/// symmetric: taking the first in index order took the left-hand pin on one
-/// side and the right-hand one on the other (a 15 × 15 pin lattice on 65²
-/// relaxed 78 mm asymmetric; 28 mm now, the rest from slack between the pins
-/// buckling up or down). Pins tied for nearest leave the coarse point where
-/// the fine grid has it, which is just as symmetric.
+/// symmetric, where taking the first in index order would take the left-hand
+/// pin on one side and the right-hand one on the other (on a 15 × 15 pin
+/// lattice on 65² that makes the drape 78 mm asymmetric instead of 28 mm,
+/// the 28 mm from slack between the pins buckling up or down). Pins tied
+/// for nearest leave the coarse point where the fine grid has it, which is
+/// just as symmetric.
 fn pin_coarse_points(
     positions: &[DVec3],
     (cols, rows): (usize, usize),

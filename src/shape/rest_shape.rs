@@ -219,7 +219,7 @@ fn touches(positions: &[DVec3], (cols, rows): (usize, usize), obstacles: &[Obsta
 /// Sweeps each grid level may take, after its settling, to settle keeping
 /// the cloth's folds apart. Gathered curtains, pleated headings and crossed
 /// pins settle well within it (a pleated heading's coarse level needs more
-/// than 3000; BENCHMARKS.md, session 27); a crumpled cloth
+/// than 3000; BENCHMARKS.md, "Self-contact"); a crumpled cloth
 /// whose stacked folds cannot all keep the thickness can push and pull
 /// without end, and is left as the drape without contact (which passes
 /// through itself, and says so) instead of sweeping to the key's cap level

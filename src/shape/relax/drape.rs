@@ -12,9 +12,9 @@
 //! (the key's `friction` × how hard it presses) holds it, so a tablecloth
 //! does not creep off a level table. Deterministic: a fixed order and
 //! fixed steps.
-//! (Running the sweeps after it to make the lengths exact was tried: their
-//! momentum, with nothing pulling down, crumpled the draped cloth on the
-//! table top and never settled.)
+//! No sweeps follow it to make the lengths exact: their momentum, with
+//! nothing pulling down, crumples the draped cloth on the table top and it
+//! never settles.
 
 use std::ops::ControlFlow;
 

@@ -235,9 +235,9 @@ pub(super) fn point_steps<const BENDS: bool, const L: usize>(
 /// Share of a violated bending bound in a point's average, against 1 for
 /// every other constraint. Where pins bend stiff cloth more than it allows,
 /// the bounds and the edges' lengths cannot all hold, and at full weight the
-/// bending asks kept the sweeps drifting: 16 of 200 random layouts (and all
-/// 20 large ones tried at the default stiffness) never settled; at one half,
-/// 1 of 200 and 0 of 20 (BENCHMARKS.md, session 22). A power of two, so
+/// bending asks keep the sweeps drifting: at full weight 16 of 200 random
+/// layouts (and all 20 large ones at the default stiffness) never settle; at
+/// one half, 1 of 200 and 0 of 20 (BENCHMARKS.md, "Stiff cloth"). A power of two, so
 /// mirrored neighbourhoods still give mirrored sums exactly.
 const BEND_WEIGHT: f64 = 0.5;
 
