@@ -1,6 +1,9 @@
 """Drape inside Blender: a live cloth that Blender evaluates at any frame and
-sub-frame, with no bake. The same folder is a legacy add-on (Blender 3.4–4.1,
-bl_info) and a Blender 4.2+ extension (blender_manifest.toml)."""
+sub-frame, with no bake. The same folder is a legacy add-on for Blender
+3.4–4.1 and a Blender 4.2+ extension (blender_manifest.toml)."""
+
+# Blender lists legacy add-ons by reading this file from the first line that
+# starts with `bl_info`: no line above the dict may start with that word.
 
 bl_info = {
     "name": "Drape",

@@ -201,6 +201,8 @@ class DRAPE_OT_bind_pins(bpy.types.Operator):
 
 
 def add_menu(self, context):
+    # Add runs its entries without invoking them; this one must open the file browser.
+    self.layout.operator_context = "INVOKE_REGION_WIN"
     self.layout.operator(DRAPE_OT_add_cloth.bl_idname, text="Drape Cloth (.ron)", icon="MOD_CLOTH")
 
 
