@@ -1,10 +1,16 @@
-"""What the headless Blender tests share: arguments, OBJ reading, the Cycles set-up."""
+"""What the headless Blender tests share: arguments, the add-on, OBJ reading, the Cycles set-up.
+
+The tests run in Blender (`blender -b --python TEST -- ARGS`) with the legacy
+add-on, and in the `bpy` module (`python TEST -- ARGS`) with the extension
+installed from its zip; nothing else differs.
+"""
 
 import array
 import sys
 from pathlib import Path
 
 import bpy
+import addon_utils  # noqa: E402  (importable once bpy is: Blender's scripts path)
 
 ROOT = Path(__file__).resolve().parents[2]
 CARPET = ROOT / "scenes" / "magic_carpet.ron"
@@ -15,6 +21,18 @@ def arguments():
     """`--name value` pairs after Blender's `--`."""
     args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     return {args[k].lstrip("-"): args[k + 1] for k in range(0, len(args) - 1, 2)}
+
+
+def enable_addon():
+    """Enables the installed Drape add-on and returns its package: `drape` as a legacy
+    add-on, `bl_ext.REPO.drape` as an extension."""
+    names = [m.__name__ for m in addon_utils.modules() if m.__name__ == "drape" or m.__name__.endswith(".drape")]
+    assert len(names) == 1, f"expected one Drape add-on installed, found {names}"
+    addon_utils.enable(names[0], default_set=True, handle_error=None)
+    assert addon_utils.check(names[0])[1], f"{names[0]} did not enable"
+    package = sys.modules[names[0]]
+    print(f"Blender {bpy.app.version_string}: add-on {names[0]}, module {package.native.module.__file__}")
+    return package
 
 
 def obj_positions_z_up(path):
@@ -109,11 +127,30 @@ def pixels_of(path):
     return pixels
 
 
+# The `bpy` module has no Blender executable.
+AS_MODULE = not bpy.app.binary_path
+
+
+def finish(status=0):
+    """Ends the script with `status`. Blender's executable carries on (renders `-f`, quits);
+    the `bpy` module 4.2 leaves at once: at interpreter exit it crashes (SIGSEGV in
+    bpy_class_free, after Python is finalized) once any class with a property update
+    callback was registered, the add-on's or a three-line one's, so the exit status would
+    say nothing about the tests."""
+    if AS_MODULE:
+        import os
+
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    if status:
+        sys.exit(status)
+
+
 def run(test_case_class):
-    """Runs a unittest class and quits Blender with status 1 on any failure."""
+    """Runs a unittest class and ends with status 1 on any failure."""
     import unittest
 
     suite = unittest.defaultTestLoader.loadTestsFromTestCase(test_case_class)
     result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
-    if not result.wasSuccessful():
-        sys.exit(1)
+    finish(0 if result.wasSuccessful() else 1)

@@ -3,22 +3,28 @@
     blender -b --factory-startup --addons drape OUT/carpet.blend --python-exit-code 1 \
         --python blender/tests/test_fresh_render.py -f 90 -- --out OUT
 
-The script runs before the render: it records, when the render ends, the
-cloth the render saw; the comparison runs once Blender has written the
-picture (test_compare_renders.py).
+or, with the `bpy` module, where there is no command line to render from:
+
+    python blender/tests/test_fresh_render.py -- --out OUT --blend OUT/carpet.blend --frame 90
+
+which enables the add-on, opens the file and renders that one frame as an
+animation, as `-f` does. The script records, when the render ends, the cloth
+the render saw; the comparison runs once the picture is written
+(test_compare_renders.py).
 """
 
 import sys
 from pathlib import Path
 
-import addon_utils
 import bpy
+import addon_utils  # noqa: E402  (importable once bpy is: Blender's scripts path)
 from bpy.app.handlers import persistent
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common  # noqa: E402
 
-OUT = Path(common.arguments()["out"])
+ARGS = common.arguments()
+OUT = Path(ARGS["out"])
 
 
 @persistent
@@ -27,5 +33,13 @@ def record(scene, *_):
     (OUT / "fresh_frame.txt").write_text(f"{scene.frame_current} {scene.frame_subframe}\n")
 
 
-assert addon_utils.check("drape")[1], "the Drape add-on is not enabled"
 bpy.app.handlers.render_post.append(record)
+if "blend" in ARGS:
+    common.enable_addon()
+    bpy.ops.wm.open_mainfile(filepath=ARGS["blend"])
+    scene = bpy.context.scene
+    scene.frame_start = scene.frame_end = int(ARGS["frame"])
+    bpy.ops.render.render(animation=True)
+    common.finish()
+else:
+    assert addon_utils.check("drape")[1], "the Drape add-on is not enabled"

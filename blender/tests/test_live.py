@@ -3,7 +3,8 @@
     blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_live.py -- \
         --exports DIR --out DIR
 
-with the add-on on BLENDER_USER_SCRIPTS and DIR holding `drape export` OBJs of
+with the add-on on BLENDER_USER_SCRIPTS (or `python blender/tests/test_live.py -- …`
+with the `bpy` module and the extension installed), and DIR holding `drape export` OBJs of
 the magic carpet's frames 0, 37, 38, 90 and 120 (magic_carpet_NNNN.obj).
 Leaves OUT/carpet.blend (at frame 0) and OUT/scrubbed_90.{png,json} for
 test_fresh_render.py, which renders frame 90 in a fresh process.
@@ -19,7 +20,6 @@ import time
 import unittest
 from pathlib import Path
 
-import addon_utils
 import bpy
 from mathutils import Vector
 
@@ -99,10 +99,8 @@ def bone_through(scene, frames_and_heads):
 class LiveCloth(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        addon_utils.enable("drape", default_set=True, handle_error=None)
-        from drape import cloth  # the add-on's package
-
-        cls.cloth = cloth
+        cls.package = common.enable_addon()
+        cls.cloth = cloth = cls.package.cloth
         cls.scene = bpy.context.scene
         result = bpy.ops.object.drape_add_cloth(filepath=str(common.CARPET))
         assert result == {"FINISHED"}, result
@@ -335,8 +333,21 @@ class LiveCloth(unittest.TestCase):
             self.assertLessEqual(difference, common.TOLERANCE_M, f"frame {frame}")
         remove(obj)
 
+    def test_add_menu_opens_the_file_browser(self):
+        calls = []
+
+        class Layout:
+            # What Add (VIEW3D_MT_add) sets for its own entries before appended ones draw.
+            operator_context = "EXEC_REGION_WIN"
+
+            def operator(self, idname, **_):
+                calls.append((idname, self.operator_context))
+
+        self.package.operators.add_menu(type("Menu", (), {"layout": Layout()})(), bpy.context)
+        self.assertEqual(calls, [("object.drape_add_cloth", "INVOKE_REGION_WIN")])
+
     def test_panel_draws_the_settings_and_problems(self):
-        from drape import handlers, panel
+        handlers, panel = self.package.handlers, self.package.panel
 
         class Layout:
             """Records what the panel draws; every layout call returns a layout."""
