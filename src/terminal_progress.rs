@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use drape::animate::attachments::posed_key;
-use drape::animate::{Evaluator, KeyShape, key_obstacles};
+use drape::animate::{Evaluator, KeyShape};
 use drape::scene::{Key, Scene};
 use drape::shape::RelaxProgress;
 
@@ -100,7 +100,7 @@ pub fn build_key_shapes<'k>(
 ) {
     let count = keys.len();
     for (index, key) in keys.enumerate() {
-        let (cloth, obstacles) = (&scene.cloth, key_obstacles(scene, key));
+        let (cloth, obstacles) = (&scene.cloth, evaluator.key_obstacles(scene, key));
         // Attached pins where their attachments are at the key's frame.
         let key = &*posed_key(scene, key);
         if evaluator.cache().get(cloth, key, &obstacles).is_some() {

@@ -3,6 +3,7 @@
 //! (no edge past 1.5 × its rest length), for a table top, a ball, a round
 //! table that slides, with pins and without, and the bundled scenes.
 
+use drape::animate::posed_solids::PosedSolids;
 use drape::animate::{Evaluator, colliders_at::obstacles_at};
 use drape::scene::{self, Scene};
 use glam::Vec3;
@@ -49,7 +50,7 @@ fn assert_kept_out_and_whole(scene: &Scene, longest: f64) {
     let mut evaluator = Evaluator::new();
     for frame in 0..=120 {
         let mesh = evaluator.evaluate_frame(scene, f64::from(frame));
-        let obstacles = obstacles_at(scene, f64::from(frame));
+        let obstacles = obstacles_at(scene, f64::from(frame), &PosedSolids::new());
         for (k, p) in mesh.positions.iter().enumerate() {
             for obstacle in &obstacles {
                 let distance = obstacle.shape.distance(p.as_dvec3());

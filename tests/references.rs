@@ -319,7 +319,7 @@ fn the_cape_stays_outside_the_walking_body() {
     for frame in scene.timeline.start..=scene.timeline.end {
         let frame = f64::from(frame);
         let mesh = evaluator.evaluate_frame(&scene, frame);
-        let body = reference_at(&scene, 0, frame).unwrap().solid().unwrap();
+        let body = reference_at(&scene, 0, frame).unwrap().build_solid().unwrap();
         for (k, p) in mesh.positions.iter().enumerate() {
             let distance = body.surface_point(p.as_dvec3()).distance;
             nearest = nearest.min(distance);

@@ -10,6 +10,7 @@ use glam::Vec3;
 use super::attachments::posed_key;
 use super::colliders_at::obstacles_at;
 use super::falloff::{pin_distance_field, resting_distance_field};
+use super::posed_solids::PosedSolids;
 use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
@@ -124,9 +125,17 @@ struct ShapeInputs {
     placement_bits: Option<[u64; 6]>,
 }
 
-/// The colliders a key's rest shape lies among: the scene's at the key's frame.
+/// The colliders a key's rest shape lies among: the scene's at the key's
+/// frame, colliding references posed afresh ([`key_obstacles_among`] reuses
+/// the solids of poses built lately, as an [`Evaluator`](super::Evaluator) does).
 pub fn key_obstacles(scene: &Scene, key: &Key) -> Vec<Obstacle> {
-    obstacles_at(scene, f64::from(key.frame))
+    key_obstacles_among(scene, key, &PosedSolids::new())
+}
+
+/// [`key_obstacles`] with colliding references' solids from `solids` where
+/// that pose was built lately: the same obstacles.
+pub fn key_obstacles_among(scene: &Scene, key: &Key, solids: &PosedSolids) -> Vec<Obstacle> {
+    obstacles_at(scene, f64::from(key.frame), solids)
 }
 
 /// Every number of `obstacles` as bits, with each kind's tag (a mesh's tag
@@ -219,14 +228,15 @@ impl RestShapeCache {
     }
 
     /// The shape of every key of `scene`, in key order (attached pins where
-    /// their attachments are at the key's frame), building the ones not
+    /// their attachments are at the key's frame, among the colliders there,
+    /// colliding references' solids from `solids`), building the ones not
     /// cached yet. The scene must be valid.
-    pub fn shapes(&mut self, scene: &Scene) -> Vec<Arc<KeyShape>> {
+    pub fn shapes(&mut self, scene: &Scene, solids: &PosedSolids) -> Vec<Arc<KeyShape>> {
         self.generation += 1;
         let shapes = scene
             .keys
             .iter()
-            .map(|key| self.shape(&scene.cloth, &posed_key(scene, key), &key_obstacles(scene, key)))
+            .map(|key| self.shape(&scene.cloth, &posed_key(scene, key), &key_obstacles_among(scene, key, solids)))
             .collect();
         self.evict();
         shapes
@@ -338,19 +348,19 @@ mod tests {
     fn editing_one_key_rebuilds_only_that_key() {
         let mut cache = RestShapeCache::new();
         let mut s = scene(vec![key(0, 1.0), key(24, 1.2), key(48, 1.4)]);
-        let first = cache.shapes(&s);
+        let first = cache.shapes(&s, &PosedSolids::new());
         assert_eq!(cache.builds(), 3);
-        cache.shapes(&s);
+        cache.shapes(&s, &PosedSolids::new());
         assert_eq!(cache.builds(), 3, "nothing changed, nothing rebuilt");
         s.keys[1].pins[0].pos.1 = 1.25;
-        let second = cache.shapes(&s);
+        let second = cache.shapes(&s, &PosedSolids::new());
         assert_eq!(cache.builds(), 4);
         assert!(Arc::ptr_eq(&first[0], &second[0]) && Arc::ptr_eq(&first[2], &second[2]));
         assert!(!Arc::ptr_eq(&first[1], &second[1]));
         // Timing and easing do not change a shape.
         s.keys[1].frame = 30;
         s.keys[1].ease = Ease::Bounce;
-        cache.shapes(&s);
+        cache.shapes(&s, &PosedSolids::new());
         assert_eq!(cache.builds(), 4);
     }
 
@@ -358,7 +368,7 @@ mod tests {
     fn a_collider_a_key_does_not_reach_reuses_its_shape_without_colliders() {
         let mut cache = RestShapeCache::new();
         let s = scene(vec![key(0, 1.0)]);
-        let plain = cache.shapes(&s)[0].clone();
+        let plain = cache.shapes(&s, &PosedSolids::new())[0].clone();
         assert_eq!(cache.builds(), 1);
         let obstacle =
             |center: glam::DVec3| Obstacle { shape: ColliderShape::Sphere { center, radius: 0.2 }, thickness: 0.003 };
@@ -383,7 +393,7 @@ mod tests {
     #[test]
     fn equal_keys_share_one_shape() {
         let mut cache = RestShapeCache::new();
-        let shapes = cache.shapes(&scene(vec![key(0, 1.0), key(24, 1.0)]));
+        let shapes = cache.shapes(&scene(vec![key(0, 1.0), key(24, 1.0)]), &PosedSolids::new());
         assert_eq!(cache.builds(), 1);
         assert!(Arc::ptr_eq(&shapes[0], &shapes[1]));
     }
@@ -392,12 +402,12 @@ mod tests {
     fn unused_shapes_are_evicted_beyond_the_retained_count() {
         let mut cache = RestShapeCache::new();
         for step in 0..RETAINED_UNUSED_SHAPES + 5 {
-            cache.shapes(&scene(vec![key(0, 1.0 + step as f64 * 0.01)]));
+            cache.shapes(&scene(vec![key(0, 1.0 + step as f64 * 0.01)]), &PosedSolids::new());
         }
         assert_eq!(cache.len(), RETAINED_UNUSED_SHAPES + 1);
         // The most recent edits are still there: undoing one step costs nothing.
         let builds = cache.builds();
-        cache.shapes(&scene(vec![key(0, 1.0 + (RETAINED_UNUSED_SHAPES + 3) as f64 * 0.01)]));
+        cache.shapes(&scene(vec![key(0, 1.0 + (RETAINED_UNUSED_SHAPES + 3) as f64 * 0.01)]), &PosedSolids::new());
         assert_eq!(cache.builds(), builds);
     }
 }

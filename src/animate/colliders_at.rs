@@ -3,7 +3,8 @@
 
 use glam::DVec3;
 
-use super::references_at::reference_obstacles;
+use super::posed_solids::PosedSolids;
+use super::references_at::reference_at;
 use super::track::{sample, sample_vec3};
 use crate::scene::{Collider, Param, ParamVec3, Scene};
 use crate::world::{ColliderShape, Obstacle};
@@ -13,8 +14,9 @@ use crate::world::{ColliderShape, Obstacle};
 /// that an overshooting easing takes below 0 read as 0; thicknesses too. A
 /// mesh collider whose file has not been read (a scene parsed from text,
 /// without its folder) is left out. References marked as colliders come
-/// last, posed at `frame` (`references_at::reference_obstacles`).
-pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
+/// last, posed at `frame` ([`reference_obstacles`]), their solids from
+/// `solids` when that pose was built lately.
+pub fn obstacles_at(scene: &Scene, frame: f64, solids: &PosedSolids) -> Vec<Obstacle> {
     let colliding_references = scene.references.iter().any(|r| r.collider);
     if (scene.colliders.is_empty() && !colliding_references) || scene.keys.is_empty() {
         return Vec::new();
@@ -30,7 +32,26 @@ pub fn obstacles_at(scene: &Scene, frame: f64) -> Vec<Obstacle> {
         })
         .collect();
     if colliding_references {
-        obstacles.extend(reference_obstacles(scene, frame, key_thickness));
+        obstacles.extend(reference_obstacles(scene, frame, key_thickness, solids));
+    }
+    obstacles
+}
+
+/// The references of `scene` that keep the cloth out, posed at `frame`,
+/// each with the thickness the cloth keeps from it: its own, else
+/// `key_thickness`. One solid per reference, of all its meshes, from
+/// `solids` when that pose was built lately.
+pub fn reference_obstacles(scene: &Scene, frame: f64, key_thickness: f64, solids: &PosedSolids) -> Vec<Obstacle> {
+    let mut obstacles = Vec::new();
+    for (index, reference) in scene.references.iter().enumerate() {
+        if !reference.collider {
+            continue;
+        }
+        let Some(solid) = reference_at(scene, index, frame).and_then(|posed| solids.solid(&posed)) else { continue };
+        let thickness = reference.thickness.as_ref().map_or(key_thickness, |t| sample(t, frame)).max(0.0);
+        let shape =
+            ColliderShape::Mesh { solid, center: DVec3::ZERO, world_from_local: glam::DMat3::IDENTITY, scale: 1.0 };
+        obstacles.push(Obstacle { shape, thickness });
     }
     obstacles
 }
@@ -84,7 +105,7 @@ mod tests {
         let Ok(mut scene) = ron::from_str::<Scene>(text) else { panic!("a scene") };
         scene.colliders = vec![ball.clone(), ball];
         *scene.colliders[1].enabled_mut() = false;
-        let obstacles = obstacles_at(&scene, 5.0);
+        let obstacles = obstacles_at(&scene, 5.0, &PosedSolids::new());
         assert_eq!(obstacles.len(), 1);
         let ColliderShape::Sphere { center, radius } = obstacles[0].shape else { panic!("a sphere") };
         assert_eq!((center, radius), (DVec3::new(0.5, 1.0, 0.0), 0.3));

@@ -17,12 +17,13 @@ use glam::Vec3;
 
 use super::attachments::{carry_to_attachments, posed_key};
 use super::blend::{Segment, blend_segment, segment_at};
-use super::cache::{KeyShape, RestShapeCache, key_obstacles};
+use super::cache::{KeyShape, RestShapeCache, key_obstacles_among};
 use super::colliders_at::obstacles_at;
 use super::falloff::AttenuationField;
 use super::follow::carry_with_node;
 use super::keep_out::keep_out;
 use super::noise::FractalSampler;
+use super::posed_solids::PosedSolids;
 use super::stretch_limit::StretchLimiter;
 use super::track::sample;
 use super::wave::WaveTables;
@@ -64,12 +65,13 @@ pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
 /// the last keep-out: each round shortens what the push lengthened.
 const CONTACT_ROUNDS: usize = 3;
 
-/// Evaluates scenes, keeping the rest-shape cache and scratch buffers
-/// between calls. Its results equal [`evaluate`]'s bit for bit: the cache only
-/// saves work.
+/// Evaluates scenes, keeping the rest-shape cache, the colliding
+/// references' latest posed solids and scratch buffers between calls. Its
+/// results equal [`evaluate`]'s bit for bit: the caches only save work.
 #[derive(Debug, Default)]
 pub struct Evaluator {
     cache: RestShapeCache,
+    solids: PosedSolids,
     ratio: Vec<f32>,
     attenuation: AttenuationField,
     points: PointArrays,
@@ -103,10 +105,17 @@ impl Evaluator {
         &mut self.cache
     }
 
+    /// The colliders `key`'s rest shape lies among ([`super::key_obstacles`]),
+    /// colliding references' solids from the poses this evaluator built lately.
+    pub fn key_obstacles(&self, scene: &Scene, key: &Key) -> Vec<crate::world::Obstacle> {
+        key_obstacles_among(scene, key, &self.solids)
+    }
+
     /// The cached shape of one key (built if needed), for callers that show
     /// or export a single key's modelling stages.
     pub fn key_shape(&mut self, scene: &Scene, key: &Key) -> Arc<KeyShape> {
-        self.cache.shape(&scene.cloth, &posed_key(scene, key), &key_obstacles(scene, key))
+        let obstacles = self.key_obstacles(scene, key);
+        self.cache.shape(&scene.cloth, &posed_key(scene, key), &obstacles)
     }
 
     /// The mesh of `scene` at `t_secs`, with every layer.
@@ -204,7 +213,7 @@ impl Evaluator {
                 .collect();
             points.set_from_vec3s(&flat);
         } else {
-            let shapes = self.cache.shapes(scene);
+            let shapes = self.cache.shapes(scene, &self.solids);
             let segment = segment_at(&scene.keys, frame);
             blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
             let (a, b, eased) = match segment {
@@ -213,7 +222,7 @@ impl Evaluator {
             };
             carry_with_node(scene, &shapes, (a, b, eased), frame, points);
             carry_to_attachments(scene, (a, b), eased, frame, points);
-            let obstacles = obstacles_at(scene, frame);
+            let obstacles = obstacles_at(scene, frame, &self.solids);
             self.held.clear();
             if obstacles.is_empty() {
                 self.before_layers = PointArrays::default();

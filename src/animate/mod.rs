@@ -11,6 +11,7 @@
 //!   are listed once in `scene/layers.rs`.
 //! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
 //! - [`colliders_at`], [`keep_out`]: the colliders at a frame, and every point kept outside them.
+//! - [`posed_solids`]: the colliding references' solids at the poses asked for last.
 //! - [`follow`]: the cloth carried by a node of a reference.
 //! - [`attachments`]: pins bound to a reference, exactly on it at every frame.
 //! - [`references_at`]: each referenced glTF file posed at a frame, placed in the scene.
@@ -29,11 +30,12 @@ pub mod follow_through;
 pub mod gusts;
 pub mod keep_out;
 pub mod noise;
+pub mod posed_solids;
 pub mod references_at;
 pub mod stretch_limit;
 pub mod sway;
 pub mod track;
 pub mod wave;
 
-pub use cache::{KeyShape, RestShapeCache, key_obstacles};
+pub use cache::{KeyShape, RestShapeCache, key_obstacles, key_obstacles_among};
 pub use evaluate::{EvaluateOptions, Evaluator, Stage, evaluate, frame_time_secs};

@@ -1,14 +1,14 @@
 //! A scene's references at a frame: each file's animation played on the
 //! scene's clock, its meshes skinned and its cameras placed in the scene.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use glam::{DMat4, DVec3};
 
 use super::track::{sample, sample_vec3};
 use crate::scene::{Reference, ReferenceCamera, Scene};
 use crate::world::rig::{CameraPose, Pose, PosedMesh, Projection, Rig};
-use crate::world::{ColliderShape, MeshSolid, Obstacle};
+use crate::world::{ColliderShape, MeshSolid};
 
 /// One reference at one frame.
 pub struct PosedReference<'a> {
@@ -93,71 +93,11 @@ pub fn reference_camera_at(scene: &Scene, from: &ReferenceCamera, frame: f64) ->
     reference_at(scene, index, frame)?.camera(&from.camera)
 }
 
-/// The references of `scene` that keep the cloth out, posed at `frame`,
-/// each with the thickness the cloth keeps from it: its own, else
-/// `key_thickness`. One solid per reference, of all its meshes.
-pub fn reference_obstacles(scene: &Scene, frame: f64, key_thickness: f64) -> Vec<Obstacle> {
-    let mut obstacles = Vec::new();
-    for (index, reference) in scene.references.iter().enumerate() {
-        if !reference.collider {
-            continue;
-        }
-        let Some(solid) = reference_at(scene, index, frame).and_then(|posed| posed.solid()) else { continue };
-        let thickness = reference.thickness.as_ref().map_or(key_thickness, |t| sample(t, frame)).max(0.0);
-        let shape =
-            ColliderShape::Mesh { solid, center: DVec3::ZERO, world_from_local: glam::DMat3::IDENTITY, scale: 1.0 };
-        obstacles.push(Obstacle { shape, thickness });
-    }
-    obstacles
-}
-
-/// What a posed solid is made from: the rig (held, so its address is not
-/// reused while the entry lives), the clip and its time, the placement.
-struct SolidKey {
-    rig: Arc<Rig>,
-    clips: Vec<usize>,
-    t_bits: u64,
-    placement_bits: [u64; 16],
-}
-
-impl PartialEq for SolidKey {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.rig, &other.rig)
-            && self.clips == other.clips
-            && self.t_bits == other.t_bits
-            && self.placement_bits == other.placement_bits
-    }
-}
-
-/// The posed solids built last: a frame asks for its references' solids
-/// several times (every key's rest shape, the frame itself, the viewport),
-/// and building one is the costly part (a bounding-volume hierarchy).
-static POSED_SOLIDS: Mutex<Vec<(SolidKey, Arc<MeshSolid>)>> = Mutex::new(Vec::new());
-
-/// How many posed solids [`POSED_SOLIDS`] keeps.
-const KEPT_SOLIDS: usize = 16;
-
 impl PosedReference<'_> {
-    /// All its meshes at this pose as one solid in scene coordinates; None
-    /// when they hold no triangle with area. Equal poses give the same solid.
-    pub fn solid(&self) -> Option<Arc<MeshSolid>> {
-        let key = SolidKey {
-            rig: Arc::clone(self.rig),
-            clips: self.clips.clone(),
-            t_bits: self.t_secs.to_bits(),
-            placement_bits: self.scene_from_file.to_cols_array().map(f64::to_bits),
-        };
-        // Least recently used out first: a key's pose is asked for at every frame.
-        let kept = |solids: &mut Vec<(SolidKey, Arc<MeshSolid>)>| {
-            let at = solids.iter().position(|(k, _)| *k == key)?;
-            let entry = solids.remove(at);
-            let solid = entry.1.clone();
-            solids.push(entry);
-            Some(solid)
-        };
-        if let Some(solid) = POSED_SOLIDS.lock().ok().and_then(|mut solids| kept(&mut solids)) {
-            return Some(solid);
-        }
+    /// All its meshes at this pose as one solid in scene coordinates, built
+    /// afresh ([`PosedSolids::solid`] keeps the latest); None when they hold
+    /// no triangle with area.
+    pub fn build_solid(&self) -> Option<MeshSolid> {
         let mut vertices = Vec::new();
         let mut triangles = Vec::new();
         for (mesh, placed) in self.rig.meshes().iter().zip(self.meshes()) {
@@ -165,13 +105,6 @@ impl PosedReference<'_> {
             vertices.extend(placed.positions);
             triangles.extend(mesh.indices.chunks_exact(3).map(|t| [t[0] + base, t[1] + base, t[2] + base]));
         }
-        let solid = Arc::new(MeshSolid::new(&vertices, &triangles).ok()?);
-        if let Ok(mut solids) = POSED_SOLIDS.lock() {
-            if solids.len() >= KEPT_SOLIDS {
-                solids.remove(0);
-            }
-            solids.push((key, solid.clone()));
-        }
-        Some(solid)
+        MeshSolid::new(&vertices, &triangles).ok()
     }
 }
