@@ -1,5 +1,7 @@
 """Properties ▸ Object ▸ Drape: the scene file, time offset, reload and problems."""
 
+import textwrap
+
 import bpy
 
 from . import cloth, timing
@@ -18,6 +20,7 @@ class DRAPE_PT_object(bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
+        width = _characters_across(context)
         obj = context.object
         settings = obj.drape
         layout.prop(settings, "scene_path")
@@ -31,17 +34,17 @@ class DRAPE_PT_object(bpy.types.Panel):
         try:
             scene = cloth.load(cloth.scene_file(obj))
         except drape.SceneError as error:
-            _problem(layout, str(error))
+            _problem(layout, str(error), width)
             return
         columns, rows = scene.grid
         start, end = scene.frame_range
         layout.label(text=f"{columns} × {rows} points, frames {start}–{end} at {scene.fps:g} fps")
         warning = timing.fps_mismatch(context.scene.render, scene.fps)
         if warning:
-            _problem(layout, warning, icon="INFO")
+            _problem(layout, warning, width, icon="INFO")
         error = cloth.error_of(obj)
         if error:
-            _problem(layout, error)
+            _problem(layout, error, width)
         layout.operator("object.drape_bake")
         box = layout.box()
         box.prop(settings, "follow_target")
@@ -60,21 +63,28 @@ class DRAPE_PT_object(bpy.types.Panel):
             if pin.target is not None and len(pin.at_keys) != len(scene.key_frames):
                 row.label(text="", icon="ERROR")
         if any(pin.target is not None and len(pin.at_keys) != len(scene.key_frames) for pin in settings.pins):
-            _problem(box, "Pins marked with a warning follow their bones once bound: press Bind Pins", icon="INFO")
+            _problem(box, "Pins marked with a warning follow their bones once bound: press Bind Pins", width, icon="INFO")
         box.operator("object.drape_bind_pins")
 
 
-def _problem(layout, text, icon="ERROR"):
+def _characters_across(context):
+    """About how many characters a label in this panel shows before Blender elides it."""
+    region = getattr(context, "region", None)
+    if region is None:
+        return 60
+    scale = context.preferences.system.ui_scale
+    return max(20, int((region.width - 60 * scale) / (7 * scale)))
+
+
+def problem_lines(text, width):
+    """The message in lines of at most `width` characters; a long path is broken too, since
+    Blender elides a label's middle, where an error's file:line:column sits."""
+    return textwrap.wrap(text, width, break_on_hyphens=False) or [""]
+
+
+def _problem(layout, text, width, icon="ERROR"):
     box = layout.box()
-    words, line = text.split(), ""
-    lines = []
-    for word in words:
-        if len(line) + len(word) > 60 and line:
-            lines.append(line)
-            line = ""
-        line = f"{line} {word}".strip()
-    lines.append(line)
-    for k, line in enumerate(lines):
+    for k, line in enumerate(problem_lines(text, width)):
         box.label(text=line, icon=icon if k == 0 else "BLANK1")
 
 

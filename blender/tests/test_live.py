@@ -369,6 +369,11 @@ class LiveCloth(unittest.TestCase):
         texts = [kwargs.get("text", "") for _, _, kwargs in drawn]
         self.assertIn("21 × 33 points, frames 0–120 at 24 fps", texts)
         self.assertIn("object.drape_reload", [args[0] for name, args, _ in drawn if name == "operator"])
+        # An error's file:line:column stays readable in a narrow panel, however long the path.
+        message = "/a/long/folder/of/scenes/that/holds/the/carpet.ron:18:24: pin (40, 0) is outside the 21 × 33 grid"
+        lines = panel.problem_lines(message, 30)
+        self.assertTrue(all(len(line) <= 30 for line in lines), lines)
+        self.assertEqual("".join(lines).replace(" ", ""), message.replace(" ", ""))
         # The file watcher runs without a window too.
         self.assertEqual(handlers._watch(), handlers.WATCH_INTERVAL_S)
 
