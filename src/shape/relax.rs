@@ -336,7 +336,7 @@ pub fn solver_grid(cols: usize, rows: usize) -> (usize, usize) {
 /// split, started from its own grid interpolated, pinned at the same
 /// material points, and drawn back at its own points. So a coarse grid is the
 /// same cloth with less detail, not a different drape: the 2 m tent at 17²
-/// was 28 mm from 129² relaxed on its own cells, too coarse for the bend
+/// relaxed on its own cells ends 28 mm from 129², too coarse for the bend
 /// beside a corner pin (BENCHMARKS.md). Its edges are then chords of the
 /// finer cloth's, shorter where it folds. The report is the solver grid's.
 pub fn relax_resolved(
