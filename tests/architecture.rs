@@ -287,3 +287,177 @@ fn without_the_editor_feature_the_library_needs_no_gpu_or_window_crate() {
     }
     assert!(offenders.is_empty(), "outside the editor feature's modules: {offenders:?}");
 }
+
+/// A `static` (or a `thread_local!`) whose value can change is state shared
+/// by every caller, hidden behind functions that look pure: caches belong to
+/// the value that uses them (an `Evaluator`'s rest shapes and posed solids).
+/// These few are allowed, each for the reason given: (file, static, why).
+const MUTABLE_STATICS_ALLOWED: [(&str, &str, &str); 8] = [
+    ("src/atomic_file.rs", "COMPANIONS", "files staged on this thread go in with its next atomic write"),
+    ("src/atomic_file.rs", "REGISTRY", "temporaries a signal's clean-up removes: a handler reaches only statics"),
+    ("src/atomic_file.rs", "SWEPT", "each directory is swept of dead processes' temporaries once per process"),
+    ("src/atomic_file.rs", "COUNTER", "temporary names unique within the process"),
+    ("src/atomic_file.rs", "WAKE_FD", "the pipe the signal handler writes to: a handler reaches only statics"),
+    ("src/atomic_file.rs", "INSTALLED", "the signal handlers are installed once per process"),
+    ("src/main.rs", "SUMMARY_TO_STDERR", "set once before any output when the output file is stdout itself"),
+    ("src/editor/number_field.rs", "REFUSED", "to be moved into the editor's state"),
+];
+
+/// Types whose value changes behind a shared reference.
+const INTERIOR_MUTABILITY: [&str; 5] = ["Mutex", "RwLock", "Cell", "Atomic", "UnsafeCell"];
+
+/// `(name, declaration)` of every `static` in `code` that can change: `static
+/// mut`, a type holding one of [`INTERIOR_MUTABILITY`] (a `OnceLock` of
+/// plain data is set once and stays), and every static of a `thread_local!`.
+fn mutable_statics(code: &str) -> Vec<(String, String)> {
+    let mut found = Vec::new();
+    let mut in_thread_local = false;
+    for (_, line) in code_lines(code) {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with("thread_local!") {
+            in_thread_local = true;
+        }
+        let declaration = ["pub static ", "pub(crate) static ", "static "].iter().find_map(|p| trimmed.strip_prefix(p));
+        if let Some(rest) = declaration {
+            let rest = rest.strip_prefix("mut ").map_or(rest, |r| r);
+            let name: String = rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+            let type_text = rest.split('=').next().unwrap_or(rest);
+            let mutable = in_thread_local
+                || trimmed.contains("static mut ")
+                || INTERIOR_MUTABILITY.iter().any(|marker| type_text.contains(marker));
+            if mutable && !name.is_empty() {
+                found.push((name, trimmed.to_owned()));
+            }
+        }
+        if in_thread_local && trimmed.starts_with('}') {
+            in_thread_local = false;
+        }
+    }
+    found
+}
+
+#[test]
+fn no_static_holds_mutable_state_outside_the_allow_list() {
+    let mut offenders = Vec::new();
+    let mut allowed_seen = BTreeSet::new();
+    for (_, path) in source_files() {
+        let text = fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let file = path.display().to_string().replace('\\', "/");
+        for (name, declaration) in mutable_statics(&text) {
+            let allowed = MUTABLE_STATICS_ALLOWED.iter().find(|(f, n, _)| *f == file && *n == name);
+            match allowed {
+                Some(entry) => {
+                    allowed_seen.insert(entry.1);
+                }
+                None => offenders.push(format!("{file}: {declaration}")),
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "statics that can change, not on the allow-list:\n{}", offenders.join("\n"));
+    let stale: Vec<_> = MUTABLE_STATICS_ALLOWED.iter().filter(|(_, n, _)| !allowed_seen.contains(n)).collect();
+    assert!(stale.is_empty(), "allow-list entries whose static is gone (remove them): {stale:?}");
+}
+
+#[test]
+fn mutable_statics_are_told_from_constant_ones() {
+    let code = "static A: Mutex<Vec<u8>> = Mutex::new(Vec::new());\n\
+                pub static B: &str = \"Mutex\";\n\
+                static C: OnceLock<GpuContext> = OnceLock::new();\n\
+                static D: std::sync::atomic::AtomicU64 = AtomicU64::new(0);\n\
+                // static E: Mutex<u8> = Mutex::new(0);\n\
+                static mut F: u8 = 0;\n\
+                thread_local! {\n    static G: RefCell<u8> = const { RefCell::new(0) };\n    static H: u8 = 0;\n}\n\
+                static I: OnceLock<Mutex<u8>> = OnceLock::new();\n";
+    let names: Vec<String> = mutable_statics(code).into_iter().map(|(name, _)| name).collect();
+    assert_eq!(names, ["A", "D", "F", "G", "H", "I"]);
+}
+
+/// Where the project describes itself: none of it may cite numbered work
+/// periods, helpers or issues (history belongs in commit messages).
+const SELF_DESCRIBING: [&str; 9] =
+    ["src", "tests", "benches", "examples", ".ci", "docs", "README.md", "ARCHITECTURE.md", "BENCHMARKS.md"];
+
+/// Words that, followed by a number, name a period of work or a tracker's entry.
+const WORK_PERIOD_WORDS: [&str; 6] = ["session", "issue", "sprint", "ticket", "helper", "milestone"];
+
+/// The references to work periods or issues in `line`: one of
+/// [`WORK_PERIOD_WORDS`] (any case, optionally plural) followed by a number,
+/// with or without a `#` or `-` between, or an issue named as the owner of
+/// something (the possessive, as in naming whose targets or case a bench measures).
+fn work_period_references(line: &str) -> Vec<String> {
+    // Lower case, so that the excerpts below index the text they were found in.
+    let lower = line.to_lowercase();
+    let starts_word = |at: usize| lower[..at].chars().next_back().is_none_or(|c| !c.is_alphanumeric());
+    let mut found = Vec::new();
+    for word in WORK_PERIOD_WORDS {
+        for (at, _) in lower.match_indices(word) {
+            let after = &lower[at + word.len()..];
+            let number = after.strip_prefix('s').unwrap_or(after).trim_start_matches([' ', '#', '-']);
+            if starts_word(at) && number.starts_with(|c: char| c.is_ascii_digit()) {
+                found.push(lower[at..].chars().take(word.len() + 4).collect());
+            }
+        }
+    }
+    let possessive = format!("{}'s", WORK_PERIOD_WORDS[1]);
+    for (at, _) in lower.match_indices(&possessive) {
+        if starts_word(at) {
+            found.push(lower[at..].chars().take(20).collect());
+        }
+    }
+    found
+}
+
+/// Every file under `roots` (files or folders), recursively.
+fn files_under(roots: &[&str]) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut pending: Vec<PathBuf> = roots.iter().map(PathBuf::from).collect();
+    while let Some(path) = pending.pop() {
+        if path.is_dir() {
+            let entries = fs::read_dir(&path).unwrap_or_else(|e| panic!("listing {}: {e}", path.display()));
+            pending.extend(entries.map(|e| e.unwrap_or_else(|e| panic!("listing {}: {e}", path.display())).path()));
+        } else if path.is_file() {
+            files.push(path);
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn the_project_speaks_of_itself_not_of_work_periods_or_issues() {
+    let mut offenders = Vec::new();
+    for path in files_under(&SELF_DESCRIBING) {
+        // Pictures, caches and other binary files say nothing.
+        let Ok(text) = fs::read_to_string(&path) else { continue };
+        for (index, line) in text.lines().enumerate() {
+            for reference in work_period_references(line) {
+                offenders.push(format!("{}:{}: {reference}", path.display(), index + 1));
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "references to work periods or issues:\n{}", offenders.join("\n"));
+}
+
+#[test]
+fn work_period_references_are_told_from_ordinary_words() {
+    let cited = [
+        format!("(BENCHMARKS.md, session {})", 27),
+        format!("the scenes Issue #{} names", 20),
+        format!("the session-{} guard", 9),
+        format!("as in sessions {} and 10", 9),
+        format!("the animation {}'s targets", "issue"),
+    ];
+    for line in &cited {
+        assert_eq!(work_period_references(line).len(), 1, "{line}");
+    }
+    let ordinary = [
+        "w.session.follow = true; let session = &w.session;",
+        "each [`Issue`] names its value's path; 3 issues found",
+        "the output helpers (directories, side files)",
+        "relax iterations 1 000 000 is more than 100 000",
+        "a new session and new per-document panels",
+    ];
+    for line in ordinary {
+        assert!(work_period_references(line).is_empty(), "{line}");
+    }
+}
