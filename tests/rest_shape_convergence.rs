@@ -205,7 +205,7 @@ fn a_finer_grid_is_the_same_cloth_in_more_detail() {
     let relax = settings(4000, 1e-5);
     // A grid coarser than the solver's (fewer than 33 points a side) is drawn
     // from a relaxation with its cells split: on its own 13 cm cells the tent
-    // at 17² was 28 mm off, worst beside a corner pin.
+    // at 17² would be 28 mm off, worst beside a corner pin.
     for (name, setup, sides) in [("tablecloth", four_corners(1.05), &[17, 33, 65][..]), ("tent", tent(), &[17, 33, 65])]
     {
         let finest = setup.shape(129, 129, relax.clone());

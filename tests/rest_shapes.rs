@@ -216,9 +216,9 @@ fn curtain_keeps_its_sagging_top_edge_after_relaxation() {
 #[test]
 fn the_drape_does_not_depend_on_the_parity_of_the_grid() {
     // A 2 m cloth hung from four corners 1.8 m apart, sampled by 63, 64 and 65
-    // points a side: the same cloth, so it should hang the same. (Before the
-    // coarse grids were made odd, 63 and 64 settled on a 16-point grid and hung
-    // 0.205 m above the floor, 65 on a 9-point one and hung at 0.089 m.)
+    // points a side: the same cloth, so it should hang the same. (With coarse
+    // grids halved plainly, 63 and 64 would settle on a 16-point grid and hang
+    // 0.205 m above the floor, 65 on a 9-point one at 0.089 m.)
     let lowest: Vec<f64> = [63u32, 64, 65]
         .into_iter()
         .map(|n| {

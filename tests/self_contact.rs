@@ -117,7 +117,7 @@ fn without_thickness_a_gathered_curtain_passes_through_itself() {
 #[test]
 fn a_drape_that_does_not_reach_itself_is_the_same_with_or_without_thickness() {
     // Contact only runs where the drape without it passes through itself, so
-    // the bundled curtain and a tent are bit for bit what they were.
+    // the bundled curtain and a tent are bit for bit the same either way.
     let tent = vec![
         Pin::at((0, 0), (-0.5, 1.0, -0.5)),
         Pin::at((16, 0), (0.5, 1.0, -0.5)),

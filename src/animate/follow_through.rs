@@ -7,8 +7,8 @@
 //!
 //! The lag is a time shift, so a point trails by about its speed × lag × a,
 //! and neighbours whose a differ trail by different amounts: the layer's
-//! own stretch grows with the speed (a carpet at full speed was pulled into
-//! 1.5× long spikes). With the cloth's stretch limit on, the lag therefore
+//! own stretch grows with the speed (unchecked, a carpet at full speed is
+//! pulled into 1.5× long spikes). With the cloth's stretch limit on, the lag therefore
 //! shortens while the cloth moves so fast that the farthest point, trailing
 //! the full lag, would lie further behind than the fabric can give over
 //! d_max: behind by at most limit × d_max / max(falloff, 1), which keeps

@@ -389,11 +389,12 @@ fn is_coarsened(cols: usize, rows: usize) -> bool {
 /// An odd side 2m + 1 halves exactly to m + 1 (every other point), so below
 /// the first coarse grid all levels nest; and an odd side has no middle where
 /// the colouring flips, so a row's points of one colour form one run instead
-/// of two half-length ones. With plain halving an even side (64 → 32 → 16)
-/// stopped coarsening at 16 and settled there, while an odd one (65 → 33 → 17
-/// → 9) settled on 9 points a side, where the same pull hangs the cloth
-/// deeper: a four-corner cloth's lowest point was 0.205 m at 63 or 64 points
-/// a side and 0.089 m at 65. Now all three settle on 9 and agree within 1 cm.
+/// of two half-length ones. Plain halving would stop an even side
+/// (64 → 32 → 16) at 16 and settle it there, while an odd one (65 → 33 → 17
+/// → 9) settles on 9 points a side, where the same pull hangs the cloth
+/// deeper: a four-corner cloth's lowest point would be 0.205 m at 63 or 64
+/// points a side and 0.089 m at 65. With odd sides all three settle on 9
+/// and agree within 1 cm.
 fn coarser_side(side: usize) -> usize {
     side.div_ceil(2) | 1
 }

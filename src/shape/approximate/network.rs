@@ -554,9 +554,8 @@ mod tests {
             .collect()
     }
 
-    /// The candidate selection and conflict resolution as they were before
-    /// local candidates and ties, kept to check that small layouts still
-    /// give exactly what they gave.
+    /// The all-pairs candidate selection and conflict resolution, without
+    /// local candidates and ties: the reference small layouts must match.
     mod old {
         use super::super::{cross_i64, grid_i64};
         use crate::shape::approximate::PinPoint;
@@ -630,7 +629,7 @@ mod tests {
         }
     }
 
-    /// Small layouts: the same candidates and crossings as the old selection,
+    /// Small layouts: the same candidates and crossings as the all-pairs selection,
     /// and, where nothing ties, the same survivors.
     fn assert_as_before(label: &str, pins: &[PinPoint], g: GridSpec, elasticity: f64) {
         assert!(pins.len() <= ALL_PAIRS_MAX_PINS);

@@ -38,7 +38,7 @@ pub fn grid_edges(cols: usize, rows: usize) -> Vec<[u32; 2]> {
 
 /// A multiply–rotate hash for cell coordinates and grid point indices: the
 /// keys are small integers made here, not input an attacker picks, and the
-/// default SipHash was most of the cost of counting crossings.
+/// default SipHash would be most of the cost of counting crossings.
 #[derive(Default, Clone, Copy)]
 pub(crate) struct CellHasher(u64);
 

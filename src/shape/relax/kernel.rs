@@ -149,8 +149,8 @@ pub(super) fn run_steps<const BENDS: bool>(
         let (di, dj) = if (n < 8 || BENDS) && present[n] != 0.0 { STEPS[n] } else { (0, 0) };
         *at = position[0].slot(run.i.wrapping_add_signed(di), run.j.wrapping_add_signed(dj));
     }
-    // Plain loops rather than `array::map`, whose closures were not inlined:
-    // setting up the slices cost 5% of a sweep.
+    // Plain loops rather than `array::map`, whose closures are not inlined:
+    // setting up the slices that way costs 5% of a sweep.
     let centre_at = position[0].slot(run.i, run.j);
     let mut centre: [&[f64]; 3] = [&[]; 3];
     let mut around: [[&[f64]; NEIGHBOURS]; 3] = [[&[]; NEIGHBOURS]; 3];
