@@ -2,10 +2,12 @@
 //! (three unknowns a point), its pattern built once per pin set, its values
 //! assembled from the terms' 3 × 3 blocks at every Newton step.
 
-use faer::Side;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Par, Side};
 
 use super::terms::{Block, Term};
 
@@ -22,7 +24,8 @@ struct Slots {
     pair: usize,
 }
 
-/// The pattern and a reusable symbolic factorisation.
+/// The pattern, its symbolic factorisation, and the factor's and the
+/// workspace's memory, all reused from step to step.
 pub(super) struct Hessian {
     unknowns: usize,
     col_ptr: Vec<usize>,
@@ -30,7 +33,9 @@ pub(super) struct Hessian {
     /// Per free point, the lower-ranked free points it couples to, sorted.
     coupled: Vec<Vec<usize>>,
     slots: Vec<Slots>,
-    symbolic: SymbolicLlt<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    factor: Vec<f64>,
+    workspace: MemBuffer,
     pub(super) values: Vec<f64>,
 }
 
@@ -79,10 +84,21 @@ impl Hessian {
             })
             .collect();
         let pattern = SymbolicSparseColMatRef::new_checked(unknowns, unknowns, &col_ptr, None, &row_idx);
-        let symbolic =
-            SymbolicLlt::try_new(pattern, Side::Upper).expect("a symbolic factorisation of a grid's pattern");
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .expect("a symbolic factorisation of a grid's pattern");
+        let workspace = StackReq::any_of(&[
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
+        let workspace = MemBuffer::new(workspace);
+        let factor = vec![0.0; symbolic.len_val()];
         let values = vec![0.0; row_idx.len()];
-        Hessian { unknowns, col_ptr, row_idx, coupled, slots, symbolic, values }
+        Hessian { unknowns, col_ptr, row_idx, coupled, slots, symbolic, factor, workspace, values }
     }
 
     pub(super) fn clear(&mut self) {
@@ -200,13 +216,24 @@ impl Hessian {
     }
 
     /// Solves `H · x = rhs` in place.
-    pub(super) fn solve(&self, rhs: &mut [f64]) -> Result<(), NotDefinite> {
+    pub(super) fn solve(&mut self, rhs: &mut [f64]) -> Result<(), NotDefinite> {
         let pattern =
             SymbolicSparseColMatRef::new_checked(self.unknowns, self.unknowns, &self.col_ptr, None, &self.row_idx);
         let matrix = SparseColMatRef::new(pattern, &self.values);
-        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), matrix, Side::Upper).map_err(|_| NotDefinite)?;
+        let llt = self
+            .symbolic
+            .factorize_numeric_llt(
+                &mut self.factor,
+                matrix,
+                Side::Upper,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut self.workspace),
+                Default::default(),
+            )
+            .map_err(|_| NotDefinite)?;
         let column = faer::MatMut::from_column_major_slice_mut(rhs, self.unknowns, 1);
-        llt.solve_in_place(column);
+        llt.solve_in_place_with_conj(Conj::No, column, Par::Seq, MemStack::new(&mut self.workspace));
         if rhs.iter().all(|v| v.is_finite()) { Ok(()) } else { Err(NotDefinite) }
     }
 }
