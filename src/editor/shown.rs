@@ -13,7 +13,7 @@ use eframe::egui;
 
 use super::document::Document;
 use super::shaper::{Shaper, ShaperStatus};
-use crate::animate::{self, Evaluator, key_obstacles};
+use crate::animate::{self, Evaluator};
 use crate::mesh::Mesh;
 use crate::picture::scene_bounds;
 use crate::render::Ghost;
@@ -219,7 +219,7 @@ impl Shown {
         scene
             .keys
             .iter()
-            .map(|k| (animate::attachments::posed_key(scene, k), key_obstacles(scene, k)))
+            .map(|k| (animate::attachments::posed_key(scene, k), self.evaluator.key_obstacles(scene, k)))
             .filter(|(k, among)| cache.get(&scene.cloth, k, among).is_none())
             .map(|(k, among)| (k.into_owned(), among))
             .collect()
@@ -260,7 +260,7 @@ impl Shown {
                 cache.get(
                     &self.scene.cloth,
                     &animate::attachments::posed_key(&self.scene, k),
-                    &key_obstacles(&self.scene, k),
+                    &self.evaluator.key_obstacles(&self.scene, k),
                 )
             })
             .filter(|shape| shape.self_crossings_if_counted().is_none())
@@ -318,7 +318,7 @@ impl Shown {
     pub fn key_shape(&self, frame: f64) -> Option<Arc<animate::KeyShape>> {
         let key = self.scene.key_in_effect(frame);
         let posed = animate::attachments::posed_key(&self.scene, key);
-        self.evaluator.cache().get(&self.scene.cloth, &posed, &key_obstacles(&self.scene, key))
+        self.evaluator.cache().get(&self.scene.cloth, &posed, &self.evaluator.key_obstacles(&self.scene, key))
     }
 
     /// Blocks until `doc`'s shapes are relaxed and shown and the worker is idle (tests and scripts).
