@@ -1,8 +1,9 @@
-//! Progress of long `check`, `export` and `render` work on stderr, only when
-//! stderr is a terminal: one status line overwritten in place (`\r`), or a
-//! bar of frames, erased when the work is done, so the terminal keeps only
-//! the results. When stderr is a pipe or a file (scripts, tests) nothing at
-//! all is written.
+//! Progress of long `check`, `export` and `render` work on stderr. On a
+//! terminal: one status line overwritten in place (`\r`), or a bar of
+//! frames, erased when the work is done, so the terminal keeps only the
+//! results. When stderr is a pipe or a file (scripts, farm logs, tests) a
+//! key whose rest shape takes longer than [`slow_key`] says so in one plain
+//! line, and nothing else is written.
 
 use std::io::{self, IsTerminal, Write};
 use std::ops::ControlFlow;
@@ -14,12 +15,21 @@ use drape::animate::{Evaluator, KeyShape};
 use drape::scene::{Key, Scene};
 use drape::shape::RelaxProgress;
 
+/// How long a key's rest shape may take before a stderr that is not a
+/// terminal hears of it: 5 s, or `DRAPE_SLOW_KEY_SECS` (0 names every key).
+pub fn slow_key() -> Duration {
+    let secs = std::env::var("DRAPE_SLOW_KEY_SECS").ok().and_then(|v| v.trim().parse::<f64>().ok());
+    secs.filter(|s| s.is_finite() && *s >= 0.0).map_or(Duration::from_secs(5), Duration::from_secs_f64)
+}
+
 /// Redraws at most this often: fast enough to read as live, rare enough to cost nothing.
 const REDRAW_EVERY: Duration = Duration::from_millis(100);
 
 /// One status line on stderr (see the module doc).
 pub struct StatusLine {
     enabled: bool,
+    /// Stderr is not a terminal: the plain lines of slow keys are written instead.
+    plain: bool,
     shown: bool,
     last_drawn: Option<Instant>,
 }
@@ -27,7 +37,8 @@ pub struct StatusLine {
 impl StatusLine {
     /// A status line that draws only when stderr is a terminal.
     pub fn on_stderr() -> StatusLine {
-        StatusLine { enabled: io::stderr().is_terminal(), shown: false, last_drawn: None }
+        let enabled = io::stderr().is_terminal();
+        StatusLine { enabled, plain: !enabled, shown: false, last_drawn: None }
     }
 
     /// Shows `text()` in place of the previous status, unless the last one is
@@ -53,6 +64,16 @@ impl StatusLine {
         let _ = stderr.flush();
         self.shown = true;
         self.last_drawn = Some(Instant::now());
+    }
+
+    /// Writes `text` as a line of its own when stderr is not a terminal
+    /// (where the status line is drawn, it already says as much).
+    pub fn note_plainly(&mut self, text: &str) {
+        if self.plain {
+            let mut stderr = io::stderr().lock();
+            let _ = writeln!(stderr, "{text}");
+            let _ = stderr.flush();
+        }
     }
 
     /// Erases the status line, leaving the cursor where it began.
@@ -90,8 +111,9 @@ pub fn frame_bar(total: u64, what: &'static str) -> indicatif::ProgressBar {
 /// Builds the rest shapes of `keys` (those not cached yet) into `evaluator`'s
 /// cache, showing on `status` which key is being approximated and how far
 /// its relaxation has come: `relaxing key 2/5 (frame 48): sweep 1200/100000
-/// on the 1024 × 256 grid`. The shapes equal what the evaluator would build
-/// by itself; only the progress is new.
+/// on the 1024 × 256 grid`; where stderr is not a terminal, a key that takes
+/// longer than [`slow_key`] says so once, in a plain line. The shapes equal
+/// what the evaluator would build by itself; only the progress is new.
 pub fn build_key_shapes<'k>(
     evaluator: &mut Evaluator,
     scene: &Scene,
@@ -99,6 +121,7 @@ pub fn build_key_shapes<'k>(
     status: &mut StatusLine,
 ) {
     let count = keys.len();
+    let slow = slow_key();
     for (index, key) in keys.enumerate() {
         let (cloth, obstacles) = (&scene.cloth, evaluator.key_obstacles(scene, key));
         // Attached pins where their attachments are at the key's frame.
@@ -109,7 +132,22 @@ pub fn build_key_shapes<'k>(
         let which = format!("key {}/{count} (frame {})", index + 1, key.frame);
         let pins = key.pins.len();
         status.show_now(&format!("approximating {which} from {pins} pin{}", if pins == 1 { "" } else { "s" }));
+        let started = Instant::now();
+        let mut told = false;
         let mut report = |progress: RelaxProgress| {
+            if !told && started.elapsed() >= slow {
+                told = true;
+                status.note_plainly(&format!(
+                    "drape: key {}/{count} (frame {}) is still relaxing after {:.0} s: sweep {}/{} on the {} × {} grid",
+                    index + 1,
+                    key.frame,
+                    started.elapsed().as_secs_f64(),
+                    progress.iteration,
+                    progress.max_iterations,
+                    progress.cols,
+                    progress.rows
+                ));
+            }
             status.show(|| {
                 format!(
                     "relaxing {which}: sweep {}/{} on the {} × {} grid",

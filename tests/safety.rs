@@ -696,9 +696,12 @@ fn a_thousand_pins_stay_within_a_gigabyte() {
     }
 }
 
-/// Progress shows on a terminal only. Piped (as here), stderr stays empty;
-/// on a pseudo-terminal (`script`), the key's relaxation is shown on one
-/// line overwritten in place and erased at the end.
+/// Progress shows on a terminal only. Piped (as here), stderr stays empty
+/// unless a key is slow (`DRAPE_SLOW_KEY_SECS`, 5 s by default: set high
+/// here so a loaded machine cannot make this key slow, then 0 so every key
+/// is), and then holds one plain line for it; on a pseudo-terminal
+/// (`script`), the key's relaxation is shown on one line overwritten in
+/// place and erased at the end.
 #[test]
 fn long_work_shows_progress_on_a_terminal_only() {
     let dir = tempfile::tempdir().unwrap();
@@ -708,12 +711,30 @@ fn long_work_shows_progress_on_a_terminal_only() {
         text.replace("grid: (33, 25)", "grid: (512, 512)").replace(CURTAIN_CAP, "iterations: 50")
     });
     let obj = dir.path().join("fine.obj");
-    let piped = drape().arg("check").arg(&path).output().unwrap();
+    let quiet = || {
+        let mut drape = drape();
+        drape.env("DRAPE_SLOW_KEY_SECS", "1000000");
+        drape
+    };
+    let piped = quiet().arg("check").arg(&path).output().unwrap();
     assert!(piped.status.success());
     assert_eq!(stderr(&piped), "", "nothing but the result when stderr is not a terminal");
-    let piped = drape().arg("export").arg(&path).arg("-o").arg(&obj).output().unwrap();
+    let piped = quiet().arg("export").arg(&path).arg("-o").arg(&obj).output().unwrap();
     assert!(piped.status.success());
     assert_eq!(stderr(&piped), "");
+    for args in
+        [vec!["check", path.to_str().unwrap()], vec!["export", path.to_str().unwrap(), "-o", obj.to_str().unwrap()]]
+    {
+        let piped = drape().env("DRAPE_SLOW_KEY_SECS", "0").args(&args).output().unwrap();
+        assert!(piped.status.success());
+        let text = stderr(&piped);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 1, "{args:?}: one plain line for the slow key: {text:?}");
+        assert!(lines[0].starts_with("drape: key 1/1 (frame 0) is still relaxing after "), "{text:?}");
+        assert!(lines[0].contains(" s: sweep "), "{text:?}");
+        // The relaxation starts on its coarsest grid, so that is the first grid named.
+        assert!(lines[0].contains(" × ") && lines[0].ends_with(" grid") && !text.contains('\r'), "{text:?}");
+    }
 
     if Command::new("script").arg("--version").output().is_err() {
         println!("SKIPPED: no `script` (util-linux) to run drape on a pseudo-terminal");
