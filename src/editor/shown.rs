@@ -348,3 +348,51 @@ fn soloed(scene: &Scene, solo: Option<usize>) -> Cow<'_, Scene> {
     }
     Cow::Owned(alone)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::editor::files::new_scene;
+
+    /// Long enough for any relaxation on a loaded machine: only a bound on waiting, never a measure.
+    const WAIT: Duration = Duration::from_secs(600);
+
+    fn lift_pin(doc: &mut Document) {
+        doc.edit("Move pin", |s| s.keys[0].pins[0].pos.1 += 0.1).unwrap();
+    }
+
+    /// While a drag goes on, each shape the worker finishes is shown at the
+    /// next sync, though the document has moved on since. The worker is
+    /// waited for explicitly between the moves, so the order of events is
+    /// the same on any machine.
+    #[test]
+    fn a_drag_shows_the_cloth_catching_up_while_it_is_held() {
+        let mut doc = Document::new(new_scene(), None);
+        let mut shown = Shown::new(doc.scene().clone());
+        assert!(shown.wait_for(&doc, WAIT), "the opened scene is relaxed");
+        let opened = shown.scene.clone();
+
+        doc.begin_gesture("Move pin");
+        lift_pin(&mut doc);
+        let first_move = doc.scene().clone();
+        shown.sync(&doc);
+        assert_eq!(shown.scene, opened, "the first move's shape is not in yet");
+        assert!(shown.shaper.wait_idle(WAIT), "the first move's shape is built");
+
+        lift_pin(&mut doc);
+        let second_move = doc.scene().clone();
+        shown.sync(&doc);
+        assert!(doc.in_gesture());
+        assert_eq!(shown.scene, first_move, "the cloth catches up with the drag while it is held");
+        assert!(shown.is_relaxing(&doc), "and the second move is being shaped");
+
+        assert!(shown.shaper.wait_idle(WAIT));
+        lift_pin(&mut doc);
+        shown.sync(&doc);
+        assert_eq!(shown.scene, second_move, "each move shown as its shape comes in");
+
+        doc.end_gesture();
+        assert!(shown.wait_for(&doc, WAIT));
+        assert_eq!(shown.scene, *doc.scene(), "where the drag ends is shown once its shape is in");
+    }
+}
