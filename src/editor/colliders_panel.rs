@@ -32,7 +32,7 @@ impl CollidersPanel {
         self.mesh_dialog_ui(ui.ctx(), w);
         ui.menu_button("Add collider", |ui| {
             for &kind in Collider::KINDS {
-                let Some(collider) = Collider::with_start_values(kind) else { continue };
+                let Some(mut collider) = Collider::with_start_values(kind) else { continue };
                 if kind == "Mesh" {
                     if ui.button("Mesh…").on_hover_text(kind_hint(kind)).clicked() {
                         self.mesh_dialog = Some((mesh_dialog(w), None));
@@ -42,6 +42,7 @@ impl CollidersPanel {
                 }
                 if ui.button(kind).on_hover_text(kind_hint(kind)).clicked() {
                     let at = w.doc.scene().colliders.len();
+                    *collider.name_mut() = start_name(kind, &w.doc.scene().colliders);
                     w.apply("Add collider", |s| s.colliders.push(collider));
                     // Refused (the scene's limit): nothing new to select.
                     if w.doc.scene().colliders.len() > at {
@@ -227,7 +228,41 @@ fn kind_hint(kind: &str) -> &'static str {
     }
 }
 
+/// The name a collider added from the menu starts with: what its start
+/// values make it (a table top, a floor), numbered when the scene already
+/// has a collider of that name.
+fn start_name(kind: &str, colliders: &[Collider]) -> String {
+    let base = match kind {
+        "Ground" => "floor",
+        "Box" => "table",
+        "Cylinder" => "round table",
+        "Sphere" => "ball",
+        _ => "arm",
+    };
+    let taken = |name: &str| colliders.iter().any(|c| c.name() == name);
+    if !taken(base) {
+        return base.to_owned();
+    }
+    (2..).map(|n| format!("{base} {n}")).find(|name| !taken(name)).expect("fewer colliders than numbers")
+}
+
 /// The collider's name in the list, or for an unnamed one its kind and place ("Box 2").
 fn title(collider: &Collider, index: usize) -> String {
     if collider.name().is_empty() { format!("{} {}", collider.kind(), index + 1) } else { collider.name().to_owned() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn added_colliders_are_named_for_what_they_start_as() {
+        let mut colliders = Vec::new();
+        for (kind, name) in [("Box", "table"), ("Ground", "floor"), ("Box", "table 2"), ("Cylinder", "round table")] {
+            let mut collider = Collider::with_start_values(kind).unwrap();
+            *collider.name_mut() = start_name(kind, &colliders);
+            assert_eq!(collider.name(), name);
+            colliders.push(collider);
+        }
+    }
 }
