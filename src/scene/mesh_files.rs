@@ -14,12 +14,12 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::colliders::Collider;
-use super::loaded::Loaded;
 use super::error::SceneError;
 use super::gltf_structure::{
     check_accessor_types, check_accessors, check_animation_targets, check_images, check_node_trees, read_gltf,
     scene_nodes,
 };
+use super::loaded::Loaded;
 use super::locate::locate;
 use super::read_capped::{read_capped, read_prefix};
 use super::types::Scene;

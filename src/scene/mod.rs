@@ -26,8 +26,8 @@ pub mod fuzz;
 mod gltf_structure;
 mod io;
 mod layers;
-mod locate;
 mod loaded;
+mod locate;
 mod mesh_files;
 mod param;
 mod plate;
@@ -43,8 +43,7 @@ mod types;
 mod validate;
 
 pub use colliders::{
-    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, Measure, MeshCollider,
-    ParamVec3, Sphere,
+    Block, Capsule, Collider, ColliderField, ColliderNumber, Cylinder, Ground, Measure, MeshCollider, ParamVec3, Sphere,
 };
 pub use display::{
     MAX_SHOWN_NAME_CHARS, escaped, readable_bytes, readable_number, readable_vec3, shown_name, truncated_name,
@@ -53,6 +52,7 @@ pub use error::SceneError;
 pub use format::{MAX_LINE_CHARS, to_ron_string};
 pub use io::{MAX_SCENE_FILE_BYTES, load, parse, parse_bytes, save};
 pub use layers::*;
+pub use loaded::{Loaded, LoadedMesh, LoadedRig};
 pub use locate::{TextPosition, locate};
 pub use mesh_files::{
     MAX_MESH_FILE_BYTES, mesh_from_bytes, move_referenced_files, read_mesh, read_meshes, relative_path,
@@ -63,7 +63,6 @@ pub use plate_files::{CheckedPlate, PlateFiles, PlateFrame, check_plate, frame_l
 pub use plate_header::{PictureFormat, PlatePicture, read_plate_header};
 pub use read_capped::read_capped;
 pub use reference_files::{MAX_REFERENCE_VERTICES, read_references, read_rig, rig_from_bytes};
-pub use loaded::{Loaded, LoadedMesh, LoadedRig};
 pub use references::{Attachment, ClipFrames, Follow, NodeAttachment, Reference, SurfaceAttachment};
 pub use schema::{Access, Family, MAX_LAYER_VALUE, ParamRange, WaveAxis};
 pub use shot_camera::{

@@ -17,9 +17,9 @@ use glam::{DMat4, DQuat, DVec3};
 
 use super::error::SceneError;
 use super::gltf_structure::{read_gltf, scene_nodes};
+use super::loaded::Loaded;
 use super::locate::locate;
 use super::mesh_files::{gltf_buffers, read_file_bytes};
-use super::loaded::Loaded;
 use super::references::Attachment;
 use super::types::Scene;
 use crate::image::RgbaImage;
