@@ -1,5 +1,5 @@
-//! The editor window: menus on top, the View and Cloth panels on the left, the
-//! 3D viewport in the centre, the Layers, Colliders and References panels on
+//! The editor window: menus on top, the Cloth panel on the left, the view bar
+//! over the 3D viewport in the centre, the Layers, Colliders and References panels on
 //! the right, a status bar and the timeline along the bottom.
 //!
 //! The app is thin: it owns the [`Workspace`] (the document, what is shown,
@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use eframe::egui::{self, Key as KeyCode, KeyboardShortcut};
 use eframe::egui_wgpu;
 
-use super::cloth_panel::ClothPanel;
+use super::cloth_panel::{ClothPanel, GRID_EDITOR_HINT};
 use super::colliders_panel::CollidersPanel;
 use super::document::Document;
 use super::export_window::ExportWindow;
@@ -593,7 +593,8 @@ impl DrapeApp {
         ui.add(egui::Label::new(egui::RichText::new(&text).color(color)).truncate());
     }
 
-    /// What the mouse is doing: dragging a pin or attaching one by clicking.
+    /// What the mouse is doing: dragging a pin or attaching one by clicking;
+    /// over the grid editor, what clicks and drags do there.
     fn pointer_status(&self) -> Option<String> {
         if let Some(drag) = &self.viewport.pin_drag {
             let lock = match drag.lock {
@@ -606,6 +607,7 @@ impl DrapeApp {
                 .session
                 .attaching
                 .map(|(i, j)| format!("Click on a reference to attach pin ({i}, {j}) · Esc cancels"))
+                .or_else(|| self.work.session.grid_hovered.map(|_| GRID_EDITOR_HINT.to_owned()))
         }
     }
 
@@ -675,11 +677,7 @@ impl eframe::App for DrapeApp {
         self.after_files();
         egui::Panel::bottom("timeline").show(ui, |ui| self.timeline.ui(ui, &mut self.work));
         self.status_rect = egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui)).response.rect;
-        egui::Panel::left("cloth").default_size(280.0).show(ui, |ui| {
-            self.viewport.view_ui(ui, &mut self.work);
-            ui.separator();
-            self.cloth.ui(ui, &mut self.work);
-        });
+        egui::Panel::left("cloth").default_size(280.0).show(ui, |ui| self.cloth.ui(ui, &mut self.work));
         egui::Panel::right("layers").default_size(270.0).min_size(220.0).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 self.layers.ui(ui, &mut self.work);
@@ -691,6 +689,7 @@ impl eframe::App for DrapeApp {
                 self.shot.ui(ui, &mut self.work);
             });
         });
+        egui::Panel::top("view").show(ui, |ui| self.viewport.view_bar_ui(ui, &mut self.work));
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));
         self.work.keep_attach_mode_on_its_pin();
         self.shortcuts_window(&ctx);

@@ -23,6 +23,10 @@ use crate::scene::{
 };
 use crate::shape::contact::crossing_advice;
 
+/// What clicks and drags do in the grid editor.
+pub(super) const GRID_EDITOR_HINT: &str =
+    "Click: pin, or select a pin · Shift: add · Ctrl: toggle · Drag: box-select · Delete: unpin";
+
 /// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
 const ADD_KEY_WIDTH: f32 = 96.0;
 
@@ -38,7 +42,7 @@ pub struct ClothPanel {
 impl ClothPanel {
     pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         egui::ScrollArea::vertical().show(ui, |ui| {
-            ui.heading("Cloth");
+            ui.strong("Cloth");
             cloth_section(ui, w);
             toon_section_ui(ui, w);
             self.follow_ui(ui, w);
@@ -92,8 +96,8 @@ impl ClothPanel {
         let index = w.edit_key_index();
         let scene = w.doc.scene().clone();
         let key = &scene.keys[index];
-        ui.strong(format!("Pins ({})", key.pins.len()));
-        ui.weak("Click: pin, or select a pin · Shift: add · Ctrl: toggle · Drag: box-select · Delete: unpin");
+        // How to use the grid editor is said in the status bar while it is hovered.
+        ui.strong(format!("Pins ({})", key.pins.len())).on_hover_text(GRID_EDITOR_HINT);
         let (actions, hovered) = self.grid_editor.show(
             ui,
             &scene.cloth,
@@ -162,14 +166,16 @@ fn field(w: &mut Workspace, response: &Response, label: &str, change: impl FnOnc
 fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
     let cloth = w.doc.scene().cloth.clone();
     egui::Grid::new("cloth").num_columns(2).show(ui, |ui| {
+        // Width and height share a row, so the pins below stay in reach on a laptop's height.
         let (mut width, mut height) = cloth.size;
         let label = ui.label("Width").id;
-        let r = ui.add(number_field(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
-        field(w, &r, "Cloth size", |s| s.cloth.size.0 = width);
-        ui.end_row();
-        let label = ui.label("Height").id;
-        let r = ui.add(number_field(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
-        field(w, &r, "Cloth size", |s| s.cloth.size.1 = height);
+        ui.horizontal(|ui| {
+            let r = ui.add(number_field(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+            field(w, &r, "Cloth size", |s| s.cloth.size.0 = width);
+            let label = ui.label("Height").id;
+            let r = ui.add(number_field(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+            field(w, &r, "Cloth size", |s| s.cloth.size.1 = height);
+        });
         ui.end_row();
 
         let (mut cols, mut rows) = cloth.grid;
@@ -216,22 +222,25 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
 fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
     let index = w.edit_key_index();
     let key = w.doc.scene().keys[index].clone();
-    ui.strong(format!("Fabric — key at frame {}", key.frame))
-        .on_hover_text("Fabric and pins belong to the rest-shape key in effect at the playhead.");
     // One row on a key or off it, so nothing below moves while scrubbing. Off a key, edits
     // change the key back at its own frame: the button offers a key here instead.
     let playhead = w.frame().round() as i32;
     let on_key = playhead == key.frame;
     ui.horizontal(|ui| {
+        let heading = format!("Fabric · key {}", key.frame);
+        let whose = "Fabric and pins belong to the rest-shape key in effect at the playhead";
+        let hint = if on_key {
+            format!("{whose}: edits change this key.")
+        } else {
+            format!("{whose}: edits change key {}, back at its frame.", key.frame)
+        };
+        ui.strong(heading).on_hover_text(hint);
         let button =
             egui::Button::new(format!("Add key at {playhead}")).small().min_size(egui::vec2(ADD_KEY_WIDTH, 0.0));
         let hint = "K: a rest-shape key at the playhead, from the current pose";
         if ui.add_enabled(!on_key, button).on_hover_text(hint).on_disabled_hover_text(hint).clicked() {
             w.add_key_here();
         }
-        let text =
-            if on_key { "Edits change this key.".to_owned() } else { format!("Edits change key {}.", key.frame) };
-        ui.add(egui::Label::new(egui::RichText::new(text).weak()).truncate());
     });
     egui::Grid::new("fabric").num_columns(2).show(ui, |ui| {
         let mut elasticity = key.elasticity;

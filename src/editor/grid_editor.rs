@@ -25,7 +25,7 @@ pub enum GridAction {
 
 /// Drawing sizes in points. A tall cloth's editor stops at its height, which
 /// starts here and is dragged between the two limits below.
-pub const DEFAULT_HEIGHT: f32 = 280.0;
+pub const DEFAULT_HEIGHT: f32 = 224.0;
 const MIN_HEIGHT: f32 = 120.0;
 const MAX_HEIGHT: f32 = 900.0;
 /// Height of the strip under the editor that resizes it.

@@ -14,10 +14,7 @@ impl ViewportPanel {
     /// the mode). Hidden references are not clicked on.
     pub(super) fn attach_click(&self, w: &mut Workspace, pointer_px: Vec2, size_px: (u32, u32)) {
         if self.toggles.references == SolidLook::Hidden {
-            w.report(
-                "References are hidden (the View panel's References): show them to click on one.".to_owned(),
-                true,
-            );
+            w.report("References are hidden (the view bar's References): show them to click on one.".to_owned(), true);
             return;
         }
         let (origin, direction) = self.camera.ray(pointer_px, size_px);

@@ -1,4 +1,4 @@
-//! The 3D viewport in the centre and the View section that chooses what it
+//! The 3D viewport in the centre and the view bar that chooses what it
 //! shows: the stage of the method, the cloth's overlays, the ground, onion
 //! skin and a camera that follows the cloth. Mouse and keys are in
 //! `viewport_input`; the GPU side is in `viewport`.
@@ -20,7 +20,7 @@ use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
 use crate::animate::colliders_at::shape_at;
-use crate::picture::framed::cloth_and_touched;
+use crate::picture::framed::{cloth_and_touched, corners};
 use crate::picture::{SceneOverlays, collider_solids, key_overlay, reference_solids};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
@@ -309,7 +309,7 @@ impl ViewportPanel {
         // orbiting view is framed once the Camera toggle is turned off.
         if !w.session.through_camera {
             let reveal = std::mem::take(&mut self.reveal_pending);
-            if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.sees_cloth(w, area.aspect)) {
+            if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.holds_what_is_framed(w, area.aspect)) {
                 self.frame_cloth(w, area.aspect);
             }
         }
@@ -436,6 +436,18 @@ impl ViewportPanel {
     /// Whether any point of the shown cloth is in view.
     fn sees_cloth(&self, w: &Workspace, aspect: f32) -> bool {
         self.camera.sees_any_of(w.shown.mesh.positions.iter().copied(), aspect)
+    }
+
+    /// Whether a saved view holds the cloth and what it touches at the
+    /// playhead whole, as a render of that view must. A view that follows
+    /// the cloth frames part of its way on purpose: seeing the cloth is
+    /// enough there.
+    fn holds_what_is_framed(&self, w: &Workspace, aspect: f32) -> bool {
+        if w.session.follow {
+            return self.sees_cloth(w, aspect);
+        }
+        cloth_and_touched(&w.shown.scene, w.frame(), &w.shown.mesh.positions)
+            .is_none_or(|framed| corners(framed).into_iter().all(|corner| self.camera.sees_any_of([corner], aspect)))
     }
 
     /// With Follow on, moves the camera's target by as much as the cloth's
@@ -678,15 +690,17 @@ impl ViewportPanel {
         .with_texture(texture)
     }
 
-    /// The View section of the left panel: stage and toggles.
-    pub fn view_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
-        ui.strong("View");
-        egui::ComboBox::from_label("Stage").selected_text(self.stage.label()).show_ui(ui, |ui| {
-            for stage in Stage::ALL {
-                ui.selectable_value(&mut self.stage, stage, stage.label());
-            }
-        });
+    /// The view bar over the viewport: stage, toggles, style and looks, in
+    /// rows that wrap. Every control is always there (greyed where it does
+    /// not apply), so nothing in the bar moves when the scene changes.
+    pub fn view_bar_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.horizontal_wrapped(|ui| {
+            egui::ComboBox::from_label("Stage").selected_text(self.stage.label()).show_ui(ui, |ui| {
+                for stage in Stage::ALL {
+                    ui.selectable_value(&mut self.stage, stage, stage.label());
+                }
+            });
+            ui.separator();
             ui.toggle_value(&mut self.toggles.texture, "Texture");
             ui.toggle_value(&mut self.toggles.wireframe, "Wireframe");
             ui.toggle_value(&mut self.toggles.pins, "Pins");
@@ -697,49 +711,48 @@ impl ViewportPanel {
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
             ui.toggle_value(&mut w.session.follow, "Follow")
                 .on_hover_text("The camera travels with the cloth (F frames it)");
-            // Greyed and off without a shot camera or plate, so the rows below hold still when one is added.
             let hint = "Look through the shot camera (orbiting leaves it)";
             let missing = "The scene has no shot camera: View ▸ Add camera from view adds one";
             toggle_if_ui(ui, w.doc.scene().camera.is_some(), &mut w.session.through_camera, "Camera", hint, missing);
             let hint = "The background plate behind the cloth, through the shot camera";
             let missing = "The scene has no plate: the Shot panel's Add plate… adds one";
             toggle_if_ui(ui, w.doc.scene().plate.is_some(), &mut self.toggles.plate, "Plate", hint, missing);
-        });
-        self.style_ui(ui);
-        egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
-            for look in SolidLook::ALL {
-                ui.selectable_value(&mut self.toggles.colliders, look, look.label());
-            }
-        });
-        // Greyed without references or a plate (not removed), so the Cloth panel below holds
-        // still when one is added.
-        ui.add_enabled_ui(!w.doc.scene().references.is_empty(), |ui| {
-            egui::ComboBox::from_label("References").selected_text(self.toggles.references.label()).show_ui(ui, |ui| {
+            ui.separator();
+            self.style_ui(ui);
+            ui.separator();
+            egui::ComboBox::from_label("Colliders").selected_text(self.toggles.colliders.label()).show_ui(ui, |ui| {
                 for look in SolidLook::ALL {
-                    ui.selectable_value(&mut self.toggles.references, look, look.label());
+                    ui.selectable_value(&mut self.toggles.colliders, look, look.label());
                 }
             });
-        });
-        let has_plate = w.doc.scene().plate.is_some();
-        ui.add_enabled_ui(has_plate && self.toggles.plate, |ui| {
-            ui.horizontal(|ui| {
-                let label = ui.label("Plate").id;
-                let slider = egui::Slider::new(&mut self.plate_view.opacity, 0.0..=1.0).fixed_decimals(2);
-                ui.add(slider)
-                    .labelled_by(label)
-                    .on_hover_text("How much of the plate the viewport shows (renders use the scene's plate opacity)");
+            ui.add_enabled_ui(!w.doc.scene().references.is_empty(), |ui| {
+                egui::ComboBox::from_label("References").selected_text(self.toggles.references.label()).show_ui(
+                    ui,
+                    |ui| {
+                        for look in SolidLook::ALL {
+                            ui.selectable_value(&mut self.toggles.references, look, look.label());
+                        }
+                    },
+                );
             });
-        });
-        // Always there (greyed out with onion skin off), so the panels below hold still.
-        ui.add_enabled_ui(self.toggles.onion, |ui| {
-            ui.horizontal(|ui| {
-                let label = ui.label("Ghosts").id;
-                let drag = number_field(&mut self.toggles.onion_frames).range(1..=8);
-                ui.add(drag).labelled_by(label).on_hover_text("Ghosts on each side of the playhead");
-                let label = ui.label("every").id;
-                let drag = number_field(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
-                ui.add(drag).labelled_by(label);
-            });
+            // Label and widget one by one, so the bar wraps between them rather than past its edge.
+            let plate_on = w.doc.scene().plate.is_some() && self.toggles.plate;
+            // A slider is a row of its own inside: start a new row when the label and it do not fit.
+            if ui.max_rect().right() - ui.cursor().min.x < ui.spacing().slider_width + 110.0 {
+                ui.end_row();
+            }
+            let label = ui.add_enabled(plate_on, egui::Label::new("Plate")).id;
+            let slider = egui::Slider::new(&mut self.plate_view.opacity, 0.0..=1.0).fixed_decimals(2);
+            ui.add_enabled(plate_on, slider)
+                .labelled_by(label)
+                .on_hover_text("How much of the plate the viewport shows (renders use the scene's plate opacity)");
+            let onion = self.toggles.onion;
+            let label = ui.add_enabled(onion, egui::Label::new("Ghosts")).id;
+            let drag = number_field(&mut self.toggles.onion_frames).range(1..=8);
+            ui.add_enabled(onion, drag).labelled_by(label).on_hover_text("Ghosts on each side of the playhead");
+            let label = ui.add_enabled(onion, egui::Label::new("every")).id;
+            let drag = number_field(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
+            ui.add_enabled(onion, drag).labelled_by(label);
         });
     }
 }

@@ -1,6 +1,6 @@
 //! The viewport's drawing style: lit, or toon in the scene's `cloth.toon`
 //! settings (edited in the Cloth panel). Chosen in View ▸ Style and in the
-//! View section; a view setting, not part of the document.
+//! view bar; a view setting, not part of the document.
 
 use eframe::egui;
 
@@ -33,13 +33,12 @@ impl ViewportPanel {
         }
     }
 
-    /// The View section's style row: Lit or Toon side by side.
+    /// The view bar's style choice: Lit or Toon side by side.
     pub(super) fn style_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            ui.label("Style");
-            for (toon, label, hint) in STYLES {
-                ui.selectable_value(&mut self.toggles.toon, toon, label).on_hover_text(hint);
-            }
-        });
+        // One by one into the bar's wrapping row, so the bar may wrap between them.
+        ui.label("Style");
+        for (toon, label, hint) in STYLES {
+            ui.selectable_value(&mut self.toggles.toon, toon, label).on_hover_text(hint);
+        }
     }
 }
