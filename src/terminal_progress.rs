@@ -17,7 +17,7 @@ use drape::shape::RelaxProgress;
 
 /// How long a key's rest shape may take before a stderr that is not a
 /// terminal hears of it: 5 s, or `DRAPE_SLOW_KEY_SECS` (0 names every key).
-pub fn slow_key() -> Duration {
+fn slow_key() -> Duration {
     let secs = std::env::var("DRAPE_SLOW_KEY_SECS").ok().and_then(|v| v.trim().parse::<f64>().ok());
     secs.filter(|s| s.is_finite() && *s >= 0.0).map_or(Duration::from_secs(5), Duration::from_secs_f64)
 }
@@ -28,8 +28,6 @@ const REDRAW_EVERY: Duration = Duration::from_millis(100);
 /// One status line on stderr (see the module doc).
 pub struct StatusLine {
     enabled: bool,
-    /// Stderr is not a terminal: the plain lines of slow keys are written instead.
-    plain: bool,
     shown: bool,
     last_drawn: Option<Instant>,
 }
@@ -37,8 +35,7 @@ pub struct StatusLine {
 impl StatusLine {
     /// A status line that draws only when stderr is a terminal.
     pub fn on_stderr() -> StatusLine {
-        let enabled = io::stderr().is_terminal();
-        StatusLine { enabled, plain: !enabled, shown: false, last_drawn: None }
+        StatusLine { enabled: io::stderr().is_terminal(), shown: false, last_drawn: None }
     }
 
     /// Shows `text()` in place of the previous status, unless the last one is
@@ -69,7 +66,7 @@ impl StatusLine {
     /// Writes `text` as a line of its own when stderr is not a terminal
     /// (where the status line is drawn, it already says as much).
     pub fn note_plainly(&mut self, text: &str) {
-        if self.plain {
+        if !self.enabled {
             let mut stderr = io::stderr().lock();
             let _ = writeln!(stderr, "{text}");
             let _ = stderr.flush();
