@@ -18,7 +18,7 @@ use super::cloth_panel::{ClothPanel, GRID_EDITOR_HINT};
 use super::colliders_panel::CollidersPanel;
 use super::document::Document;
 use super::export_window::ExportWindow;
-use super::files::{FileEvent, Files};
+use super::files::{FileWindow, Files};
 use super::layers_panel::LayersPanel;
 use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
@@ -35,6 +35,7 @@ use super::viewport;
 use super::viewport_panel::{Stage, ViewportPanel};
 use super::window_size::{self, DEFAULT_WINDOW_SIZE, MIN_WINDOW_SIZE, WINDOW_SIZE_NAME};
 use super::workspace::{MESSAGE_SECS, Workspace};
+use super::{attach, pin_clipboard};
 use crate::mesh::Mesh;
 use crate::render::OrbitCamera;
 use crate::scene::Scene;
@@ -45,11 +46,7 @@ pub const DEFAULT_SCENE: &str = include_str!("../../scenes/magic_carpet.ron");
 pub struct DrapeApp {
     work: Workspace,
     viewport: ViewportPanel,
-    timeline: TimelinePanel,
-    layers: LayersPanel,
-    colliders: CollidersPanel,
-    references: ReferencesPanel,
-    shot: ShotPanel,
+    panels: DocumentPanels,
     cloth: ClothPanel,
     files: Files,
     export: ExportWindow,
@@ -88,13 +85,9 @@ impl DrapeApp {
         let viewport = ViewportPanel::new(&mut work, render_state.is_some());
         viewport.refresh(&mut work);
         DrapeApp {
+            panels: DocumentPanels::new(work.document_number(), TimelinePanel::default()),
             work,
             viewport,
-            timeline: TimelinePanel::default(),
-            layers: LayersPanel::default(),
-            colliders: CollidersPanel::default(),
-            references: ReferencesPanel::default(),
-            shot: ShotPanel::default(),
             cloth: ClothPanel::default(),
             files: Files::new(default_config_dir(), default_state_dir()),
             export: ExportWindow::default(),
@@ -168,7 +161,7 @@ impl DrapeApp {
 
     /// The scene on screen: the document once its shapes are relaxed.
     pub fn shown_scene(&self) -> &Scene {
-        &self.work.shown.scene
+        self.work.shown.scene()
     }
 
     /// The translate gizmo on the selected pins, as drawn last frame.
@@ -186,46 +179,46 @@ impl DrapeApp {
 
     /// Whether the viewport looks through the scene's shot camera (View ▸ Camera).
     pub fn looks_through_shot_camera(&self) -> bool {
-        self.work.session.through_camera
+        self.work.session.through_camera()
     }
 
     /// Whether the viewport's camera follows the cloth (Follow).
     pub fn follows_cloth(&self) -> bool {
-        self.work.session.follow
+        self.work.session.follow()
     }
 
     pub fn playing(&self) -> bool {
-        self.work.session.playing
+        self.work.session.playing()
     }
 
     /// The mesh on screen: for [`Stage::Animation`], `evaluate` of the shown scene at [`DrapeApp::frame`].
     pub fn mesh(&self) -> &Mesh {
-        &self.work.shown.mesh
+        self.work.shown.mesh()
     }
 
     /// How many onion-skin ghosts the viewport draws now.
     pub fn ghost_count(&self) -> usize {
-        self.work.shown.ghosts.len()
+        self.work.shown.ghosts().len()
     }
 
     pub fn selection(&self) -> &[(u32, u32)] {
-        &self.work.session.selection
+        self.work.session.selection()
     }
 
     /// The pin the next click on a reference attaches, while attaching by clicking.
     pub fn attaching(&self) -> Option<(u32, u32)> {
-        self.work.session.attaching
+        self.work.session.attaching()
     }
 
     /// The collider the Colliders panel shows and the viewport outlines.
     pub fn selected_collider(&self) -> Option<usize> {
-        self.work.session.selected_collider
+        self.work.session.selected_collider()
     }
 
     /// Whether the viewport drew the cloth as stale last frame: grey, the
     /// old shape on screen while the document's new one is solved.
     pub fn cloth_drawn_stale(&self) -> bool {
-        self.viewport.stale.drawn_stale
+        self.viewport.stale.drawn_stale()
     }
 
     /// Whether a relaxation is pending or running.
@@ -261,19 +254,19 @@ impl DrapeApp {
     }
 
     pub fn copy_selected_pins(&mut self) -> Option<String> {
-        self.work.copy_selected_pins()
+        pin_clipboard::copy_selected_pins(&mut self.work)
     }
 
     pub fn paste_pins(&mut self, clipboard_text: Option<&str>) {
-        self.work.paste_pins(clipboard_text);
+        pin_clipboard::paste_pins(&mut self.work, clipboard_text);
     }
 
     pub fn mirror_selected_pins(&mut self) {
-        self.work.mirror_selected_pins();
+        pin_clipboard::mirror_selected_pins(&mut self.work);
     }
 
     pub fn select_pins(&mut self, pins: &[(u32, u32)]) {
-        self.work.session.selection = pins.to_vec();
+        self.work.session.select_only(pins);
     }
 
     pub fn delete_selected_pins(&mut self) {
@@ -281,19 +274,18 @@ impl DrapeApp {
     }
 
     pub fn undo(&mut self) {
-        self.viewport.pin_drag = None;
+        self.viewport.abandon_pin_drag();
         self.work.undo();
     }
 
     pub fn redo(&mut self) {
-        self.viewport.pin_drag = None;
+        self.viewport.abandon_pin_drag();
         self.work.redo();
     }
 
     /// Opens the scene at `path` (a problem is shown in a dialog, the current work kept).
     pub fn open_path(&mut self, path: &Path) {
         self.files.open_path(&mut self.work, &mut self.viewport.camera, path);
-        self.after_files();
     }
 
     /// Saves the document to `path`; false (with the problem shown) when it could not be written.
@@ -303,7 +295,7 @@ impl DrapeApp {
 
     /// Shows a file problem in a dialog until the user dismisses it.
     pub fn show_file_error(&mut self, message: String) {
-        self.work.alert = Some(message);
+        self.work.show_alert(message);
     }
 
     /// Adds the opened scene to the recent files.
@@ -316,27 +308,15 @@ impl DrapeApp {
         self.files.offer_recovery(&mut self.work);
     }
 
-    /// Does what file handling asked: a new document gets fresh per-document panels.
-    fn after_files(&mut self) {
-        for event in self.files.take_events() {
-            match event {
-                FileEvent::Replaced => {
-                    self.viewport.pin_drag = None;
-                    self.timeline = self.timeline.for_new_document();
-                    self.layers = LayersPanel::default();
-                    self.colliders = CollidersPanel::default();
-                    self.references = ReferencesPanel::default();
-                    self.shot = ShotPanel::default();
-                }
-                FileEvent::OpenExport => self.export.open_for(&self.work.doc),
-                FileEvent::OpenRender => self.render.open_for(&self.work.doc, self.viewport.toggles.toon),
-            }
-        }
-    }
-
     fn menu_bar(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| self.files.file_menu_ui(ui, &mut self.work, &mut self.viewport.camera));
+            let file =
+                ui.menu_button("File", |ui| self.files.file_menu_ui(ui, &mut self.work, &mut self.viewport.camera));
+            match file.inner.flatten() {
+                Some(FileWindow::Export) => self.export.open_for(&self.work.doc),
+                Some(FileWindow::Render) => self.render.open_for(&self.work.doc, self.viewport.toggles.toon),
+                None => {}
+            }
             ui.menu_button("Edit", |ui| {
                 let ctx = ui.ctx().clone();
                 let undo = match self.work.doc.undo_label() {
@@ -356,27 +336,27 @@ impl DrapeApp {
                     self.redo();
                 }
                 ui.separator();
-                let selected = !self.work.session.selection.is_empty();
+                let selected = !self.work.session.selection().is_empty();
                 let button = egui::Button::new("Unpin selected").shortcut_text("Delete");
                 if ui.add_enabled(selected, button).clicked() {
                     self.work.delete_selected_pins();
                 }
                 if ui.add_enabled(selected, egui::Button::new("Copy pin positions").shortcut_text("Ctrl+C")).clicked()
-                    && let Some(text) = self.work.copy_selected_pins()
+                    && let Some(text) = pin_clipboard::copy_selected_pins(&mut self.work)
                 {
                     ctx.copy_text(text);
                 }
-                let copied = !self.work.session.copied_pins.is_empty();
+                let copied = !self.work.session.copied_pins().is_empty();
                 if ui.add_enabled(copied, egui::Button::new("Paste pin positions").shortcut_text("Ctrl+V")).clicked() {
-                    self.work.paste_pins(None);
+                    pin_clipboard::paste_pins(&mut self.work, None);
                 }
                 if ui.add_enabled(selected, egui::Button::new("Mirror pins (x to −x)")).clicked() {
-                    self.work.mirror_selected_pins();
+                    pin_clipboard::mirror_selected_pins(&mut self.work);
                 }
             });
             ui.menu_button("View", |ui| {
                 if ui.add(egui::Button::new("Frame all").shortcut_text("F")).clicked() {
-                    self.work.session.through_camera = false;
+                    self.work.session.look_through_camera(false);
                     self.viewport.frame_all_pending = true;
                 }
                 ui.separator();
@@ -439,12 +419,11 @@ impl DrapeApp {
         if consume(&SHORTCUT_NEW) {
             self.files.file_new(w, camera);
         }
-        self.after_files();
         // Whatever has the focus: the mode is the viewport's, and Esc is how it ends.
-        if self.work.session.attaching.is_some() && ctx.input(|i| i.key_pressed(KeyCode::Escape)) {
-            self.work.cancel_attach_by_click();
+        if self.work.session.attaching().is_some() && ctx.input(|i| i.key_pressed(KeyCode::Escape)) {
+            attach::cancel_attach_by_click(&mut self.work);
         }
-        if ctx.egui_wants_keyboard_input() || self.viewport.pin_drag.is_some() {
+        if ctx.egui_wants_keyboard_input() || self.viewport.pin_drag(&self.work).is_some() {
             return;
         }
         let w = &mut self.work;
@@ -475,9 +454,9 @@ impl DrapeApp {
             self.viewport.frame_all(w, aspect);
         }
         if pressed(KeyCode::Delete) || pressed(KeyCode::Backspace) {
-            if w.session.selection.is_empty() && w.session.selected_collider.is_some() {
+            if w.session.selection().is_empty() && w.session.selected_collider().is_some() {
                 w.delete_selected_collider();
-            } else if w.session.selection.is_empty() && w.session.selected_key.is_some() {
+            } else if w.session.selection().is_empty() && w.session.selected_key().is_some() {
                 w.delete_selected_key();
             } else {
                 w.delete_selected_pins();
@@ -495,11 +474,11 @@ impl DrapeApp {
             });
             (i.events.iter().any(|e| matches!(e, egui::Event::Copy)), paste)
         });
-        if copy && let Some(text) = w.copy_selected_pins() {
+        if copy && let Some(text) = pin_clipboard::copy_selected_pins(w) {
             ctx.copy_text(text);
         }
         if let Some(text) = paste {
-            w.paste_pins(Some(&text));
+            pin_clipboard::paste_pins(w, Some(&text));
         }
     }
 
@@ -517,17 +496,17 @@ impl DrapeApp {
     fn status_bar(&mut self, ui: &mut egui::Ui) {
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             // Frames are drawn on demand: a rate only means something while they run continuously.
-            let rate = if self.work.session.playing && self.frame_interval_ms > 0.0 {
+            let rate = if self.work.session.playing() && self.frame_interval_ms > 0.0 {
                 format!(" · {:.0} fps", 1000.0 / self.frame_interval_ms)
             } else {
                 String::new()
             };
             ui.label(format!("{:.1} ms CPU{rate}", self.last_update_ms))
                 .on_hover_text("The editor's CPU time for the last frame (and frames per second while playing).");
-            let cloth = &self.work.shown.scene.cloth;
+            let cloth = &self.work.shown.scene().cloth;
             ui.label(format!("{} × {} grid ·", cloth.cols(), cloth.rows()));
             // Here rather than on the left, where progress and messages would hide it or be hidden.
-            if let Some((i, j)) = self.work.session.hovered {
+            if let Some((i, j)) = self.work.session.hovered() {
                 ui.label(format!("Grid point ({i}, {j}) ·"));
             }
             // An id of its own: the hovered point's label comes and goes before it, and the
@@ -575,12 +554,12 @@ impl DrapeApp {
                 }
                 None => "Relaxing…".to_owned(),
             });
-            if self.viewport.stale.drawn_stale {
+            if self.viewport.stale.drawn_stale() {
                 ui.label("· updating: the grey cloth is the old shape")
                     .on_hover_text("The cloth is drawn in colour again once its new shape is solved");
             }
         }
-        let message = self.work.message.as_ref().filter(|m| m.at.elapsed().as_secs_f64() < MESSAGE_SECS);
+        let message = self.work.message().filter(|m| m.at.elapsed().as_secs_f64() < MESSAGE_SECS);
         let (text, error) = match message {
             Some(message) => (Some(message.text.clone()), message.error),
             None => (self.pointer_status(), false),
@@ -596,7 +575,7 @@ impl DrapeApp {
     /// What the mouse is doing: dragging a pin or attaching one by clicking;
     /// over the grid editor, what clicks and drags do there.
     fn pointer_status(&self) -> Option<String> {
-        if let Some(drag) = &self.viewport.pin_drag {
+        if let Some(drag) = self.viewport.pin_drag(&self.work) {
             let lock = match drag.lock {
                 Some(axis) => format!("locked to {axis:?}"),
                 None => "in the view plane".to_owned(),
@@ -605,9 +584,9 @@ impl DrapeApp {
         } else {
             self.work
                 .session
-                .attaching
+                .attaching()
                 .map(|(i, j)| format!("Click on a reference to attach pin ({i}, {j}) · Esc cancels"))
-                .or_else(|| self.work.session.grid_hovered.map(|_| GRID_EDITOR_HINT.to_owned()))
+                .or_else(|| self.work.session.grid_hovered().map(|_| GRID_EDITOR_HINT.to_owned()))
         }
     }
 
@@ -643,6 +622,41 @@ impl DrapeApp {
     }
 }
 
+/// The panels whose state belongs to one document (the timeline's drags
+/// and zoom, the side panels' open rows and pickers): made afresh when the
+/// workspace's document is replaced.
+struct DocumentPanels {
+    /// The document they were made for ([`Workspace::document_number`]).
+    document: u64,
+    timeline: TimelinePanel,
+    layers: LayersPanel,
+    colliders: CollidersPanel,
+    references: ReferencesPanel,
+    shot: ShotPanel,
+}
+
+impl DocumentPanels {
+    fn new(document: u64, timeline: TimelinePanel) -> DocumentPanels {
+        DocumentPanels {
+            document,
+            timeline,
+            layers: LayersPanel::default(),
+            colliders: CollidersPanel::default(),
+            references: ReferencesPanel::default(),
+            shot: ShotPanel::default(),
+        }
+    }
+
+    /// The panels for `w`'s document: these, or fresh ones once it was
+    /// replaced (the timeline keeps how it plays).
+    fn for_document(&mut self, w: &Workspace) -> &mut DocumentPanels {
+        if self.document != w.document_number() {
+            *self = DocumentPanels::new(w.document_number(), self.timeline.for_new_document());
+        }
+        self
+    }
+}
+
 /// `name* — /path/to — Drape` for a scene at `path` (none: not saved yet).
 /// The folder is shown whole even when the scene was opened by a bare or
 /// relative name (`drape tent.ron`), as it is after a Save.
@@ -665,7 +679,7 @@ impl eframe::App for DrapeApp {
         }
         self.measure_frame();
         self.track_window_size(&ctx);
-        self.timeline.advance_playback(&ctx, &mut self.work);
+        self.panels.for_document(&self.work).timeline.advance_playback(&ctx, &mut self.work);
         self.files.handle_close_request(&ctx, &self.work);
         // A viewport command asks for another frame: send the title only when it changes.
         let title = self.title();
@@ -674,32 +688,33 @@ impl eframe::App for DrapeApp {
             self.sent_title = title;
         }
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
-        self.after_files();
-        egui::Panel::bottom("timeline").show(ui, |ui| self.timeline.ui(ui, &mut self.work));
+        egui::Panel::bottom("timeline").show(ui, |ui| {
+            self.panels.for_document(&self.work).timeline.ui(ui, &mut self.work);
+        });
         self.status_rect = egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui)).response.rect;
         egui::Panel::left("cloth").default_size(280.0).show(ui, |ui| self.cloth.ui(ui, &mut self.work));
         egui::Panel::right("layers").default_size(270.0).min_size(220.0).show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
-                self.layers.ui(ui, &mut self.work);
+                let panels = self.panels.for_document(&self.work);
+                panels.layers.ui(ui, &mut self.work);
                 ui.separator();
-                self.colliders.ui(ui, &mut self.work);
+                panels.colliders.ui(ui, &mut self.work);
                 ui.separator();
-                self.references.ui(ui, &mut self.work);
+                panels.references.ui(ui, &mut self.work);
                 ui.separator();
-                self.shot.ui(ui, &mut self.work);
+                panels.shot.ui(ui, &mut self.work);
             });
         });
         egui::Panel::top("view").show(ui, |ui| self.viewport.view_bar_ui(ui, &mut self.work));
         egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| self.viewport_ui(ui));
-        self.work.keep_attach_mode_on_its_pin();
+        attach::keep_attach_mode_on_its_pin(&mut self.work);
         self.shortcuts_window(&ctx);
         self.manual.window_ui(&ctx);
         self.export.window_ui(&ctx, &mut self.work);
         self.render.window_ui(&ctx, &mut self.work);
         self.files.dialogs_ui(&ctx, &mut self.work, &mut self.viewport.camera);
-        self.after_files();
         // A gesture ends when the mouse lets go (a drag on a slider or a pin is one undo step).
-        if self.viewport.pin_drag.is_none() && !ctx.input(|i| i.pointer.any_down()) {
+        if self.viewport.pin_drag(&self.work).is_none() && !ctx.input(|i| i.pointer.any_down()) {
             self.work.end_gesture();
         }
         if self.is_relaxing() {
@@ -707,7 +722,7 @@ impl eframe::App for DrapeApp {
         }
         self.files.autosave(&ctx, &mut self.work);
         // A number field kept its value because what was typed was no number: say so.
-        if let Some(text) = super::number_field::take_refused() {
+        if let Some(text) = super::number_field::take_refused(&ctx) {
             self.work.report(format!("“{text}” is not a number: the field kept its value."), true);
             ctx.request_repaint();
         }

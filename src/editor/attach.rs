@@ -154,114 +154,112 @@ pub fn move_pin(scene: &mut Scene, key: usize, grid: (u32, u32), to: DVec3) -> O
     detached
 }
 
-impl Workspace {
-    /// Lets go of the selected pins' attachments in the key being edited
-    /// (with auto-key off a key, a new key here); one undo step, no pin moves.
-    pub fn detach_selected_pins(&mut self) {
-        let selection = self.session.selection.clone();
-        let label = if selection.len() == 1 { "Detach pin" } else { "Detach pins" };
-        let Some(index) = self.key_to_edit(label) else { return };
-        self.apply(label, |s| {
-            detach(s, index, &selection);
-        });
-    }
+/// Lets go of the selected pins' attachments in the key being edited
+/// (with auto-key off a key, a new key here); one undo step, no pin moves.
+pub fn detach_selected_pins(w: &mut Workspace) {
+    let selection = w.session.selection().to_vec();
+    let label = if selection.len() == 1 { "Detach pin" } else { "Detach pins" };
+    let Some(index) = w.key_to_edit(label) else { return };
+    w.apply(label, |s| {
+        detach(s, index, &selection);
+    });
+}
 
-    /// Attaches the selected pins to node `node` of reference `reference`
-    /// where they are (with auto-key off a key, on a new key here); one undo step.
-    pub fn attach_selected_to_node(&mut self, reference: usize, node: &str) {
-        let selection = self.session.selection.clone();
-        let label = if selection.len() == 1 { "Attach pin" } else { "Attach pins" };
-        let Some(index) = self.key_to_edit(label) else { return };
-        let mut attached = 0;
-        self.apply(label, |s| attached = attach_to_node(s, index, &selection, reference, node));
-        if attached == 0 {
-            self.report(format!("Cannot attach to node {node}: its reference's file is not read."), true);
-        }
+/// Attaches the selected pins to node `node` of reference `reference`
+/// where they are (with auto-key off a key, on a new key here); one undo step.
+pub fn attach_selected_to_node(w: &mut Workspace, reference: usize, node: &str) {
+    let selection = w.session.selection().to_vec();
+    let label = if selection.len() == 1 { "Attach pin" } else { "Attach pins" };
+    let Some(index) = w.key_to_edit(label) else { return };
+    let mut attached = 0;
+    w.apply(label, |s| attached = attach_to_node(s, index, &selection, reference, node));
+    if attached == 0 {
+        w.report(format!("Cannot attach to node {node}: its reference's file is not read."), true);
     }
+}
 
-    /// Enters attach-by-clicking for the one selected pin: the next click
-    /// on a reference in the viewport attaches it there. Says why not with
-    /// another selection or no reference.
-    pub fn start_attach_by_click(&mut self) {
-        let key = &self.doc.scene().keys[self.edit_key_index()];
-        let pinned: Vec<(u32, u32)> =
-            self.session.selection.iter().copied().filter(|g| key.pins.iter().any(|p| p.grid == *g)).collect();
-        let [grid] = pinned[..] else {
-            self.report("Select exactly one pin to attach by clicking.".to_owned(), true);
-            return;
-        };
-        if self.doc.scene().references.is_empty() {
-            self.report("Add a reference to attach the pin to.".to_owned(), true);
-            return;
-        }
-        self.session.attaching = Some(grid);
-        self.message = None;
+/// Enters attach-by-clicking for the one selected pin: the next click
+/// on a reference in the viewport attaches it there. Says why not with
+/// another selection or no reference.
+pub fn start_attach_by_click(w: &mut Workspace) {
+    let key = &w.doc.scene().keys[w.edit_key_index()];
+    let pinned: Vec<(u32, u32)> =
+        w.session.selection().iter().copied().filter(|g| key.pins.iter().any(|p| p.grid == *g)).collect();
+    let [grid] = pinned[..] else {
+        w.report("Select exactly one pin to attach by clicking.".to_owned(), true);
+        return;
+    };
+    if w.doc.scene().references.is_empty() {
+        w.report("Add a reference to attach the pin to.".to_owned(), true);
+        return;
     }
+    w.session.start_attaching(grid);
+    w.clear_message();
+}
 
-    /// Leaves attach-by-clicking once its pin is no longer the one pin
-    /// selected in the key being edited (another picked, unpinned, undone,
-    /// the playhead on a key without it), so a click never attaches a pin
-    /// the user no longer means.
-    pub fn keep_attach_mode_on_its_pin(&mut self) {
-        let Some(grid) = self.session.attaching else { return };
-        let pinned = self.doc.scene().keys[self.edit_key_index()].pins.iter().any(|p| p.grid == grid);
-        if !pinned || self.session.selection != [grid] {
-            self.session.attaching = None;
-        }
+/// Leaves attach-by-clicking once its pin is no longer the one pin
+/// selected in the key being edited (another picked, unpinned, undone,
+/// the playhead on a key without it), so a click never attaches a pin
+/// the user no longer means.
+pub fn keep_attach_mode_on_its_pin(w: &mut Workspace) {
+    let Some(grid) = w.session.attaching() else { return };
+    let pinned = w.doc.scene().keys[w.edit_key_index()].pins.iter().any(|p| p.grid == grid);
+    if !pinned || w.session.selection() != [grid] {
+        w.session.stop_attaching();
     }
+}
 
-    /// Leaves attach-by-clicking (Esc), attaching nothing.
-    pub fn cancel_attach_by_click(&mut self) {
-        self.session.attaching = None;
+/// Leaves attach-by-clicking (Esc), attaching nothing.
+pub fn cancel_attach_by_click(w: &mut Workspace) {
+    w.session.stop_attaching();
+}
+
+/// The click of attach-by-clicking: `hit` is the reference surface under
+/// it at the frame shown. Attaches the pin there (with auto-key off a
+/// key, on a new key here) in one undo step and leaves the mode; a click
+/// on no reference says so and stays in the mode.
+pub fn attach_clicked(w: &mut Workspace, hit: Option<SurfaceHit>) {
+    let Some(grid) = w.session.attaching() else { return };
+    let Some(hit) = hit else {
+        let text = format!("No reference there: click on a reference to attach pin {grid:?} (Esc cancels).");
+        w.report(text, true);
+        return;
+    };
+    // Still waiting when no key can be made yet (auto-key while relaxing): the message says why.
+    let Some(index) = w.key_to_edit("Attach pin") else { return };
+    w.session.stop_attaching();
+    if !w.doc.scene().keys[index].pins.iter().any(|p| p.grid == grid) {
+        w.report(format!("Grid point {grid:?} is no longer pinned: nothing attached."), true);
+        return;
     }
-
-    /// The click of attach-by-clicking: `hit` is the reference surface under
-    /// it at the frame shown. Attaches the pin there (with auto-key off a
-    /// key, on a new key here) in one undo step and leaves the mode; a click
-    /// on no reference says so and stays in the mode.
-    pub fn attach_clicked(&mut self, hit: Option<SurfaceHit>) {
-        let Some(grid) = self.session.attaching else { return };
-        let Some(hit) = hit else {
-            let text = format!("No reference there: click on a reference to attach pin {grid:?} (Esc cancels).");
-            self.report(text, true);
-            return;
-        };
-        // Still waiting when no key can be made yet (auto-key while relaxing): the message says why.
-        let Some(index) = self.key_to_edit("Attach pin") else { return };
-        self.session.attaching = None;
-        if !self.doc.scene().keys[index].pins.iter().any(|p| p.grid == grid) {
-            self.report(format!("Grid point {grid:?} is no longer pinned: nothing attached."), true);
-            return;
-        }
-        let mut attached = false;
-        self.apply("Attach pin", |s| attached = attach_to_surface(s, index, grid, &hit));
-        let name = &self.doc.scene().references[hit.reference].name;
-        if attached {
-            let text = format!("Attached pin {grid:?} to {name} (mesh {}, triangle {}).", hit.mesh, hit.triangle);
-            self.report(text, false);
-        }
+    let mut attached = false;
+    w.apply("Attach pin", |s| attached = attach_to_surface(s, index, grid, &hit));
+    let name = &w.doc.scene().references[hit.reference].name;
+    if attached {
+        let text = format!("Attached pin {grid:?} to {name} (mesh {}, triangle {}).", hit.mesh, hit.triangle);
+        w.report(text, false);
     }
+}
 
-    /// Moves pins of key `key` to where `moves` says (at the key's frame) as
-    /// [`move_pin`] does: node-attached pins stay attached, surface-attached
-    /// ones are let go, which the status line says. Part of the open gesture, if any.
-    pub fn move_pins(&mut self, label: &str, key: usize, moves: &[((u32, u32), DVec3)]) {
-        let mut detached = Vec::new();
-        self.apply(label, |s| {
-            for &(grid, to) in moves {
-                if let Some(name) = move_pin(s, key, grid, to) {
-                    detached.push((grid, name));
-                }
+/// Moves pins of key `key` to where `moves` says (at the key's frame) as
+/// [`move_pin`] does: node-attached pins stay attached, surface-attached
+/// ones are let go, which the status line says. Part of the open gesture, if any.
+pub fn move_pins(w: &mut Workspace, label: &str, key: usize, moves: &[((u32, u32), DVec3)]) {
+    let mut detached = Vec::new();
+    w.apply(label, |s| {
+        for &(grid, to) in moves {
+            if let Some(name) = move_pin(s, key, grid, to) {
+                detached.push((grid, name));
             }
-        });
-        let scene = self.doc.scene();
-        let still_attached = |grid: (u32, u32)| {
-            scene.keys.get(key).is_some_and(|k| k.pins.iter().any(|p| p.grid == grid && p.attach.is_some()))
-        };
-        // Refused edits leave the pins attached: nothing was let go.
-        if let Some((grid, name)) = detached.into_iter().find(|(grid, _)| !still_attached(*grid)) {
-            self.report(format!("Detached pin {grid:?} from {name} to move it."), false);
         }
+    });
+    let scene = w.doc.scene();
+    let still_attached = |grid: (u32, u32)| {
+        scene.keys.get(key).is_some_and(|k| k.pins.iter().any(|p| p.grid == grid && p.attach.is_some()))
+    };
+    // Refused edits leave the pins attached: nothing was let go.
+    if let Some((grid, name)) = detached.into_iter().find(|(grid, _)| !still_attached(*grid)) {
+        w.report(format!("Detached pin {grid:?} from {name} to move it."), false);
     }
 }
 

@@ -150,7 +150,7 @@ pub fn edit(ui: &mut egui::Ui, handles: &mut [f64; 4]) -> BezierEdit {
             let range = if n % 2 == 0 { 0.0..=1.0 } else { FIELD_Y_LIMITS.0..=FIELD_Y_LIMITS.1 };
             let name = ["x1", "y1", "x2", "y2"][n];
             // Showing a value from a file outside the range must not change it.
-            let drag = number_field(value).range(range).clamp_existing_to_range(false);
+            let drag = number_field(ui.ctx(), value).range(range).clamp_existing_to_range(false);
             let field = ui.add(drag.speed(0.01).max_decimals(3));
             field.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, format!("Bézier {name}")));
             edit.began |= field.drag_started();

@@ -14,9 +14,8 @@ use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
 use super::node_picker::NodePicker;
 use super::pin_attach_rows::attachment_ui;
-use super::selection;
 use super::workspace::Workspace;
-use super::{attach, edits};
+use super::{attach, edits, pin_clipboard};
 use crate::scene::{
     ClothTexture, Follow, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
     MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Pin, Scene,
@@ -102,16 +101,16 @@ impl ClothPanel {
             ui,
             &scene.cloth,
             key,
-            &w.session.selection,
-            w.session.hovered.or(w.session.grid_hovered),
+            w.session.selection(),
+            w.session.hovered().or(w.session.grid_hovered()),
         );
-        w.session.grid_hovered = hovered;
+        w.session.hover_grid(hovered);
         for action in actions {
             match action {
                 GridAction::Pin(point, how) => w.pin_here(point, how),
-                GridAction::PickPin(point, how) => selection::pick(&mut w.session.selection, &[point], how),
-                GridAction::SelectBox { pins, how } => selection::pick(&mut w.session.selection, &pins, how),
-                GridAction::ClickNothing(how) => selection::click_on_nothing(&mut w.session.selection, how),
+                GridAction::PickPin(point, how) => w.session.pick_pins(&[point], how),
+                GridAction::SelectBox { pins, how } => w.session.pick_pins(&pins, how),
+                GridAction::ClickNothing(how) => w.session.click_on_nothing(how),
             }
         }
         selected_pin_fields(ui, w, &mut self.node_picker);
@@ -149,7 +148,7 @@ fn pins_field(
         && let Some(index) = w.key_to_edit(label)
     {
         let moves = moves(w.doc.scene(), index);
-        w.move_pins(label, index, &moves);
+        attach::move_pins(w, label, index, &moves);
     }
 }
 
@@ -170,10 +169,14 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let (mut width, mut height) = cloth.size;
         let label = ui.label("Width").id;
         ui.horizontal(|ui| {
-            let r = ui.add(number_field(&mut width).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+            let r = ui
+                .add(number_field(ui.ctx(), &mut width).range(0.01..=1000.0).speed(0.01).suffix(" m"))
+                .labelled_by(label);
             field(w, &r, "Cloth size", |s| s.cloth.size.0 = width);
             let label = ui.label("Height").id;
-            let r = ui.add(number_field(&mut height).range(0.01..=1000.0).speed(0.01).suffix(" m")).labelled_by(label);
+            let r = ui
+                .add(number_field(ui.ctx(), &mut height).range(0.01..=1000.0).speed(0.01).suffix(" m"))
+                .labelled_by(label);
             field(w, &r, "Cloth size", |s| s.cloth.size.1 = height);
         });
         ui.end_row();
@@ -182,11 +185,11 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
         ui.label("Grid");
         ui.horizontal(|ui| {
             let range = MIN_GRID_SIDE..=MAX_GRID_SIDE;
-            let r = ui.add(number_field(&mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
+            let r = ui.add(number_field(ui.ctx(), &mut cols).range(range.clone()).speed(0.2)).on_hover_text("Columns");
             r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid columns"));
             field(w, &r, "Grid", |s| edits::set_grid(s, (cols, s.cloth.grid.1)));
             ui.label("×");
-            let r = ui.add(number_field(&mut rows).range(range).speed(0.2)).on_hover_text("Rows");
+            let r = ui.add(number_field(ui.ctx(), &mut rows).range(range).speed(0.2)).on_hover_text("Rows");
             r.widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Grid rows"));
             field(w, &r, "Grid", |s| edits::set_grid(s, (s.cloth.grid.0, rows)));
         });
@@ -208,7 +211,7 @@ fn cloth_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let label = ui.label("Stretch limit").id;
         let mut percent = cloth.stretch_limit * 100.0;
         let r = ui
-            .add(number_field(&mut percent).range(0.0..=MAX_STRETCH_LIMIT * 100.0).speed(0.1).suffix(" %"))
+            .add(number_field(ui.ctx(), &mut percent).range(0.0..=MAX_STRETCH_LIMIT * 100.0).speed(0.1).suffix(" %"))
             .labelled_by(label)
             .on_hover_text(
                 "How much longer than its rest length the layers may make any edge of the cloth; \
@@ -246,20 +249,20 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let mut elasticity = key.elasticity;
         let hint = "How much longer the fabric is than its grid: 1 is taut, more sags.";
         let label = ui.label("Elasticity").on_hover_text(hint).id;
-        let slider = number_slider(&mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
+        let slider = number_slider(ui.ctx(), &mut elasticity, MIN_ELASTICITY..=MAX_ELASTICITY.min(3.0)).max_decimals(3);
         let r = ui.add(slider).labelled_by(label);
         key_field(w, &r, "Elasticity", |k| k.elasticity = elasticity);
         ui.end_row();
 
         let mut stiffness = key.stiffness;
         let label = ui.label("Stiffness").on_hover_text("Bending resistance: 0 folds freely, 1 curves gently.").id;
-        let r = ui.add(number_slider(&mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
+        let r = ui.add(number_slider(ui.ctx(), &mut stiffness, 0.0..=1.0).max_decimals(3)).labelled_by(label);
         key_field(w, &r, "Stiffness", |k| k.stiffness = stiffness);
         ui.end_row();
 
         let mut iterations = key.relax.iterations;
         let label = ui.label("Iterations").on_hover_text("Relaxation sweeps per grid level, at most.").id;
-        let drag = number_field(&mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
+        let drag = number_field(ui.ctx(), &mut iterations).range(1..=MAX_RELAX_ITERATIONS).speed(1.0);
         let r = ui.add(drag).labelled_by(label);
         key_field(w, &r, "Relaxation iterations", |k| k.relax.iterations = iterations);
         ui.end_row();
@@ -267,7 +270,7 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let mut tolerance = key.relax.tolerance;
         let hint = "Relaxation stops once no point moves more than this × the spacing in a sweep.";
         let label = ui.label("Tolerance").on_hover_text(hint).id;
-        let slider = number_slider(&mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
+        let slider = number_slider(ui.ctx(), &mut tolerance, 1e-9..=MAX_RELAX_TOLERANCE.min(0.1)).logarithmic(true);
         let r = ui.add(slider.custom_formatter(|v, _| format!("{v:.1e}"))).labelled_by(label);
         key_field(w, &r, "Relaxation tolerance", |k| k.relax.tolerance = tolerance);
         ui.end_row();
@@ -277,7 +280,7 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let hint = "How far the cloth keeps from the colliders' surfaces (a collider may set its own) and between its own \
             folds; 0 lets a fold pass through the cloth.";
         let label = ui.label("Thickness").on_hover_text(hint).id;
-        let field = number_field(&mut thickness_mm).range(0.0..=MAX_THICKNESS_M * 1000.0).speed(0.1).suffix(" mm");
+        let field = number_field(ui.ctx(), &mut thickness_mm).range(0.0..=MAX_THICKNESS_M * 1000.0).speed(0.1).suffix(" mm");
         let r = ui.add(field).labelled_by(label);
         key_field(w, &r, "Thickness", |k| k.thickness = thickness_mm / 1000.0);
         ui.end_row();
@@ -287,7 +290,7 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         let mut friction = key.friction;
         let hint = "How the cloth holds where it rests on a collider: 0 slides off, 1 holds well.";
         let label = ui.label("Friction").on_hover_text(hint).id;
-        let slider = number_slider(&mut friction, 0.0..=MAX_FRICTION.min(2.0)).max_decimals(2);
+        let slider = number_slider(ui.ctx(), &mut friction, 0.0..=MAX_FRICTION.min(2.0)).max_decimals(2);
         let r = ui.add_enabled(has_colliders, slider).labelled_by(label);
         let r = r.on_disabled_hover_text("The scene has no colliders to rest on (Colliders panel)");
         key_field(w, &r, "Friction", |k| k.friction = friction);
@@ -338,7 +341,7 @@ fn placement_rows_ui(ui: &mut egui::Ui, w: &mut Workspace, key: &Key, has_collid
             ui.horizontal(|ui| {
                 let mut edited = values;
                 for (axis, value) in [("X", &mut edited.0), ("Y", &mut edited.1), ("Z", &mut edited.2)] {
-                    let field = number_field(value).speed(speed).max_decimals(4).suffix(suffix);
+                    let field = number_field(ui.ctx(), value).speed(speed).max_decimals(4).suffix(suffix);
                     let r = ui.add_sized(FIELD, field).labelled_by(label).on_hover_text(hint);
                     r.widget_info(|| {
                         egui::WidgetInfo::labeled(egui::Role::SpinButton, unpinned, format!("{name} {axis}"))
@@ -369,7 +372,7 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePi
     let index = w.edit_key_index();
     let scene = w.doc.scene().clone();
     let key = &scene.keys[index];
-    let selected: Vec<Pin> = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid)).cloned().collect();
+    let selected: Vec<Pin> = key.pins.iter().filter(|p| w.session.selection().contains(&p.grid)).cloned().collect();
     let places: Vec<(f64, f64, f64)> = selected.iter().map(|p| attach::pin_at_key(&scene, key, p).into()).collect();
     match (selected.as_slice(), places.as_slice()) {
         ([], _) => {
@@ -379,7 +382,7 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePi
                     for axis in ["X", "Y", "Z"] {
                         let label = ui.label(axis).id;
                         let mut blank = 0.0;
-                        let field = number_field(&mut blank).custom_formatter(|_, _| "–".to_owned());
+                        let field = number_field(ui.ctx(), &mut blank).custom_formatter(|_, _| "–".to_owned());
                         ui.add_sized(FIELD, field).labelled_by(label);
                     }
                 });
@@ -392,7 +395,9 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePi
                 let mut pos = *place;
                 for (axis, value) in [("X", &mut pos.0), ("Y", &mut pos.1), ("Z", &mut pos.2)] {
                     let label = ui.label(axis).id;
-                    let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                    let r = ui
+                        .add_sized(FIELD, number_field(ui.ctx(), value).speed(0.005).max_decimals(4))
+                        .labelled_by(label);
                     // Set on the pin as the edited key holds it (a new auto-key holds the pose here).
                     let value = *value;
                     pins_field(w, &r, "Move pin", |s, k| {
@@ -412,7 +417,9 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePi
                 let mut moved = centre;
                 for (axis, value) in [("X", &mut moved.0), ("Y", &mut moved.1), ("Z", &mut moved.2)] {
                     let label = ui.label(axis).id;
-                    let r = ui.add_sized(FIELD, number_field(value).speed(0.005).max_decimals(4)).labelled_by(label);
+                    let r = ui
+                        .add_sized(FIELD, number_field(ui.ctx(), value).speed(0.005).max_decimals(4))
+                        .labelled_by(label);
                     // Each pin keeps its offset from the centre; written value + offset so pins
                     // level with the centre get the typed number exactly.
                     let (value, from) = (*value, axis_of(centre, axis));
@@ -437,18 +444,18 @@ fn selected_pin_fields(ui: &mut egui::Ui, w: &mut Workspace, picker: &mut NodePi
         }
         let hint = "Copy the selected pins' positions (Ctrl+C)";
         if ui.add_enabled(any, egui::Button::new("Copy")).on_hover_text(hint).clicked()
-            && let Some(text) = w.copy_selected_pins()
+            && let Some(text) = pin_clipboard::copy_selected_pins(w)
         {
             ui.ctx().copy_text(text);
         }
-        let can_paste = !w.session.copied_pins.is_empty();
+        let can_paste = !w.session.copied_pins().is_empty();
         let hint = "Pin the copied grid points here as they were copied: position and attachment (Ctrl+V)";
         if ui.add_enabled(can_paste, egui::Button::new("Paste")).on_hover_text(hint).clicked() {
-            w.paste_pins(None);
+            pin_clipboard::paste_pins(w, None);
         }
         let hint = "The selected pins take their partners' positions across the middle column, reflected in x = 0";
         if ui.add_enabled(any, egui::Button::new("Mirror")).on_hover_text(hint).clicked() {
-            w.mirror_selected_pins();
+            pin_clipboard::mirror_selected_pins(w);
         }
     });
 }

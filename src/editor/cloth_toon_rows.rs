@@ -49,7 +49,7 @@ pub(super) fn toon_section_ui(ui: &mut egui::Ui, w: &mut Workspace) {
             let label = ui.label("Ink").on_hover_text("Lines on the silhouette, the border and sharp creases").id;
             ui.horizontal(|ui| {
                 let mut width = toon.ink_width_px;
-                let drag = number_field(&mut width).range(0.0..=MAX_INK_WIDTH_PX).speed(0.05).suffix(" px");
+                let drag = number_field(ui.ctx(), &mut width).range(0.0..=MAX_INK_WIDTH_PX).speed(0.05).suffix(" px");
                 let r = ui.add(drag).labelled_by(label).on_hover_text("Line width in pixels; 0 draws no ink");
                 toon_field(w, &r, "Ink width", |s| s.cloth.toon.ink_width_px = width);
                 if let Some(color) = color_button(ui, toon.ink_color, "Ink colour") {
@@ -60,7 +60,7 @@ pub(super) fn toon_section_ui(ui: &mut egui::Ui, w: &mut Workspace) {
 
             let label = ui.label("Creases").id;
             let mut crease = toon.crease_deg;
-            let drag = number_field(&mut crease).range(0.0..=MAX_CREASE_DEG).speed(0.5).suffix("°");
+            let drag = number_field(ui.ctx(), &mut crease).range(0.0..=MAX_CREASE_DEG).speed(0.5).suffix("°");
             let hint = "An edge where the cloth bends by more than this gets ink; 180° inks none";
             let r = ui.add(drag).labelled_by(label).on_hover_text(hint);
             toon_field(w, &r, "Crease angle", |s| s.cloth.toon.crease_deg = crease);

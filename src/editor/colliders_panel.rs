@@ -60,7 +60,7 @@ impl CollidersPanel {
         for (index, collider) in colliders.iter().enumerate() {
             ui.horizontal(|ui| self.row_ui(ui, w, index, collider));
         }
-        let Some(index) = w.session.selected_collider.filter(|i| *i < colliders.len()) else { return };
+        let Some(index) = w.session.selected_collider().filter(|i| *i < colliders.len()) else { return };
         ui.separator();
         if let Collider::Mesh(mesh) = &colliders[index]
             && file_row_ui(ui, "File", &mesh.file, "Read the mesh from another OBJ or glTF file")
@@ -152,13 +152,9 @@ impl CollidersPanel {
             w.apply("Remove collider", |s| {
                 s.colliders.remove(index);
             });
-            w.session.selected_collider = match w.session.selected_collider {
-                Some(s) if s == index => None,
-                Some(s) if s > index => Some(s - 1),
-                other => other,
-            };
+            w.session.collider_removed(index);
         }
-        let selected = w.session.selected_collider == Some(index);
+        let selected = w.session.selected_collider() == Some(index);
         if ui.selectable_label(selected, title(collider, index)).on_hover_text(label).clicked() {
             w.session.select_collider(if selected { None } else { Some(index) });
         }

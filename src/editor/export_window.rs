@@ -220,10 +220,10 @@ impl ExportWindow {
                     ui.label("Frames");
                     ui.horizontal(|ui| {
                         let range = timeline.start..=timeline.end;
-                        ui.add(number_field(&mut window.first).range(range.clone()))
+                        ui.add(number_field(ui.ctx(), &mut window.first).range(range.clone()))
                             .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "First frame"));
                         ui.label("to");
-                        ui.add(number_field(&mut window.last).range(range))
+                        ui.add(number_field(ui.ctx(), &mut window.last).range(range))
                             .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Last frame"));
                         window.last = window.last.max(window.first);
                         let seconds = f64::from(window.last - window.first + 1) / timeline.fps;
@@ -347,8 +347,8 @@ impl ExportWindow {
                 self.refused = Some(Refusal { reason: error.to_string(), hold: Hold::OldFrames, settings, allowed });
             }
             Ok(Err(ExportError::Cancelled)) => w.report("Export cancelled; nothing was written.".to_owned(), false),
-            Ok(Err(error)) => w.alert = Some(format!("Could not export:\n{error}")),
-            Err(_) => w.alert = Some("The export stopped unexpectedly; nothing was written.".to_owned()),
+            Ok(Err(error)) => w.show_alert(format!("Could not export:\n{error}")),
+            Err(_) => w.show_alert("The export stopped unexpectedly; nothing was written.".to_owned()),
         }
     }
 }
@@ -442,8 +442,8 @@ mod tests {
     /// there is something.
     fn show(editor: &mut Editor, ctx: &egui::Context) -> Option<String> {
         editor.window.window_ui(ctx, &mut editor.workspace);
-        let message = editor.workspace.message.as_ref().map(|message| message.text.clone());
-        message.or_else(|| editor.workspace.alert.clone())
+        let message = editor.workspace.message().map(|message| message.text.clone());
+        message.or_else(|| editor.workspace.alert().map(str::to_owned))
     }
 
     /// Runs frames until the export started reports how it ended.

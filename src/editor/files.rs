@@ -47,8 +47,6 @@ pub(super) struct Files {
     recovered: Option<RecoveredScene>,
     /// The user chose to close: the next close request goes through.
     closing: bool,
-    /// What the rest of the editor must do about this frame's file handling.
-    events: Vec<FileEvent>,
     /// The bundled examples' folder: scenes there open as templates, and Save asks where.
     examples_dir: PathBuf,
 }
@@ -65,15 +63,13 @@ fn is_example(path: &Path, examples_dir: &Path) -> bool {
     parent.is_some() && parent == folder(examples_dir)
 }
 
-/// What file handling asks of the rest of the editor.
+/// A window the File menu opens, which the app owns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum FileEvent {
-    /// A new document replaced the old one (the workspace has its new session already).
-    Replaced,
+pub(super) enum FileWindow {
     /// File ▸ Export… was chosen.
-    OpenExport,
+    Export,
     /// File ▸ Render… was chosen.
-    OpenRender,
+    Render,
 }
 
 impl Files {
@@ -88,7 +84,6 @@ impl Files {
             autosave: AutosaveClock::new(DEFAULT_AUTOSAVE_INTERVAL, Instant::now()),
             recovered: None,
             closing: false,
-            events: Vec::new(),
             examples_dir: bundled_examples_dir(),
         }
     }
@@ -135,12 +130,13 @@ pub fn new_scene() -> Scene {
 }
 
 impl Files {
-    /// What the editor must do about the file handling since the last call.
-    pub(super) fn take_events(&mut self) -> Vec<FileEvent> {
-        std::mem::take(&mut self.events)
-    }
-
-    pub(super) fn file_menu_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, camera: &mut OrbitCamera) {
+    /// The File menu's items; returns the window chosen, if any.
+    pub(super) fn file_menu_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        w: &mut Workspace,
+        camera: &mut OrbitCamera,
+    ) -> Option<FileWindow> {
         let ctx = ui.ctx().clone();
         let item = |label: &str, shortcut| egui::Button::new(label).shortcut_text(ctx.format_shortcut(shortcut));
         if ui.add(item("New", &SHORTCUT_NEW)).clicked() {
@@ -168,17 +164,19 @@ impl Files {
             self.file_save_as(w);
         }
         ui.separator();
+        let mut chosen = None;
         if ui.button("Export…").on_hover_text("PC2, MDD, glTF, USD or an OBJ sequence").clicked() {
-            self.events.push(FileEvent::OpenExport);
+            chosen = Some(FileWindow::Export);
         }
         let render = ui.add(item("Render…", &SHORTCUT_RENDER));
         if render.on_hover_text("A PNG still, a PNG sequence or a GIF of the scene").clicked() {
-            self.events.push(FileEvent::OpenRender);
+            chosen = Some(FileWindow::Render);
         }
         ui.separator();
         if ui.button("Quit").clicked() {
             self.ask_then(w, camera, Pending::Quit);
         }
+        chosen
     }
 
     pub(super) fn file_new(&mut self, w: &mut Workspace, camera: &mut OrbitCamera) {
@@ -244,7 +242,7 @@ impl Files {
                     self.recent.remove(path);
                     self.save_recent(w);
                 }
-                w.alert = Some(format!("Could not open the scene:\n{error}"));
+                w.show_alert(format!("Could not open the scene:\n{error}"));
             }
         }
     }
@@ -255,9 +253,8 @@ impl Files {
             *camera = OrbitCamera::from_view(view);
         }
         // Framed once shown: always without a saved view, and with one when the cloth is out of it.
-        w.shown.frame_when_shown = true;
+        w.shown.frame_once_shown();
         w.replace_document(scene, path);
-        self.events.push(FileEvent::Replaced);
     }
 
     /// Saves to the document's file (asking for one if it has none or is a
@@ -293,8 +290,8 @@ impl Files {
     pub fn save_to(&mut self, w: &mut Workspace, camera: &OrbitCamera, path: &Path) -> bool {
         let view = View {
             frame: Some(w.frame().round() as i32),
-            follow: w.session.follow,
-            through_camera: w.session.through_camera,
+            follow: w.session.follow(),
+            through_camera: w.session.through_camera(),
             ..camera.to_view()
         };
         w.doc.set_view_quietly(Some(view));
@@ -319,7 +316,7 @@ impl Files {
                 true
             }
             Err(error) => {
-                w.alert = Some(format!("Could not save the scene; the file on disk is unchanged:\n{error}"));
+                w.show_alert(format!("Could not save the scene; the file on disk is unchanged:\n{error}"));
                 false
             }
         }
@@ -375,7 +372,7 @@ impl Files {
 
     /// Shows a file problem (load, save, export) until the user dismisses it.
     fn error_window(ctx: &egui::Context, w: &mut Workspace) {
-        let Some(error) = w.alert.clone() else { return };
+        let Some(error) = w.alert().map(str::to_owned) else { return };
         let modal = egui::Modal::new(egui::Id::unique("file-error")).show(ctx, |ui| {
             ui.set_max_width(560.0);
             ui.heading("Problem with the file");
@@ -386,7 +383,7 @@ impl Files {
             ui.button("OK").clicked()
         });
         if modal.inner || modal.should_close() {
-            w.alert = None;
+            w.dismiss_alert();
         }
     }
 

@@ -47,8 +47,11 @@ pub fn keyed_number_row_ui(
     let keyed = matches!(param, Param::Keys(_));
     let mut value = sample(param, f64::from(frame));
     let label = ui.label(label_text).id;
-    let field =
-        number_field(&mut value).range(range.min..=range.max).speed(range.speed).max_decimals(4).suffix(range.unit);
+    let field = number_field(ui.ctx(), &mut value)
+        .range(range.min..=range.max)
+        .speed(range.speed)
+        .max_decimals(4)
+        .suffix(range.unit);
     let response = ui.add(field).labelled_by(label);
     let hint = if keyed { "Keyed: click to add or remove the key at this frame" } else { "Key this number here" };
     let name = format!("Key {}{label_text}", owner.diamond_prefix);
@@ -58,7 +61,7 @@ pub fn keyed_number_row_ui(
         w.doc.begin_gesture(&what);
     }
     if response.changed() {
-        let auto_key = w.session.auto_key;
+        let auto_key = w.session.auto_key();
         w.apply(&what, |s| {
             if let Some(p) = param_of(s) {
                 set_at_keying(p, frame, value, auto_key);

@@ -79,18 +79,17 @@ impl LayersPanel {
                     w.apply("Remove layer", |s| {
                         s.layers.remove(index);
                     });
-                    w.session.selected_layer = None;
-                    w.session.solo_layer = None;
+                    w.session.layer_removed();
                 }
-                let mut solo = w.session.solo_layer == Some(index);
+                let mut solo = w.session.solo_layer() == Some(index);
                 let solo_toggle = ui.toggle_value(&mut solo, "S").on_hover_text("Solo: show this layer alone");
                 solo_toggle.widget_info(|| {
                     egui::WidgetInfo::selected(egui::Role::Switch, true, solo, format!("Solo {label}"))
                 });
                 if solo_toggle.changed() {
-                    w.session.solo_layer = solo.then_some(index);
+                    w.session.solo(solo.then_some(index));
                 }
-                let selected = w.session.selected_layer == Some(index);
+                let selected = w.session.selected_layer() == Some(index);
                 if ui.selectable_label(selected, title(layer, index)).on_hover_text(label).clicked() {
                     w.session.select_layer(if selected { None } else { Some(index) });
                 }
@@ -98,7 +97,7 @@ impl LayersPanel {
             rows.push(row.response.rect);
         }
         self.layer_drop(ui, w, &rows, dropped);
-        let Some(index) = w.session.selected_layer.filter(|i| *i < layers.len()) else { return };
+        let Some(index) = w.session.selected_layer().filter(|i| *i < layers.len()) else { return };
         ui.separator();
         self.layer_details(ui, w, index, &layers[index]);
     }
@@ -147,7 +146,7 @@ impl LayersPanel {
                 let keyed = matches!(current, Param::Keys(_));
                 let mut value = sample(current, f64::from(frame));
                 let label = ui.label(param.replace('_', " ")).id;
-                let drag = number_field(&mut value).speed(0.01).max_decimals(4);
+                let drag = number_field(ui.ctx(), &mut value).speed(0.01).max_decimals(4);
                 let drag = if unit.is_empty() { drag } else { drag.suffix(format!(" {unit}")) };
                 let response = ui.add(drag).labelled_by(label);
                 let hint = if keyed {
@@ -165,7 +164,7 @@ impl LayersPanel {
                     w.doc.begin_gesture(&what);
                 }
                 if response.changed() {
-                    let auto_key = w.session.auto_key;
+                    let auto_key = w.session.auto_key();
                     w.apply(&what, |s| {
                         if let Some(p) = param_mut(&mut s.layers[index], param) {
                             set_at_keying(p, frame, value, auto_key);
@@ -197,8 +196,7 @@ fn move_layer(w: &mut Workspace, from: usize, to: usize) {
         let layer = s.layers.remove(from);
         s.layers.insert(to, layer);
     });
-    w.session.selected_layer = w.session.selected_layer.map(|i| index_after_move(i, from, to));
-    w.session.solo_layer = w.session.solo_layer.map(|i| index_after_move(i, from, to));
+    w.session.layer_moved(from, to);
 }
 
 /// The layer's fixed settings: directions, the wave's axis, the gusts' octaves and seed.
@@ -213,7 +211,7 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
             ui.label("Direction");
             let mut changed = false;
             for value in [&mut d.0, &mut d.1, &mut d.2] {
-                changed |= ui.add(number_field(value).speed(0.01).max_decimals(3)).changed();
+                changed |= ui.add(number_field(ui.ctx(), value).speed(0.01).max_decimals(3)).changed();
             }
             if changed {
                 w.apply("Layer direction", |s| match &mut s.layers[index] {
@@ -235,7 +233,7 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
                 ui.checkbox(&mut fixed, "Fixed axis").on_hover_text("Else along the surface normal").changed();
             if fixed {
                 for value in [&mut axis.0, &mut axis.1, &mut axis.2] {
-                    changed |= ui.add(number_field(value).speed(0.01).max_decimals(3)).changed();
+                    changed |= ui.add(number_field(ui.ctx(), value).speed(0.01).max_decimals(3)).changed();
                 }
             }
             if changed {
@@ -252,9 +250,9 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
         let (mut octaves, mut seed) = (gusts.octaves, gusts.seed);
         ui.horizontal(|ui| {
             ui.label("Octaves");
-            let a = ui.add(number_field(&mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
+            let a = ui.add(number_field(ui.ctx(), &mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
             ui.label("Seed");
-            let b = ui.add(number_field(&mut seed)).changed();
+            let b = ui.add(number_field(ui.ctx(), &mut seed)).changed();
             if a || b {
                 w.apply("Gusts", |s| {
                     if let Layer::Gusts(l) = &mut s.layers[index] {
@@ -278,19 +276,6 @@ fn moved_to(from: usize, slot: usize) -> usize {
     if slot > from { slot - 1 } else { slot }
 }
 
-/// Where the layer at `index` is after moving the one at `from` to `to`.
-fn index_after_move(index: usize, from: usize, to: usize) -> usize {
-    if index == from {
-        to
-    } else if from < index && index <= to {
-        index - 1
-    } else if to <= index && index < from {
-        index + 1
-    } else {
-        index
-    }
-}
-
 /// The layer's name in the list, or for an unnamed one its kind and place ("Wave 4").
 fn title(layer: &Layer, index: usize) -> String {
     if !layer.name().is_empty() {
@@ -303,6 +288,7 @@ fn title(layer: &Layer, index: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::editor::session::index_after_move;
 
     #[test]
     fn a_drop_lands_in_the_gap_under_the_pointer() {

@@ -55,6 +55,7 @@ pub mod reference_pick;
 mod references_panel;
 mod render_window;
 pub mod selection;
+pub mod session;
 pub mod shaper;
 pub mod shortcuts;
 mod shot_number;

@@ -4,7 +4,7 @@
 
 use eframe::egui;
 
-use super::attach::describe;
+use super::attach::{self, describe};
 use super::node_picker::NodePicker;
 use super::workspace::Workspace;
 use crate::scene::Pin;
@@ -30,7 +30,7 @@ pub fn attachment_ui(ui: &mut egui::Ui, w: &mut Workspace, selected: &[Pin], pic
                 picker.toggle();
             }
             let one = selected.len() == 1;
-            let attaching = w.session.attaching.is_some();
+            let attaching = w.session.attaching().is_some();
             let hint = "Then click on a reference in the viewport: the pin is attached to that point of its skin";
             let why_not = if has_references {
                 "Select exactly one pin to attach by clicking"
@@ -40,7 +40,7 @@ pub fn attachment_ui(ui: &mut egui::Ui, w: &mut Workspace, selected: &[Pin], pic
             let button = egui::Button::new("Attach by clicking").selected(attaching);
             let response = ui.add_enabled((one && has_references) || attaching, button).on_hover_text(hint);
             if response.on_disabled_hover_text(why_not).clicked() {
-                if attaching { w.cancel_attach_by_click() } else { w.start_attach_by_click() }
+                if attaching { attach::cancel_attach_by_click(w) } else { attach::start_attach_by_click(w) }
             }
             node_button
         })
@@ -50,7 +50,7 @@ pub fn attachment_ui(ui: &mut egui::Ui, w: &mut Workspace, selected: &[Pin], pic
         return;
     }
     if let Some((reference, node)) = picker.pick_ui(ui, &node_button, &references) {
-        w.attach_selected_to_node(reference, &node);
+        attach::attach_selected_to_node(w, reference, &node);
     }
 }
 
@@ -73,7 +73,7 @@ fn attached_line_ui(ui: &mut egui::Ui, w: &mut Workspace, selected: &[Pin]) {
         let hint = "Let go of the reference: the pin stays where it is at the key's frame";
         let button = ui.add_enabled(!attached.is_empty(), egui::Button::new(button)).on_hover_text(hint);
         if button.clicked() {
-            w.detach_selected_pins();
+            attach::detach_selected_pins(w);
         }
         if text.is_empty() {
             ui.weak(if selected.is_empty() { "Attached to: —" } else { "Not attached" });

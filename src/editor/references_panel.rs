@@ -282,13 +282,17 @@ fn timing_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &Ref
     ui.horizontal(|ui| {
         let mut start = reference.start_frame;
         let label = ui.label("Start frame").id;
-        let field = number_field(&mut start).range(-MAX_TIMELINE_FRAME..=MAX_TIMELINE_FRAME);
+        let field = number_field(ui.ctx(), &mut start).range(-MAX_TIMELINE_FRAME..=MAX_TIMELINE_FRAME);
         let response =
             ui.add(field).labelled_by(label).on_hover_text("The scene frame where the animation's time 0 plays");
         field_edit(w, &response, "Reference start frame", |s| s.references[index].start_frame = start);
         let mut speed = reference.speed;
         let label = ui.label("Speed").id;
-        let field = number_field(&mut speed).range(0.001..=MAX_REFERENCE_SPEED).speed(0.01).max_decimals(3).suffix("×");
+        let field = number_field(ui.ctx(), &mut speed)
+            .range(0.001..=MAX_REFERENCE_SPEED)
+            .speed(0.01)
+            .max_decimals(3)
+            .suffix("×");
         let response = ui.add(field).labelled_by(label).on_hover_text("1: as authored; 0.5: half as fast");
         field_edit(w, &response, "Reference speed", |s| s.references[index].speed = speed);
     });
@@ -320,9 +324,10 @@ fn collider_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &R
         }
         let Some(param) = &reference.thickness else { return };
         let mut value = sample(param, f64::from(frame));
-        let field = number_field(&mut value).range(0.0..=MAX_THICKNESS_M).speed(0.0005).max_decimals(4).suffix(" m");
+        let field =
+            number_field(ui.ctx(), &mut value).range(0.0..=MAX_THICKNESS_M).speed(0.0005).max_decimals(4).suffix(" m");
         let response = ui.add(field).on_hover_text("Keyed thicknesses change at the playhead");
-        let auto_key = w.session.auto_key;
+        let auto_key = w.session.auto_key();
         field_edit(w, &response, "Reference thickness", |s| {
             if let Some(p) = s.references.get_mut(index).and_then(|r| r.thickness.as_mut()) {
                 set_at_keying(p, frame, value, auto_key);

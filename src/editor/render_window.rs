@@ -307,10 +307,10 @@ impl RenderWindow {
                 return;
             }
             let range = timeline.start..=timeline.end;
-            ui.add(number_field(&mut self.first).range(range.clone()))
+            ui.add(number_field(ui.ctx(), &mut self.first).range(range.clone()))
                 .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "First frame"));
             ui.label("to");
-            ui.add(number_field(&mut self.last).range(range))
+            ui.add(number_field(ui.ctx(), &mut self.last).range(range))
                 .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Last frame"));
             self.last = self.last.max(self.first);
             let count = self.last - self.first + 1;
@@ -322,10 +322,10 @@ impl RenderWindow {
         ui.horizontal(|ui| {
             let before = self.size_px;
             let sides = 1..=MAX_SIDE_PX;
-            ui.add(number_field(&mut self.size_px.0).range(sides.clone()))
+            ui.add(number_field(ui.ctx(), &mut self.size_px.0).range(sides.clone()))
                 .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Picture width"));
             ui.label("×");
-            ui.add(number_field(&mut self.size_px.1).range(sides))
+            ui.add(number_field(ui.ctx(), &mut self.size_px.1).range(sides))
                 .widget_info(|| egui::WidgetInfo::labeled(egui::Role::SpinButton, true, "Picture height"));
             ui.label("px");
             if self.size_px != before {
@@ -540,8 +540,8 @@ mod tests {
     /// there is something.
     fn show(editor: &mut Editor, ctx: &egui::Context) -> Option<String> {
         editor.window.window_ui(ctx, &mut editor.workspace);
-        let message = editor.workspace.message.as_ref().map(|message| message.text.clone());
-        message.or_else(|| editor.workspace.alert.clone())
+        let message = editor.workspace.message().map(|message| message.text.clone());
+        message.or_else(|| editor.workspace.alert().map(str::to_owned))
     }
 
     /// Runs frames until the render under way has finished; returns what the

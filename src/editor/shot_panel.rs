@@ -124,7 +124,7 @@ impl ShotPanel {
         ui.horizontal(|ui| {
             let label = ui.label("Frame offset").id;
             let mut offset = plate.frame_offset;
-            let field = number_field(&mut offset).range(-MAX_PLATE_FRAME_OFFSET..=MAX_PLATE_FRAME_OFFSET);
+            let field = number_field(ui.ctx(), &mut offset).range(-MAX_PLATE_FRAME_OFFSET..=MAX_PLATE_FRAME_OFFSET);
             let response = ui.add(field).labelled_by(label).on_hover_text("Frame F shows file number F + offset");
             if response.changed() {
                 w.apply("Plate frame offset", |s| {
@@ -190,9 +190,11 @@ fn image_size_ui(ui: &mut egui::Ui, w: &mut Workspace, (width, height): (u32, u3
     ui.horizontal(|ui| {
         let label = ui.label("Picture").id;
         let (mut new_width, mut new_height) = (width, height);
-        let wide = ui.add(number_field(&mut new_width).range(1..=MAX_IMAGE_SIDE_PX).suffix(" px")).labelled_by(label);
+        let wide = ui
+            .add(number_field(ui.ctx(), &mut new_width).range(1..=MAX_IMAGE_SIDE_PX).suffix(" px"))
+            .labelled_by(label);
         ui.label("×");
-        let high = ui.add(number_field(&mut new_height).range(1..=MAX_IMAGE_SIDE_PX).suffix(" px"));
+        let high = ui.add(number_field(ui.ctx(), &mut new_height).range(1..=MAX_IMAGE_SIDE_PX).suffix(" px"));
         if wide.changed() || high.changed() {
             w.apply("Camera picture size", |s| {
                 if let Some(c) = &mut s.camera {

@@ -77,7 +77,7 @@ pub fn paint_frame(painter: &egui::Painter, camera: &ShotCamera, rect: egui::Rec
 /// one undo step.
 pub fn camera_from_view(w: &mut Workspace, view: &OrbitCamera) {
     let frame = w.frame().round() as i32;
-    let auto_key = w.session.auto_key;
+    let auto_key = w.session.auto_key();
     let (eye, target) = (view.eye().as_dvec3(), view.target.as_dvec3());
     w.apply("Camera from view", |s: &mut Scene| {
         let camera = s.camera.get_or_insert_with(|| ShotCamera {

@@ -15,8 +15,9 @@ use super::document::Document;
 use super::shaper::{Shaper, ShaperStatus};
 use crate::animate::{self, Evaluator};
 use crate::mesh::Mesh;
-use crate::picture::scene_bounds;
-use crate::render::Ghost;
+use crate::picture::{SceneOverlays, key_overlay, scene_bounds};
+use crate::render::overlay::PinState;
+use crate::render::{Ghost, Overlay};
 use crate::scene::{Cloth, Key, Scene};
 use crate::world::Obstacle;
 
@@ -32,8 +33,8 @@ pub struct OnionSkin {
 
 pub struct Shown {
     /// The latest version of the document whose rest shapes are all relaxed.
-    pub scene: Scene,
-    pub evaluator: Evaluator,
+    scene: Scene,
+    evaluator: Evaluator,
     shaper: Shaper,
     /// The context the worker wakes when a shape is ready (set on the first frame).
     repaint_context: Arc<OnceLock<egui::Context>>,
@@ -45,15 +46,15 @@ pub struct Shown {
     /// catching up while it goes on.
     asked_during_drag: Vec<Scene>,
     /// The cloth at the playhead, in the stage shown.
-    pub mesh: Arc<Mesh>,
+    mesh: Arc<Mesh>,
     /// What `mesh` shows: (frame, stage, solo layer); `None` when it must be rebuilt.
     mesh_of: Option<(f64, animate::Stage, Option<usize>)>,
-    pub ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
+    ghosts: Arc<Vec<Ghost<Arc<Mesh>>>>,
     ghosts_of: Option<GhostsOf>,
     /// Counts changes of `scene`.
     version: u64,
     /// Frame the cloth (and move the ground under it) once a newly opened scene is relaxed.
-    pub frame_when_shown: bool,
+    frame_when_shown: bool,
     /// The bounds of a newly opened scene just shown, until the viewport takes them.
     opened_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// The shown version whose shapes the worker was last asked to count crossings of.
@@ -95,6 +96,43 @@ impl Shown {
             opened_bounds: None,
             crossings_asked: None,
         }
+    }
+
+    /// The scene on screen.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The cloth on screen at the playhead, in the stage shown.
+    pub fn mesh(&self) -> &Arc<Mesh> {
+        &self.mesh
+    }
+
+    /// The onion-skin ghosts on screen.
+    pub fn ghosts(&self) -> &Arc<Vec<Ghost<Arc<Mesh>>>> {
+        &self.ghosts
+    }
+
+    /// A newly opened scene: once its shapes are shown, the viewport frames
+    /// it ([`Shown::take_opened_bounds`]).
+    pub fn frame_once_shown(&mut self) {
+        self.frame_when_shown = true;
+    }
+
+    /// `scene` at `frame` with the rest shapes shown (a key added from the pose on screen).
+    pub fn evaluate_frame(&mut self, scene: &Scene, frame: f64) -> Mesh {
+        self.evaluator.evaluate_frame(scene, frame)
+    }
+
+    /// The overlays `show` asks for on the cloth on screen, for the key in
+    /// effect at `frame`, each pin as `pin_state` says.
+    pub fn key_overlay(
+        &mut self,
+        frame: f64,
+        show: SceneOverlays,
+        pin_state: impl Fn((u32, u32)) -> PinState,
+    ) -> Overlay {
+        key_overlay(&mut self.evaluator, &self.scene, frame, &self.mesh, show, pin_state)
     }
 
     /// An evaluator for a job on another thread (an export), holding the

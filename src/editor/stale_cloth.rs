@@ -24,10 +24,15 @@ const STALE_BACK: [f32; 3] = [0.15, 0.16, 0.17];
 pub struct StaleCloth {
     behind_since: Option<Instant>,
     /// Whether the last frame drew the cloth as stale.
-    pub drawn_stale: bool,
+    drawn_stale: bool,
 }
 
 impl StaleCloth {
+    /// Whether the last frame drew the cloth as stale.
+    pub fn drawn_stale(&self) -> bool {
+        self.drawn_stale
+    }
+
     /// Notes whether the cloth shown is `behind` the document this frame
     /// and whether it is drawn as stale: once it has lagged for
     /// [`STALE_AFTER`]. Asks for a frame then, so the grey shows without

@@ -7,12 +7,11 @@
 //!
 //! Every frame is computed directly, so scrubbing shows the frame at once.
 
-use std::time::Instant;
-
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use super::number_field::number_field;
 use super::param_edit::Keyed;
+use super::session::Repaint;
 use super::timeline_zoom::TimelineZoom;
 use super::workspace::Workspace;
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME, Scene};
@@ -110,10 +109,10 @@ impl Track {
 /// The timeline's own state: how it plays, its zoom, and a key being dragged.
 pub struct TimelinePanel {
     /// Playback wraps round to the start (else it stops at the end).
-    pub looping: bool,
+    looping: bool,
     /// Playback shows every frame, one after another, even when the display
     /// cannot keep up (else it keeps the scene's clock and skips frames).
-    pub every_frame: bool,
+    every_frame: bool,
     /// The part of the timeline the track shows.
     zoom: TimelineZoom,
     /// The rest-shape key being dragged.
@@ -149,50 +148,19 @@ impl TimelinePanel {
     /// Moves the playhead while playing, holding whole frames like the scene's
     /// clock, or (every frame) one frame per frame time at most.
     pub fn advance_playback(&self, ctx: &egui::Context, w: &mut Workspace) {
-        let session = &mut w.session;
-        if !session.playing {
-            return;
-        }
         let timeline = &w.doc.scene().timeline;
-        let (started_at, started_frame) = *session.play_started.get_or_insert((Instant::now(), session.frame));
-        let start = f64::from(timeline.start);
-        let length = f64::from(timeline.end - timeline.start) + 1.0;
-        if self.every_frame {
-            // The clock restarts at each frame shown, so a slow frame delays the next instead of skipping it.
-            let frame_secs = 1.0 / timeline.fps;
-            let waited = started_at.elapsed().as_secs_f64();
-            if waited < frame_secs {
-                ctx.request_repaint_after(std::time::Duration::from_secs_f64(frame_secs - waited));
-                return;
-            }
-            let next = started_frame.round() + 1.0;
-            if next > f64::from(timeline.end) && !self.looping {
-                session.frame = f64::from(timeline.end);
-                session.playing = false;
-                return;
-            }
-            session.frame = if next > f64::from(timeline.end) { start } else { next };
-            session.play_started = Some((Instant::now(), session.frame));
-            ctx.request_repaint();
-            return;
+        match w.session.advance_playback(timeline, self.looping, self.every_frame) {
+            Repaint::No => {}
+            Repaint::Now => ctx.request_repaint(),
+            Repaint::After(wait) => ctx.request_repaint_after(wait),
         }
-        let played = started_at.elapsed().as_secs_f64() * timeline.fps;
-        // Loops over start..=end (or stops at the end).
-        let offset = started_frame - start + played;
-        if !self.looping && offset >= length - 1.0 {
-            session.frame = f64::from(timeline.end);
-            session.playing = false;
-            return;
-        }
-        session.frame = start + offset.rem_euclid(length).floor();
-        ctx.request_repaint();
     }
 
     fn transport_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         let timeline = w.doc.scene().timeline.clone();
         ui.horizontal(|ui| {
             // Fixed widths: Play/Pause and the frame readouts do not push the fields along.
-            let label = if w.session.playing { "Pause" } else { "Play" };
+            let label = if w.session.playing() { "Pause" } else { "Play" };
             if ui
                 .add(egui::Button::new(label).min_size(egui::vec2(PLAY_BUTTON_WIDTH, 0.0)))
                 .on_hover_text("Space")
@@ -201,7 +169,7 @@ impl TimelinePanel {
                 w.toggle_play();
             }
             ui.toggle_value(&mut self.looping, "Loop").on_hover_text("Play the range over and over");
-            let auto_key = egui::Button::selectable(w.session.auto_key, "Auto key").fill(if w.session.auto_key {
+            let auto_key = egui::Button::selectable(w.session.auto_key(), "Auto key").fill(if w.session.auto_key() {
                 AUTO_KEY_RED
             } else {
                 Color32::TRANSPARENT
@@ -214,7 +182,7 @@ impl TimelinePanel {
                 )
                 .clicked()
             {
-                w.session.auto_key = !w.session.auto_key;
+                w.session.toggle_auto_key();
             }
             ui.toggle_value(&mut self.every_frame, "Every frame").on_hover_text(
                 "Play every frame, slower than real time if the display cannot keep up \
@@ -223,7 +191,7 @@ impl TimelinePanel {
             ui.separator();
             let label = ui.label("Frame").id;
             let mut frame = w.frame().round() as i32;
-            let field = number_field(&mut frame).range(timeline.start..=timeline.end);
+            let field = number_field(ui.ctx(), &mut frame).range(timeline.start..=timeline.end);
             let r = ui.add_sized([FRAME_FIELD_WIDTH, ui.spacing().interact_size.y], field).labelled_by(label);
             if r.changed() {
                 w.set_frame(f64::from(frame));
@@ -233,21 +201,21 @@ impl TimelinePanel {
             ui.separator();
             let mut fps = timeline.fps;
             let label = ui.label("fps").id;
-            let r = ui.add(number_field(&mut fps).range(1.0..=MAX_FPS).speed(0.1).max_decimals(3));
+            let r = ui.add(number_field(ui.ctx(), &mut fps).range(1.0..=MAX_FPS).speed(0.1).max_decimals(3));
             let r = r.labelled_by(label);
             timeline_field(w, &r, "Frame rate", |s| s.timeline.fps = fps);
             let (mut start, mut end) = (timeline.start, timeline.end);
             let label = ui.label("Start").id;
-            let r = ui.add(number_field(&mut start).range(-MAX_TIMELINE_FRAME..=end)).labelled_by(label);
+            let r = ui.add(number_field(ui.ctx(), &mut start).range(-MAX_TIMELINE_FRAME..=end)).labelled_by(label);
             timeline_field(w, &r, "Timeline start", |s| s.timeline.start = start);
             let label = ui.label("End").id;
-            let r = ui.add(number_field(&mut end).range(start..=MAX_TIMELINE_FRAME)).labelled_by(label);
+            let r = ui.add(number_field(ui.ctx(), &mut end).range(start..=MAX_TIMELINE_FRAME)).labelled_by(label);
             timeline_field(w, &r, "Timeline end", |s| s.timeline.end = end);
             ui.separator();
             if ui.button("Add key").on_hover_text("K: a rest-shape key here, from the current pose").clicked() {
                 w.add_key_here();
             }
-            let selected = w.session.selected_key.is_some();
+            let selected = w.session.selected_key().is_some();
             if ui.add_enabled(selected, egui::Button::new("Delete key")).clicked() {
                 w.delete_selected_key();
             }
@@ -275,7 +243,7 @@ impl TimelinePanel {
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Slider, true, "Timeline"));
         let inner = rect.shrink2(Vec2::new(DIAMOND + 2.0, 0.0));
         self.zoom_and_pan(ui, &response, inner, &timeline);
-        if w.session.playing {
+        if w.session.playing() {
             self.zoom.keep_in_view(w.frame(), timeline.start, timeline.end);
         }
         let (shown_start, shown_end) = self.zoom.shown(timeline.start, timeline.end);
@@ -327,7 +295,7 @@ impl TimelinePanel {
             if x < rect.left() - DIAMOND || x > rect.right() + DIAMOND {
                 continue;
             }
-            let selected = w.session.selected_key == Some(index);
+            let selected = w.session.selected_key() == Some(index);
             let fill = if selected { Color32::from_rgb(255, 200, 20) } else { Color32::from_rgb(230, 230, 230) };
             let c = Pos2::new(x, center_y);
             let diamond = vec![
@@ -359,7 +327,7 @@ impl TimelinePanel {
 
         // The selected collider's (else the selected layer's) keys, as dots
         // along the top of the keys' row: yellow as its outline, blue for a layer.
-        let keyed = Keyed::selected(w.doc.scene(), w.session.selected_layer, w.session.selected_collider);
+        let keyed = Keyed::selected(w.doc.scene(), w.session.selected_layer(), w.session.selected_collider());
         let param_frames = keyed.map_or_else(Vec::new, |k| k.key_frames(w.doc.scene()));
         let dot_y = center_y - DIAMOND - 5.0;
         let dot_under = |pos: Pos2| {
@@ -393,10 +361,9 @@ impl TimelinePanel {
             self.param_key_drag = origin.and_then(dot_under);
             self.key_drag = if self.param_key_drag.is_some() { None } else { origin.and_then(key_under) };
             if let Some(index) = self.key_drag {
-                w.session.selected_key = Some(index);
-                w.session.selection.clear();
+                w.session.select_key(index);
             } else if !response.secondary_clicked() {
-                w.session.selected_key = None;
+                w.session.let_go_of_key();
             }
         }
         if let Some(pos) = pointer
@@ -427,7 +394,7 @@ impl TimelinePanel {
             };
             response.clone().on_hover_text_at_pointer(text);
         }
-        if let Some(index) = w.session.selected_key.filter(|i| *i < keys.len()) {
+        if let Some(index) = w.session.selected_key().filter(|i| *i < keys.len()) {
             // Clicks inside must not close it: its number fields take a click to type into.
             egui::Popup::context_menu(&response)
                 .close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside)
@@ -572,7 +539,7 @@ fn key_menu(ui: &mut egui::Ui, w: &mut Workspace, index: usize) {
         ui.horizontal(|ui| {
             let mut sweeps = key.inbetween_relax;
             let label = ui.label("Re-relax in-betweens").id;
-            let drag = number_field(&mut sweeps).range(0..=MAX_INBETWEEN_RELAX).suffix(" sweeps");
+            let drag = number_field(ui.ctx(), &mut sweeps).range(0..=MAX_INBETWEEN_RELAX).suffix(" sweeps");
             if ui.add(drag).labelled_by(label).changed() {
                 w.apply("In-between relaxation", |s| s.keys[index].inbetween_relax = sweeps);
             }
@@ -608,7 +575,7 @@ fn duplicate_key(w: &mut Workspace, index: usize) {
     copy.frame = frame;
     let at = keys.iter().position(|k| k.frame > frame).unwrap_or(keys.len());
     w.apply("Duplicate key", |s| s.keys.insert(at, copy));
-    w.session.selected_key = Some(at);
+    w.session.key_made(at);
 }
 
 /// Moves key `index` to `frame`, kept between its neighbours (keys keep their order).

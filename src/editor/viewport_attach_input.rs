@@ -4,6 +4,7 @@
 
 use glam::Vec2;
 
+use super::attach;
 use super::reference_pick::pick_reference_surface;
 use super::viewport_panel::{SolidLook, ViewportPanel};
 use super::workspace::Workspace;
@@ -19,6 +20,6 @@ impl ViewportPanel {
         }
         let (origin, direction) = self.camera.ray(pointer_px, size_px);
         let hit = pick_reference_surface(w.doc.scene(), w.frame(), origin.as_dvec3(), direction.as_dvec3());
-        w.attach_clicked(hit);
+        attach::attach_clicked(w, hit);
     }
 }

@@ -26,8 +26,7 @@ impl ViewportPanel {
     ) {
         let Some(start) = w.doc.scene().colliders.get(index).cloned() else { return };
         w.session.select_collider(Some(index));
-        w.session.selection.clear();
-        w.session.selected_key = None;
+        w.session.let_go_of_pins_and_key();
         w.doc.begin_gesture("Move collider");
         let frame = w.frame().round() as i32;
         self.collider_drag = Some(ColliderDrag { index, anchor, start, frame, lock, by_gizmo: lock.is_some() });
@@ -59,7 +58,7 @@ impl ViewportPanel {
             && let Some(moved) = picking::drag_point(&self.camera, size_px, drag.anchor, drag.lock, pointer)
         {
             let offset = (moved - drag.anchor).as_dvec3();
-            let moved = edits::moved_collider(&start, offset, drag.frame, w.session.auto_key);
+            let moved = edits::moved_collider(&start, offset, drag.frame, w.session.auto_key());
             w.apply("Move collider", |s| {
                 if let Some(c) = s.colliders.get_mut(index) {
                     *c = moved;

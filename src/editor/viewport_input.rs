@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 
 use super::picking::ColliderHit;
 use super::pin_drag::{AxisLock, MovingPin, PinDrag, drag_keys};
-use super::selection::{self, Pick};
+use super::selection::Pick;
 use super::viewport_panel::{SolidLook, ViewportPanel};
 use super::workspace::Workspace;
 use super::{attach, edits, picking};
@@ -32,8 +32,8 @@ impl ViewportPanel {
             || (response.hovered() && ui.input(|i| i.smooth_scroll_delta.y) != 0.0);
         if navigates {
             // Moving the view leaves the shot camera's (it goes on from where it was).
-            if w.session.through_camera {
-                w.session.through_camera = false;
+            if w.session.through_camera() {
+                w.session.look_through_camera(false);
                 self.orbit_before_shot = None;
                 self.frame_all_pending = false;
                 self.reveal_pending = false;
@@ -65,16 +65,16 @@ impl ViewportPanel {
 
         // Hover: the cloth point under the mouse, when the grid on screen is
         // the document's; else the collider there.
-        w.session.hovered = None;
+        w.session.hover(None);
         self.hovered_collider = None;
         if let Some(pointer) = pointer_px
             && self.pin_drag.is_none()
             && self.collider_drag.is_none()
-            && w.session.attaching.is_none()
+            && w.session.attaching().is_none()
             && response.hovered()
         {
             let (point, collider) = self.under_pointer(w, pointer, size_px, pixels_per_point);
-            w.session.hovered = point;
+            w.session.hover(point);
             self.hovered_collider = collider.map(|(index, _)| index);
         }
 
@@ -89,7 +89,7 @@ impl ViewportPanel {
         if alt {
             return;
         }
-        if w.session.attaching.is_some() {
+        if w.session.attaching().is_some() {
             // The mode takes the primary button: a click attaches, a drag does nothing.
             if response.clicked_by(PointerButton::Primary)
                 && let Some(pointer) = pointer_px
@@ -109,11 +109,11 @@ impl ViewportPanel {
                 && let Some(gizmo) = self.gizmo(w, size_px)
                 && let Some(axis) = gizmo.axis_at(press)
             {
-                if w.session.selection.is_empty() {
+                if w.session.selection().is_empty() {
                     // No pin selected: the gizmo is the selected collider's.
                     let along =
                         picking::drag_along_axis(&self.camera, size_px, gizmo.origin, axis.vector(), to_px(press));
-                    if let (Some(index), Some(anchor)) = (w.session.selected_collider, along) {
+                    if let (Some(index), Some(anchor)) = (w.session.selected_collider(), along) {
                         self.start_collider_drag(w, index, anchor, Some(axis));
                         self.continue_collider_drag(ui, w, response, size_px, pointer_px);
                     }
@@ -154,26 +154,25 @@ impl ViewportPanel {
             let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
             // A plain click selects what it hits and nothing else: pins or one collider.
             let replace = how == Pick::Replace;
-            match (w.session.hovered, self.hovered_collider) {
+            match (w.session.hovered(), self.hovered_collider) {
                 (Some(point), _) if edits::is_pinned(&w.doc.scene().keys[w.edit_key_index()], point) => {
-                    selection::pick(&mut w.session.selection, &[point], how);
+                    w.session.pick_pins(&[point], how);
                     if replace {
-                        w.session.selected_collider = None;
+                        w.session.select_collider(None);
                     }
                 }
                 (Some(point), _) => w.pin_here(point, how),
                 (None, Some(index)) => {
                     if replace {
-                        w.session.selection.clear();
-                        w.session.selected_key = None;
+                        w.session.let_go_of_pins_and_key();
                     }
-                    let again = w.session.selected_collider == Some(index) && how == Pick::Toggle;
+                    let again = w.session.selected_collider() == Some(index) && how == Pick::Toggle;
                     w.session.select_collider(if again { None } else { Some(index) });
                 }
                 (None, None) => {
-                    selection::click_on_nothing(&mut w.session.selection, how);
+                    w.session.click_on_nothing(how);
                     if replace {
-                        w.session.selected_collider = None;
+                        w.session.select_collider(None);
                     }
                 }
             }
@@ -204,7 +203,7 @@ impl ViewportPanel {
         }
         let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
         let rect = response.rect;
-        let cols = w.shown.scene.cloth.cols();
+        let cols = w.shown.scene().cloth.cols();
         let key = &w.doc.scene().keys[w.edit_key_index()];
         let points_per_px = rect.width() / size_px.0.max(1) as f32;
         let inside: Vec<(u32, u32)> = key
@@ -212,13 +211,13 @@ impl ViewportPanel {
             .iter()
             .map(|p| p.grid)
             .filter(|&(i, j)| {
-                let Some(&at) = w.shown.mesh.positions.get(j as usize * cols + i as usize) else { return false };
+                let Some(&at) = w.shown.mesh().positions.get(j as usize * cols + i as usize) else { return false };
                 self.camera
                     .project(at, size_px)
                     .is_some_and(|px| area.contains(rect.min + egui::vec2(px.x, px.y) * points_per_px))
             })
             .collect();
-        selection::pick(&mut w.session.selection, &inside, how);
+        w.session.pick_pins(&inside, how);
     }
 
     /// What the pointer is over: a cloth point (see [`Self::point_at`]) or
@@ -241,8 +240,8 @@ impl ViewportPanel {
         let collider = self.collider_at(w, pointer_px, size_px);
         let Some(grid) = point else { return (None, collider) };
         let Some((_, along_m)) = collider else { return (point, None) };
-        let cols = w.shown.scene.cloth.cols();
-        let at = w.shown.mesh.positions.get(grid.1 as usize * cols + grid.0 as usize);
+        let cols = w.shown.scene().cloth.cols();
+        let at = w.shown.mesh().positions.get(grid.1 as usize * cols + grid.0 as usize);
         let depth_m = at.map_or(f32::INFINITY, |p| p.distance(self.camera.eye()));
         if along_m + HIDDEN_BEHIND_M < f64::from(depth_m) { (None, collider) } else { (point, None) }
     }
@@ -267,12 +266,12 @@ impl ViewportPanel {
         pixels_per_point: f32,
     ) -> Option<(u32, u32)> {
         let radius_px = PICK_RADIUS_PT * pixels_per_point;
-        let cols = w.shown.scene.cloth.cols();
+        let cols = w.shown.scene().cloth.cols();
         let key = &w.doc.scene().keys[w.edit_key_index()];
         let pins: Vec<(u32, u32)> = key.pins.iter().map(|p| p.grid).collect();
         let pin_positions: Vec<Vec3> = pins
             .iter()
-            .map(|&(i, j)| w.shown.mesh.positions.get(j as usize * cols + i as usize).copied().unwrap_or(Vec3::NAN))
+            .map(|&(i, j)| w.shown.mesh().positions.get(j as usize * cols + i as usize).copied().unwrap_or(Vec3::NAN))
             .collect();
         let nearest_pin = pins.iter().zip(&pin_positions).enumerate().min_by(|a, b| {
             let distance =
@@ -284,13 +283,13 @@ impl ViewportPanel {
         {
             return Some(grid);
         }
-        let index = picking::pick_vertex(&self.camera, size_px, &w.shown.mesh.positions, pointer_px, radius_px)?;
+        let index = picking::pick_vertex(&self.camera, size_px, &w.shown.mesh().positions, pointer_px, radius_px)?;
         Some(((index % cols) as u32, (index / cols) as u32))
     }
 
     fn start_pin_drag(&mut self, w: &mut Workspace, grabbed: (u32, u32), add: bool) {
-        if !w.session.selection.contains(&grabbed) {
-            selection::pick(&mut w.session.selection, &[grabbed], if add { Pick::Add } else { Pick::Replace });
+        if !w.session.selection().contains(&grabbed) {
+            w.session.pick_pins(&[grabbed], if add { Pick::Add } else { Pick::Replace });
         }
         let Some((index, pins)) = begin_selected_pins_drag(w) else { return };
         let Some(start) = pins.iter().find(|p| p.start.grid == grabbed) else { return };
@@ -342,7 +341,7 @@ impl ViewportPanel {
             let offset = (moved - drag.anchor).as_dvec3();
             let label = if pins.len() == 1 { "Move pin" } else { "Move pins" };
             let moves: Vec<_> = pins.iter().map(|p| (p.start.grid, p.from + offset)).collect();
-            w.move_pins(label, key, &moves);
+            attach::move_pins(w, label, key, &moves);
         }
         if response.drag_stopped() || !ui.input(|i| i.pointer.primary_down()) {
             self.finish_pin_drag(w);
@@ -360,11 +359,11 @@ impl ViewportPanel {
 /// selected pins as they start (attached ones where their attachments hold
 /// them at the key's frame); `None` when no key can be made.
 fn begin_selected_pins_drag(w: &mut Workspace) -> Option<(usize, Vec<MovingPin>)> {
-    let label = if w.session.selection.len() == 1 { "Move pin" } else { "Move pins" };
+    let label = if w.session.selection().len() == 1 { "Move pin" } else { "Move pins" };
     w.doc.begin_gesture(label);
     let index = w.key_to_edit(label)?;
     let key = &w.doc.scene().keys[index];
-    let selected = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid));
+    let selected = key.pins.iter().filter(|p| w.session.selection().contains(&p.grid));
     let pins =
         selected.map(|p| MovingPin { start: p.clone(), from: attach::pin_at_key(w.doc.scene(), key, p) }).collect();
     Some((index, pins))

@@ -21,7 +21,7 @@ use super::workspace::Workspace;
 use crate::animate;
 use crate::animate::colliders_at::shape_at;
 use crate::picture::framed::{cloth_and_touched, corners};
-use crate::picture::{SceneOverlays, collider_solids, key_overlay, reference_solids};
+use crate::picture::{SceneOverlays, collider_solids, reference_solids};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
 use crate::render::{Ground, OrbitCamera, Overlay, RenderOptions, Solids};
@@ -150,6 +150,8 @@ pub struct ViewportPanel {
     pub(super) plate_note: Option<(String, egui::Color32)>,
     pub stage: Stage,
     pub pin_drag: Option<PinDrag>,
+    /// The document the viewport's drags belong to ([`Workspace::document_number`]).
+    document: u64,
     pub collider_drag: Option<ColliderDrag>,
     /// The collider under the mouse (no cloth point being nearer), outlined.
     pub hovered_collider: Option<usize>,
@@ -216,7 +218,8 @@ impl ViewportPanel {
         let saved = scene.view.as_ref().map(OrbitCamera::from_view);
         let framed = saved.is_none();
         if framed {
-            w.session.follow = w.shown.travels();
+            let travels = w.shown.travels();
+            w.session.set_follow(travels);
         }
         let (min, max) = w.shown.bounds();
         ViewportPanel {
@@ -227,6 +230,7 @@ impl ViewportPanel {
             plate_note: None,
             stage: Stage::default(),
             pin_drag: None,
+            document: w.document_number(),
             collider_drag: None,
             hovered_collider: None,
             box_select: None,
@@ -255,14 +259,33 @@ impl ViewportPanel {
     /// Rebuilds the shown mesh and ghosts for the playhead, the stage and the soloed layer.
     pub fn refresh(&self, w: &mut Workspace) {
         let session = &w.session;
-        w.shown.refresh_mesh(session.frame, self.stage.mesh_stage(), session.solo_layer);
+        w.shown.refresh_mesh(session.frame(), self.stage.mesh_stage(), session.solo_layer());
         let onion = (self.toggles.onion && self.stage == Stage::Animation)
             .then_some(OnionSkin { frames: self.toggles.onion_frames, spacing: self.toggles.onion_spacing });
-        w.shown.refresh_ghosts(session.frame, onion, session.solo_layer);
+        w.shown.refresh_ghosts(session.frame(), onion, session.solo_layer());
+    }
+
+    /// The pin drag in progress in `w`'s document, if any.
+    pub fn pin_drag(&self, w: &Workspace) -> Option<&PinDrag> {
+        self.pin_drag.as_ref().filter(|_| self.document == w.document_number())
+    }
+
+    /// Undo or Redo during a pin drag: the drag ends where it is.
+    pub fn abandon_pin_drag(&mut self) {
+        self.pin_drag = None;
+    }
+
+    /// A drag begun in a document that was since replaced ends.
+    fn follow_document(&mut self, w: &Workspace) {
+        if self.document != w.document_number() {
+            self.document = w.document_number();
+            self.pin_drag = None;
+        }
     }
 
     /// Takes the viewport's area and this frame's mouse input (camera, hover, pins).
     pub fn input_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) -> ViewportArea {
+        self.follow_document(w);
         let rect = ui.available_rect_before_wrap();
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Viewport"));
@@ -281,6 +304,7 @@ impl ViewportPanel {
 
     /// Brings the shown shapes up to date and draws them into `area`.
     pub fn draw_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, area: ViewportArea) {
+        self.follow_document(w);
         w.shown.sync(&w.doc);
         if let Some((min, max)) = w.shown.take_opened_bounds() {
             self.ground = Ground::under(min, max);
@@ -290,7 +314,8 @@ impl ViewportPanel {
                 Some(_) => self.reveal_pending = true,
                 None => {
                     self.frame_all_pending = true;
-                    w.session.follow = w.shown.travels();
+                    let travels = w.shown.travels();
+                    w.session.set_follow(travels);
                 }
             }
         }
@@ -303,20 +328,20 @@ impl ViewportPanel {
             }
         }
         self.refresh(w);
-        let behind = *w.doc.scene() != w.shown.scene;
+        let behind = w.doc.scene() != w.shown.scene();
         let stale = self.stale.update(behind, ui.ctx());
         // Looking through the shot camera, its picture is the framing: the
         // orbiting view is framed once the Camera toggle is turned off.
-        if !w.session.through_camera {
+        if !w.session.through_camera() {
             let reveal = std::mem::take(&mut self.reveal_pending);
             if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.holds_what_is_framed(w, area.aspect)) {
                 self.frame_cloth(w, area.aspect);
             }
         }
-        if !w.session.through_camera {
+        if !w.session.through_camera() {
             self.follow_cloth(w);
         }
-        if let Some((i, j)) = w.session.hovered
+        if let Some((i, j)) = w.session.hovered()
             && let Some(pointer) = area.response.hover_pos()
         {
             let pinned = w.doc.scene().keys[w.edit_key_index()].pins.iter().any(|p| p.grid == (i, j));
@@ -349,16 +374,16 @@ impl ViewportPanel {
             options.transparent = true;
         }
         let frame = ViewportFrame {
-            mesh: w.shown.mesh.clone(),
+            mesh: w.shown.mesh().clone(),
             camera: self.camera,
             options,
             overlay: Arc::new(overlay),
-            ghosts: w.shown.ghosts.clone(),
+            ghosts: w.shown.ghosts().clone(),
             solids,
             size_px: area.size_px,
         };
         ui.painter().add(egui_wgpu::Callback::new_paint_callback(area.rect, frame));
-        if w.session.through_camera
+        if w.session.through_camera()
             && let Some(camera) = &w.doc.scene().camera
         {
             super::shot_view::paint_frame(ui.painter(), camera, area.rect);
@@ -385,7 +410,7 @@ impl ViewportPanel {
     /// them. With no pin selected, at the selected collider's middle. `None`
     /// with nothing selected, pins (or colliders) hidden or another grid shown.
     pub fn gizmo(&self, w: &Workspace, size_px: (u32, u32)) -> Option<Gizmo> {
-        if w.session.selection.is_empty() {
+        if w.session.selection().is_empty() {
             let index = self.selected_collider_shown(w)?;
             let middle = picking::collider_middle(&w.doc.scene().colliders[index], w.frame())?;
             return Gizmo::at(middle, &self.camera, self.rect, size_px);
@@ -394,12 +419,12 @@ impl ViewportPanel {
             return None;
         }
         let key = &w.doc.scene().keys[w.edit_key_index()];
-        let cols = w.shown.scene.cloth.cols();
-        let selected = key.pins.iter().filter(|p| w.session.selection.contains(&p.grid));
+        let cols = w.shown.scene().cloth.cols();
+        let selected = key.pins.iter().filter(|p| w.session.selection().contains(&p.grid));
         let points: Vec<glam::Vec3> = match &self.pin_drag {
             Some(_) => selected.map(|p| glam::DVec3::new(p.pos.0, p.pos.1, p.pos.2).as_vec3()).collect(),
             None => selected
-                .filter_map(|p| w.shown.mesh.positions.get(p.grid.1 as usize * cols + p.grid.0 as usize).copied())
+                .filter_map(|p| w.shown.mesh().positions.get(p.grid.1 as usize * cols + p.grid.0 as usize).copied())
                 .collect(),
         };
         if points.is_empty() {
@@ -411,14 +436,14 @@ impl ViewportPanel {
 
     /// The selected collider, if it is drawn (enabled, colliders not hidden).
     pub fn selected_collider_shown(&self, w: &Workspace) -> Option<usize> {
-        let index = w.session.selected_collider?;
+        let index = w.session.selected_collider()?;
         let collider = w.doc.scene().colliders.get(index)?;
         (collider.enabled() && self.toggles.colliders != SolidLook::Hidden).then_some(index)
     }
 
     /// Leaves the shot camera and frames the cloth on screen (F).
     pub fn frame_all(&mut self, w: &mut Workspace, aspect: f32) {
-        w.session.through_camera = false;
+        w.session.look_through_camera(false);
         if let Some(orbit) = self.orbit_before_shot.take() {
             self.camera = orbit;
         }
@@ -428,14 +453,14 @@ impl ViewportPanel {
     /// Frames the cloth on screen with the references and colliders it
     /// touches at the playhead, keeping the camera's angles.
     fn frame_cloth(&mut self, w: &Workspace, aspect: f32) {
-        if let Some((min, max)) = cloth_and_touched(&w.shown.scene, w.frame(), &w.shown.mesh.positions) {
+        if let Some((min, max)) = cloth_and_touched(w.shown.scene(), w.frame(), &w.shown.mesh().positions) {
             self.camera.frame_bounds(min, max, aspect);
         }
     }
 
     /// Whether any point of the shown cloth is in view.
     fn sees_cloth(&self, w: &Workspace, aspect: f32) -> bool {
-        self.camera.sees_any_of(w.shown.mesh.positions.iter().copied(), aspect)
+        self.camera.sees_any_of(w.shown.mesh().positions.iter().copied(), aspect)
     }
 
     /// Whether a saved view holds the cloth and what it touches at the
@@ -443,10 +468,10 @@ impl ViewportPanel {
     /// the cloth frames part of its way on purpose: seeing the cloth is
     /// enough there.
     fn holds_what_is_framed(&self, w: &Workspace, aspect: f32) -> bool {
-        if w.session.follow {
+        if w.session.follow() {
             return self.sees_cloth(w, aspect);
         }
-        cloth_and_touched(&w.shown.scene, w.frame(), &w.shown.mesh.positions)
+        cloth_and_touched(w.shown.scene(), w.frame(), &w.shown.mesh().positions)
             .is_none_or(|framed| corners(framed).into_iter().all(|corner| self.camera.sees_any_of([corner], aspect)))
     }
 
@@ -455,9 +480,9 @@ impl ViewportPanel {
     /// offsets are kept. An edit at the same frame (a pin dragged) moves the
     /// centre without moving the camera, so the pin stays under the mouse.
     fn follow_cloth(&mut self, w: &Workspace) {
-        let centre = bounds(&w.shown.mesh.positions).map(|(min, max)| (min + max) * 0.5);
+        let centre = bounds(&w.shown.mesh().positions).map(|(min, max)| (min + max) * 0.5);
         let frame = w.frame();
-        match (w.session.follow, centre, self.follow_anchor) {
+        match (w.session.follow(), centre, self.follow_anchor) {
             (true, Some(centre), Some((anchor_frame, anchor))) => {
                 if anchor_frame != frame {
                     self.camera.target += centre - anchor;
@@ -484,18 +509,17 @@ impl ViewportPanel {
         };
         let session = &w.session;
         let state = |grid: (u32, u32)| {
-            if session.selection.contains(&grid) {
+            if session.selection().contains(&grid) {
                 PinState::Selected
-            } else if session.hovered == Some(grid) || session.grid_hovered == Some(grid) {
+            } else if session.hovered() == Some(grid) || session.grid_hovered() == Some(grid) {
                 PinState::Hovered
             } else {
                 PinState::Normal
             }
         };
-        let shown = &mut w.shown;
-        let mut overlay = key_overlay(&mut shown.evaluator, &shown.scene, session.frame, &shown.mesh, show, state);
-        let scene = &w.shown.scene;
-        let key = scene.key_in_effect(session.frame);
+        let mut overlay = w.shown.key_overlay(session.frame(), show, state);
+        let scene = w.shown.scene();
+        let key = scene.key_in_effect(session.frame());
         if self.toggles.pins {
             if let Some(drag) = &self.pin_drag
                 && let Some(axis) = drag.lock
@@ -514,17 +538,17 @@ impl ViewportPanel {
                 let doc_key = &w.doc.scene().keys[w.edit_key_index()];
                 for pin in &doc_key.pins {
                     let center = glam::Vec3::new(pin.pos.0 as f32, pin.pos.1 as f32, pin.pos.2 as f32);
-                    let fill = if session.selection.contains(&pin.grid) { colors::PIN_SELECTED } else { colors::PIN };
+                    let fill = if session.selection().contains(&pin.grid) { colors::PIN_SELECTED } else { colors::PIN };
                     overlay.markers.push(Marker { center, radius_px: PIN_RADIUS_PX, fill, ring: colors::PIN_RING });
                 }
             }
         }
         self.add_layer_arrow(w, &mut overlay);
         self.add_collider_outlines(w, &mut overlay);
-        let highlight = session.hovered.or(session.grid_hovered);
+        let highlight = session.hovered().or(session.grid_hovered());
         if let Some((i, j)) = highlight
             && !key.pins.iter().any(|p| p.grid == (i, j))
-            && let Some(&center) = w.shown.mesh.positions.get(j as usize * scene.cloth.cols() + i as usize)
+            && let Some(&center) = w.shown.mesh().positions.get(j as usize * scene.cloth.cols() + i as usize)
             && w.shown_grid_is_current()
         {
             overlay.markers.push(Marker {
@@ -541,7 +565,7 @@ impl ViewportPanel {
     /// the mouse in white.
     fn add_collider_outlines(&self, w: &Workspace, overlay: &mut Overlay) {
         let scene = w.doc.scene();
-        let hovered = self.hovered_collider.filter(|i| Some(*i) != w.session.selected_collider);
+        let hovered = self.hovered_collider.filter(|i| Some(*i) != w.session.selected_collider());
         let outlined = [(self.selected_collider_shown(w), COLLIDER_SELECTED, 2.0), (hovered, COLLIDER_HOVERED, 1.5)];
         for (index, color, width_px) in outlined {
             let Some(shape) = index.and_then(|i| scene.colliders.get(i)).and_then(|c| shape_at(c, w.frame())) else {
@@ -557,8 +581,8 @@ impl ViewportPanel {
     /// the gusts' world direction from the cloth's centre, a wave's direction
     /// of travel along the surface at the centre.
     fn add_layer_arrow(&self, w: &Workspace, overlay: &mut Overlay) {
-        let Some(layer) = w.session.selected_layer.and_then(|i| w.shown.scene.layers.get(i)) else { return };
-        let mesh = &w.shown.mesh;
+        let Some(layer) = w.session.selected_layer().and_then(|i| w.shown.scene().layers.get(i)) else { return };
+        let mesh = w.shown.mesh();
         let (cols, rows) = (mesh.cols, mesh.rows);
         if cols < 3 || rows < 3 || mesh.positions.len() != cols * rows {
             return;
@@ -570,7 +594,7 @@ impl ViewportPanel {
             Layer::Sway(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
             Layer::Gusts(l) => glam::DVec3::new(l.direction.0, l.direction.1, l.direction.2).as_vec3(),
             Layer::Wave(l) => {
-                let angle = crate::animate::track::sample(&l.direction_deg, w.session.frame).to_radians() as f32;
+                let angle = crate::animate::track::sample(&l.direction_deg, w.session.frame()).to_radians() as f32;
                 let along_u = (at(ci + 1, cj) - at(ci - 1, cj)).normalize_or_zero();
                 let along_v = (at(ci, cj + 1) - at(ci, cj - 1)).normalize_or_zero();
                 along_u * angle.cos() + along_v * angle.sin()
@@ -680,7 +704,7 @@ impl ViewportPanel {
     }
 
     fn render_options(&self, w: &Workspace) -> RenderOptions {
-        let texture = if self.toggles.texture { w.shown.scene.cloth.texture } else { ClothTexture::Plain };
+        let texture = if self.toggles.texture { w.shown.scene().cloth.texture } else { ClothTexture::Plain };
         RenderOptions {
             wireframe: self.toggles.wireframe || self.stage == Stage::Catenaries,
             ground: self.toggles.ground.then_some(self.ground),
@@ -709,11 +733,14 @@ impl ViewportPanel {
             ui.toggle_value(&mut self.toggles.ground, "Ground");
             ui.toggle_value(&mut self.toggles.onion, "Onion skin")
                 .on_hover_text("Ghosts of earlier (blue) and later (orange) frames");
-            ui.toggle_value(&mut w.session.follow, "Follow")
-                .on_hover_text("The camera travels with the cloth (F frames it)");
+            let mut follow = w.session.follow();
+            ui.toggle_value(&mut follow, "Follow").on_hover_text("The camera travels with the cloth (F frames it)");
+            w.session.set_follow(follow);
             let hint = "Look through the shot camera (orbiting leaves it)";
             let missing = "The scene has no shot camera: View ▸ Add camera from view adds one";
-            toggle_if_ui(ui, w.doc.scene().camera.is_some(), &mut w.session.through_camera, "Camera", hint, missing);
+            let mut through = w.session.through_camera();
+            toggle_if_ui(ui, w.doc.scene().camera.is_some(), &mut through, "Camera", hint, missing);
+            w.session.look_through_camera(through);
             let hint = "The background plate behind the cloth, through the shot camera";
             let missing = "The scene has no plate: the Shot panel's Add plate… adds one";
             toggle_if_ui(ui, w.doc.scene().plate.is_some(), &mut self.toggles.plate, "Plate", hint, missing);
@@ -748,10 +775,10 @@ impl ViewportPanel {
                 .on_hover_text("How much of the plate the viewport shows (renders use the scene's plate opacity)");
             let onion = self.toggles.onion;
             let label = ui.add_enabled(onion, egui::Label::new("Ghosts")).id;
-            let drag = number_field(&mut self.toggles.onion_frames).range(1..=8);
+            let drag = number_field(ui.ctx(), &mut self.toggles.onion_frames).range(1..=8);
             ui.add_enabled(onion, drag).labelled_by(label).on_hover_text("Ghosts on each side of the playhead");
             let label = ui.add_enabled(onion, egui::Label::new("every")).id;
-            let drag = number_field(&mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
+            let drag = number_field(ui.ctx(), &mut self.toggles.onion_spacing).range(1..=48).suffix(" frames");
             ui.add_enabled(onion, drag).labelled_by(label);
         });
     }

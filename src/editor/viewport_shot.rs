@@ -20,7 +20,7 @@ impl ViewportPanel {
     /// The orbiting camera is kept meanwhile, and comes back when the
     /// *Camera* toggle is turned off.
     pub(super) fn look_through_shot(&mut self, w: &mut Workspace, rect: egui::Rect) {
-        if !w.session.through_camera {
+        if !w.session.through_camera() {
             if let Some(orbit) = self.orbit_before_shot.take() {
                 self.camera = orbit;
             }
@@ -30,7 +30,7 @@ impl ViewportPanel {
         let scene = w.doc.scene();
         match &scene.camera {
             Some(camera) => self.camera = through(scene, camera, w.frame(), rect),
-            None => w.session.through_camera = false,
+            None => w.session.look_through_camera(false),
         }
     }
 
@@ -42,10 +42,10 @@ impl ViewportPanel {
         let camera = w.doc.scene().camera.as_ref();
         let has = camera.is_some();
         let following = camera.and_then(|c| c.from_reference.clone());
-        let look = egui::Button::new("Look through camera").selected(w.session.through_camera);
+        let look = egui::Button::new("Look through camera").selected(w.session.through_camera());
         let toggle = ui.add_enabled(has, look);
         if toggle.on_hover_text("The viewport shows the shot camera's picture (orbiting leaves it)").clicked() {
-            w.session.through_camera = !w.session.through_camera;
+            w.session.look_through_camera(!w.session.through_camera());
             ui.close();
         }
         let not_now = following.as_ref().map(|from| {
@@ -57,7 +57,7 @@ impl ViewportPanel {
         let label = if has { "Camera from view" } else { "Add camera from view" };
         let hint = "The shot camera looks from where the viewport does, at what it looks at \
                     (keyed at the playhead where its numbers are keyed, or with Auto key)";
-        let from_view = ui.add_enabled(!w.session.through_camera && not_now.is_none(), egui::Button::new(label));
+        let from_view = ui.add_enabled(!w.session.through_camera() && not_now.is_none(), egui::Button::new(label));
         let from_view = match &not_now {
             Some(why) => from_view.on_disabled_hover_text(why),
             None => from_view.on_hover_text(hint),
@@ -102,7 +102,7 @@ impl ViewportPanel {
     /// with alpha). While the first picture loads, or when the plate cannot
     /// be read, the frame says so instead.
     pub(super) fn plate_backdrop_ui(&mut self, ui: &egui::Ui, w: &Workspace, rect: egui::Rect) -> bool {
-        if !w.session.through_camera || !self.toggles.plate {
+        if !w.session.through_camera() || !self.toggles.plate {
             return false;
         }
         let scene = w.doc.scene();

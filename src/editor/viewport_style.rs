@@ -17,7 +17,7 @@ const STYLES: [(bool, &str, &str); 2] = [
 impl ViewportPanel {
     /// The style the viewport draws in, for the scene shown.
     pub(super) fn style(&self, w: &Workspace) -> Style {
-        if self.toggles.toon { Style::Toon(ToonLook::from_settings(&w.shown.scene.cloth.toon)) } else { Style::Lit }
+        if self.toggles.toon { Style::Toon(ToonLook::from_settings(&w.shown.scene().cloth.toon)) } else { Style::Lit }
     }
 
     /// The View menu's style items: flat buttons in the menu itself (a
