@@ -49,7 +49,7 @@ mod network;
 use glam::{DVec2, DVec3};
 
 use super::catenary::Catenary;
-use interior::{EdgeLookup, Fans, Placed, place_triangle};
+use interior::{EdgeLookup, Placed, TrianglePlacer};
 use network::{classify_layout, crossing_material, find_crossings, grid_i64, select_candidates, survivors};
 
 /// A pinned grid point: grid index (i, j) held at `pos` (metres).
@@ -274,12 +274,9 @@ fn place_points(grid: GridSpec, network: &CatenaryNetwork, elasticity: f64) -> (
     }
 
     if let PinLayout::Hull { triangles, .. } = &network.layout {
-        let lookup = EdgeLookup::new(&network.kept);
-        let points: Vec<(i64, i64)> = pins.iter().map(grid_i64).collect();
-        // Kept across triangles: allocating them afresh cost page faults.
-        let mut fans = Fans::default();
+        let mut placer = TrianglePlacer::new(grid, network, pins.iter().map(grid_i64).collect(), elasticity);
         for tri in triangles {
-            place_triangle(grid, network, &lookup, &points, *tri, &mut fans, elasticity, &mut placed);
+            placer.place(*tri, &mut placed);
         }
     }
 

@@ -151,45 +151,58 @@ impl Hasher for BitsHasher {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-pub(super) fn place_triangle(
+/// Places the grid points inside the triangles of a hull of pins.
+pub(super) struct TrianglePlacer<'a> {
     grid: GridSpec,
-    network: &CatenaryNetwork,
-    lookup: &EdgeLookup,
-    points: &[(i64, i64)],
-    tri: [usize; 3],
-    fans: &mut Fans,
+    network: &'a CatenaryNetwork,
+    lookup: EdgeLookup<'a>,
+    /// Each pin's grid point.
+    points: Vec<(i64, i64)>,
     elasticity: f64,
-    placed: &mut Placed,
-) {
-    let pins = &network.pins;
-    let corners = tri.map(|k| points[k]);
-    let area2 = cross_i64(corners[0], corners[1], corners[2]);
-    let (min_i, max_i) = (corners.iter().map(|c| c.0).min().unwrap(), corners.iter().map(|c| c.0).max().unwrap());
-    let (min_j, max_j) = (corners.iter().map(|c| c.1).min().unwrap(), corners.iter().map(|c| c.1).max().unwrap());
-    let material = tri.map(|k| grid.material(pins[k].grid.0, pins[k].grid.1));
-    let opposite = [0, 1, 2].map(|v| lookup.directed(tri[(v + 1) % 3], tri[(v + 2) % 3]));
-    // About the triangle's grid points, an upper bound on its rays.
-    fans.clear(area2.unsigned_abs() as usize / 2);
-    for j in min_j..=max_j {
-        for i in min_i..=max_i {
-            let k = grid.index(i as usize, j as usize);
-            // Pins and catenary points stay; another triangle's points are covered again.
-            if !matches!(placed.placement[k], None | Some(Placement::Interior)) {
-                continue;
+    /// Kept across triangles: allocating them afresh cost page faults.
+    fans: Fans,
+}
+
+impl<'a> TrianglePlacer<'a> {
+    /// A placer for `network`'s triangles, whose pins lie at grid `points`.
+    pub(super) fn new(grid: GridSpec, network: &'a CatenaryNetwork, points: Vec<(i64, i64)>, elasticity: f64) -> Self {
+        let lookup = EdgeLookup::new(&network.kept);
+        TrianglePlacer { grid, network, lookup, points, elasticity, fans: Fans::default() }
+    }
+
+    /// Places the grid points inside triangle `tri` (pin indices).
+    pub(super) fn place(&mut self, tri: [usize; 3], placed: &mut Placed) {
+        let TrianglePlacer { grid, network, lookup, points, elasticity, fans } = self;
+        let (grid, elasticity) = (*grid, *elasticity);
+        let pins = &network.pins;
+        let corners = tri.map(|k| points[k]);
+        let area2 = cross_i64(corners[0], corners[1], corners[2]);
+        let (min_i, max_i) = (corners.iter().map(|c| c.0).min().unwrap(), corners.iter().map(|c| c.0).max().unwrap());
+        let (min_j, max_j) = (corners.iter().map(|c| c.1).min().unwrap(), corners.iter().map(|c| c.1).max().unwrap());
+        let material = tri.map(|k| grid.material(pins[k].grid.0, pins[k].grid.1));
+        let opposite = [0, 1, 2].map(|v| lookup.directed(tri[(v + 1) % 3], tri[(v + 2) % 3]));
+        // About the triangle's grid points, an upper bound on its rays.
+        fans.clear(area2.unsigned_abs() as usize / 2);
+        for j in min_j..=max_j {
+            for i in min_i..=max_i {
+                let k = grid.index(i as usize, j as usize);
+                // Pins and catenary points stay; another triangle's points are covered again.
+                if !matches!(placed.placement[k], None | Some(Placement::Interior)) {
+                    continue;
+                }
+                let p = (i, j);
+                let w = [
+                    cross_i64(corners[1], corners[2], p),
+                    cross_i64(corners[2], corners[0], p),
+                    cross_i64(corners[0], corners[1], p),
+                ];
+                if w.iter().any(|&x| x != 0 && x.signum() != area2.signum()) {
+                    continue;
+                }
+                let lambda = w.map(|x| x as f64 / area2 as f64);
+                let position = interior_point(&opposite, fans, pins, tri, material, lambda, elasticity);
+                placed.cover(k, Placement::Interior, position);
             }
-            let p = (i, j);
-            let w = [
-                cross_i64(corners[1], corners[2], p),
-                cross_i64(corners[2], corners[0], p),
-                cross_i64(corners[0], corners[1], p),
-            ];
-            if w.iter().any(|&x| x != 0 && x.signum() != area2.signum()) {
-                continue;
-            }
-            let lambda = w.map(|x| x as f64 / area2 as f64);
-            let position = interior_point(&opposite, fans, pins, tri, material, lambda, elasticity);
-            placed.cover(k, Placement::Interior, position);
         }
     }
 }
