@@ -7,9 +7,12 @@
 //! the same t gives a bit-identical mesh however it was reached, and the cost
 //! does not grow with t.
 //!
-//! The layers work on the points as separate x, y, z arrays
-//! ([`PointArrays`]), which their loops vectorise; the mesh's positions and
-//! normals are written together in the last pass, the normals of the result.
+//! Every layer goes through [`ApplyLayer`] with the same [`LayerFrame`]; the
+//! time is a frame throughout, and a time in seconds
+//! ([`Evaluator::evaluate`]) becomes one first. The layers work on the points as separate
+//! x, y, z arrays ([`PointArrays`]), which their loops vectorise; the mesh's
+//! positions and normals are written together in the last pass, the normals
+//! of the result.
 
 use std::sync::Arc;
 
@@ -19,17 +22,14 @@ use super::attachments::{carry_to_attachments, posed_key};
 use super::blend::{Segment, blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache, key_obstacles_among};
 use super::colliders_at::obstacles_at;
-use super::falloff::AttenuationField;
 use super::follow::carry_with_node;
 use super::keep_out::keep_out;
-use super::noise::FractalSampler;
+use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::posed_solids::PosedSolids;
 use super::stretch_limit::StretchLimiter;
 use super::track::sample;
-use super::wave::WaveTables;
-use super::{follow_through, gusts, sway, wave};
-use crate::mesh::{Mesh, NormalRows, PointArrays, grid_triangle_indices, grid_uvs};
-use crate::scene::{Key, Layer, Scene, Timeline};
+use crate::mesh::{Mesh, PointArrays, grid_triangle_indices, grid_uvs};
+use crate::scene::{Key, Scene, Timeline};
 
 /// What to include in an evaluation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,11 +73,9 @@ pub struct Evaluator {
     cache: RestShapeCache,
     solids: PosedSolids,
     ratio: Vec<f32>,
-    attenuation: AttenuationField,
     points: PointArrays,
-    wave_tables: WaveTables,
-    normal_rows: NormalRows,
-    sampler: FractalSampler,
+    /// The layers' buffers; its normal rows also give the mesh its normals.
+    scratch: LayerScratch,
     stretch_limiter: StretchLimiter,
     /// The blend before the layers, kept when colliders need to know where a point came from.
     before_layers: PointArrays,
@@ -118,7 +116,7 @@ impl Evaluator {
         self.cache.shape(&scene.cloth, &posed_key(scene, key), &obstacles)
     }
 
-    /// The mesh of `scene` at `t_secs`, with every layer.
+    /// The mesh of `scene` at `t_secs` (frame t_secs · fps), with every layer.
     pub fn evaluate(&mut self, scene: &Scene, t_secs: f64) -> Mesh {
         self.evaluate_with(scene, t_secs, EvaluateOptions::default())
     }
@@ -129,15 +127,11 @@ impl Evaluator {
         mesh
     }
 
-    /// The mesh of `scene` at a (possibly fractional) `frame`, with every
-    /// layer: [`Evaluator::evaluate`] at [`frame_time_secs`].
+    /// The mesh of `scene` at a (possibly fractional) `frame`, with every layer.
     pub fn evaluate_frame(&mut self, scene: &Scene, frame: f64) -> Mesh {
-        self.evaluate(scene, frame_time_secs(&scene.timeline, frame))
-    }
-
-    /// [`Evaluator::evaluate_into`] at `frame` (possibly fractional).
-    pub fn evaluate_frame_into(&mut self, scene: &Scene, frame: f64, options: EvaluateOptions, mesh: &mut Mesh) {
-        self.evaluate_into(scene, frame_time_secs(&scene.timeline, frame), options, mesh);
+        let mut mesh = Mesh::default();
+        self.evaluate_frame_into(scene, frame, EvaluateOptions::default(), &mut mesh);
+        mesh
     }
 
     /// Writes the mesh `stage` shows at `frame` into `mesh`: the animation as
@@ -162,20 +156,25 @@ impl Evaluator {
         *mesh = Mesh::from_grid(scene.cloth.cols(), scene.cloth.rows(), points);
     }
 
-    /// Writes the mesh of `scene` at `t_secs` into `mesh`, reusing its
-    /// buffers (UVs and indices are only rewritten when the grid changes, so
-    /// `mesh` should only be written by this evaluator).
-    ///
-    /// The scene must be valid ([`Scene::validate`]). A non-finite `t_secs`
-    /// evaluates as the first key held.
+    /// [`Evaluator::evaluate_frame_into`] at `t_secs`, the frame t_secs · fps.
     pub fn evaluate_into(&mut self, scene: &Scene, t_secs: f64, options: EvaluateOptions, mesh: &mut Mesh) {
+        self.evaluate_frame_into(scene, t_secs * scene.timeline.fps, options, mesh);
+    }
+
+    /// Writes the mesh of `scene` at a (possibly fractional) `frame` into
+    /// `mesh`, reusing its buffers (UVs and indices are only rewritten when
+    /// the grid changes, so `mesh` should only be written by this evaluator).
+    ///
+    /// The scene must be valid ([`Scene::validate`]). A frame whose time in
+    /// seconds is not finite evaluates as the first key held.
+    pub fn evaluate_frame_into(&mut self, scene: &Scene, frame: f64, options: EvaluateOptions, mesh: &mut Mesh) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            unsafe { self.evaluate_avx2(scene, t_secs, options, mesh) };
+            unsafe { self.evaluate_avx2(scene, frame, options, mesh) };
             return;
         }
-        self.evaluate_portable(scene, t_secs, options, mesh);
+        self.evaluate_portable(scene, frame, options, mesh);
     }
 
     /// [`Evaluator::evaluate_portable`] compiled for AVX2, so that the
@@ -185,12 +184,12 @@ impl Evaluator {
     /// equals the portable build's bit for bit (a test checks it).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn evaluate_avx2(&mut self, scene: &Scene, t_secs: f64, options: EvaluateOptions, mesh: &mut Mesh) {
-        self.evaluate_portable(scene, t_secs, options, mesh);
+    fn evaluate_avx2(&mut self, scene: &Scene, frame: f64, options: EvaluateOptions, mesh: &mut Mesh) {
+        self.evaluate_portable(scene, frame, options, mesh);
     }
 
     #[inline(always)]
-    fn evaluate_portable(&mut self, scene: &Scene, t_secs: f64, options: EvaluateOptions, mesh: &mut Mesh) {
+    fn evaluate_portable(&mut self, scene: &Scene, frame: f64, options: EvaluateOptions, mesh: &mut Mesh) {
         let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
         if mesh.cols != cols || mesh.rows != rows || mesh.indices.len() != (cols - 1) * (rows - 1) * 6 {
             mesh.cols = cols;
@@ -198,8 +197,8 @@ impl Evaluator {
             mesh.uvs = grid_uvs(cols, rows);
             mesh.indices = grid_triangle_indices(cols, rows);
         }
-        let t_secs = if t_secs.is_finite() { t_secs } else { f64::NEG_INFINITY };
-        let frame = t_secs * scene.timeline.fps;
+        let fps = scene.timeline.fps;
+        let frame = if frame_time_secs(&scene.timeline, frame).is_finite() { frame } else { f64::NEG_INFINITY };
         let points = &mut self.points;
         if scene.keys.is_empty() {
             // Only reachable with an unvalidated scene: lay the cloth out flat.
@@ -232,46 +231,24 @@ impl Evaluator {
                 // being let go or caught is cloth, and keeps out like cloth.
                 self.held.extend(shapes[a].pinned.iter().zip(&shapes[b].pinned).map(|(p, q)| *p && *q));
             }
-            self.attenuation.clear();
+            self.scratch.attenuation.clear();
             if options.layers {
-                let spacing_m = (scene.cloth.spacing_u_m(), scene.cloth.spacing_v_m());
+                let at = LayerFrame {
+                    frame,
+                    fps,
+                    grid: (cols, rows),
+                    spacing_m: (scene.cloth.spacing_u_m(), scene.cloth.spacing_v_m()),
+                    stretch_limit: scene.cloth.stretch_limit as f32,
+                    ratio: &self.ratio,
+                    keys: &scene.keys,
+                    shapes: &shapes,
+                };
                 for layer in scene.layers.iter().filter(|l| l.enabled()) {
                     let weight = sample(layer.weight(), frame);
                     if weight == 0.0 || !weight.is_finite() {
                         continue;
                     }
-                    let (ratio, attenuation) = (&self.ratio[..], &mut self.attenuation);
-                    match layer {
-                        Layer::Sway(s) => sway::apply(s, frame, t_secs, weight, ratio, attenuation, points),
-                        Layer::Wave(w) => wave::apply(
-                            w,
-                            frame,
-                            t_secs,
-                            weight,
-                            spacing_m,
-                            (cols, rows),
-                            ratio,
-                            attenuation,
-                            points,
-                            &mut self.wave_tables,
-                            &mut self.normal_rows,
-                        ),
-                        Layer::Gusts(g) => {
-                            gusts::apply(g, frame, t_secs, weight, ratio, attenuation, points, &mut self.sampler)
-                        }
-                        Layer::FollowThrough(f) => follow_through::apply(
-                            f,
-                            &scene.keys,
-                            &shapes,
-                            scene.timeline.fps,
-                            frame,
-                            weight,
-                            scene.cloth.stretch_limit as f32,
-                            ratio,
-                            attenuation,
-                            points,
-                        ),
-                    }
+                    layer.apply(&at, weight, &mut self.scratch, points);
                 }
                 let reaches = [&shapes[a].reach, &shapes[b].reach];
                 let reaches = if a == b { &reaches[..1] } else { &reaches[..] };
@@ -296,17 +273,19 @@ impl Evaluator {
         };
         mesh.positions.clear();
         mesh.normals.clear();
-        self.normal_rows.start(cols, rows);
-        while let Some((_, normals, [x, y, z])) = self.normal_rows.next_row(points) {
+        let normal_rows = &mut self.scratch.normal_rows;
+        normal_rows.start(cols, rows);
+        while let Some((_, normals, [x, y, z])) = normal_rows.next_row(points) {
             interleave(&mut mesh.normals, normals);
             interleave(&mut mesh.positions, [x, y, z]);
         }
     }
 }
 
-/// The mesh of `scene` at `t_secs`: rest shapes blended under the segment's
-/// easing, then every enabled layer in order. A pure function of its inputs;
-/// it relaxes every key, so interactive callers keep an [`Evaluator`] instead.
+/// The mesh of `scene` at `t_secs` (frame t_secs · fps): rest shapes blended
+/// under the segment's easing, then every enabled layer in order. A pure
+/// function of its inputs; it relaxes every key, so interactive callers keep
+/// an [`Evaluator`] instead.
 pub fn evaluate(scene: &Scene, t_secs: f64) -> Mesh {
     Evaluator::new().evaluate(scene, t_secs)
 }
@@ -349,9 +328,10 @@ mod tests {
             for scene in &scenes {
                 let (mut portable, mut vectorised) = (evaluator.evaluate(scene, 0.0), evaluator.evaluate(scene, 0.0));
                 for t_secs in [0.0, 0.3, 0.61, 2.0, 4.9, 10_000.0, 1.25] {
-                    evaluator.evaluate_portable(scene, t_secs, EvaluateOptions::default(), &mut portable);
+                    let frame = t_secs * scene.timeline.fps;
+                    evaluator.evaluate_portable(scene, frame, EvaluateOptions::default(), &mut portable);
                     // SAFETY: the CPU supports AVX2, checked above.
-                    unsafe { evaluator.evaluate_avx2(scene, t_secs, EvaluateOptions::default(), &mut vectorised) };
+                    unsafe { evaluator.evaluate_avx2(scene, frame, EvaluateOptions::default(), &mut vectorised) };
                     assert_eq!(bits(&portable.positions), bits(&vectorised.positions), "{} at {t_secs} s", scene.name);
                     assert_eq!(bits(&portable.normals), bits(&vectorised.normals), "{} at {t_secs} s", scene.name);
                 }

@@ -21,10 +21,10 @@ use glam::Vec3;
 
 use super::blend::{Segment, segment_at};
 use super::cache::KeyShape;
-use super::falloff::AttenuationField;
+use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::track::sample;
 use crate::mesh::PointArrays;
-use crate::scene::{FollowThrough, Key};
+use crate::scene::FollowThrough;
 
 /// The straight vertex blend of the rest shapes at vertex `k` in `segment`.
 #[inline]
@@ -72,40 +72,32 @@ fn lag_within_limit(
     }
 }
 
-/// Adds the follow-through to `points`, attenuated per vertex by `ratio`;
-/// `limit` is the cloth's stretch limit (0: off, the lag is never shortened).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-pub fn apply(
-    follow: &FollowThrough,
-    keys: &[Key],
-    shapes: &[Arc<KeyShape>],
-    fps: f64,
-    frame: f64,
-    weight: f64,
-    limit: f32,
-    ratio: &[f32],
-    attenuation: &mut AttenuationField,
-    points: &mut PointArrays,
-) {
-    let lag_secs = sample(&follow.lag, frame);
-    let falloff = sample(&follow.falloff, frame) as f32;
-    if keys.len() < 2 || weight == 0.0 || !weight.is_finite() || !(lag_secs > 0.0) {
-        return;
-    }
-    let now = segment_at(keys, frame);
-    let lag_secs = lag_within_limit(lag_secs, limit, falloff, shapes, now, segment_at(keys, frame - lag_secs * fps));
-    let weight = weight as f32;
-    for (k, &a) in attenuation.of(ratio, falloff).iter().enumerate() {
-        if a == 0.0 {
-            continue;
+/// Adds the follow-through to `points`, attenuated per vertex; with the
+/// cloth's stretch limit off (0) the lag is never shortened.
+impl ApplyLayer for FollowThrough {
+    #[inline(always)]
+    fn apply(&self, at: &LayerFrame, weight: f64, scratch: &mut LayerScratch, points: &mut PointArrays) {
+        let LayerFrame { frame, fps, keys, shapes, .. } = *at;
+        let lag_secs = sample(&self.lag, frame);
+        let falloff = sample(&self.falloff, frame) as f32;
+        if keys.len() < 2 || weight == 0.0 || !weight.is_finite() || !(lag_secs > 0.0) {
+            return;
         }
-        let then = segment_at(keys, frame - lag_secs * f64::from(a) * fps);
-        if then == now {
-            continue;
+        let now = segment_at(keys, frame);
+        let then = segment_at(keys, frame - lag_secs * fps);
+        let lag_secs = lag_within_limit(lag_secs, at.stretch_limit, falloff, shapes, now, then);
+        let weight = weight as f32;
+        for (k, &a) in scratch.attenuation.of(at.ratio, falloff).iter().enumerate() {
+            if a == 0.0 {
+                continue;
+            }
+            let then = segment_at(keys, frame - lag_secs * f64::from(a) * fps);
+            if then == now {
+                continue;
+            }
+            let moved = points.get(k) + (blended_vertex(shapes, then, k) - blended_vertex(shapes, now, k)) * weight;
+            points.set(k, moved);
         }
-        let moved = points.get(k) + (blended_vertex(shapes, then, k) - blended_vertex(shapes, now, k)) * weight;
-        points.set(k, moved);
     }
 }
 
@@ -115,7 +107,7 @@ mod tests {
     use crate::animate::blend::blend_segment;
     use crate::animate::evaluate::Evaluator;
     use crate::animate::stretch_limit::longest_stretch;
-    use crate::scene::{Cloth, Ease, Pin, RelaxSettings};
+    use crate::scene::{Cloth, Ease, Key, Pin, RelaxSettings};
 
     /// A 1 m cloth held at its four corners, moved `travel_m` along z in 12 frames.
     fn keys(travel_m: f64) -> (Cloth, Vec<Key>) {
@@ -152,7 +144,18 @@ mod tests {
         let mut ratio = Vec::new();
         blend_segment(&keys, &shapes, segment_at(&keys, frame), &mut points, &mut ratio);
         let follow = FollowThrough { lag: 0.3.into(), falloff: 1.0.into(), ..FollowThrough::with_start_values() };
-        apply(&follow, &keys, &shapes, 24.0, frame, 1.0, limit, &ratio, &mut AttenuationField::default(), &mut points);
+        let (cols, rows) = (cloth.cols(), cloth.rows());
+        let at = LayerFrame {
+            frame,
+            fps: 24.0,
+            grid: (cols, rows),
+            spacing_m: (cloth.spacing_u_m(), cloth.spacing_v_m()),
+            stretch_limit: limit,
+            ratio: &ratio,
+            keys: &keys,
+            shapes: &shapes,
+        };
+        follow.apply(&at, 1.0, &mut LayerScratch::default(), &mut points);
         let positions: Vec<Vec3> = (0..points.len()).map(|k| points.get(k)).collect();
         let rest = cloth.spacing_u_m() * 1.1;
         let longest = longest_stretch(&positions, (cloth.cols(), cloth.rows()), rest, rest);

@@ -7,6 +7,7 @@
 //! - [`falloff`]: a = (d_cp/d_max)^falloff in material space.
 //! - [`cache`]: rest shapes cached per key by content.
 //! - [`blend`]: in-betweens: which keys surround a frame, and their blend.
+//! - [`layer`]: the one interface every layer implements ([`layer::ApplyLayer`]).
 //! - [`sway`], [`wave`], [`gusts`], [`follow_through`]: the layers, whose parameters
 //!   are listed once in `scene/layers.rs`.
 //! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
@@ -15,7 +16,7 @@
 //! - [`follow`]: the cloth carried by a node of a reference.
 //! - [`attachments`]: pins bound to a reference, exactly on it at every frame.
 //! - [`references_at`]: each referenced glTF file posed at a frame, placed in the scene.
-//! - [`noise`]: the seeded value noise behind the gusts.
+//! - [`noise`]: the seeded value noise behind the gusts; [`wave_tables`]: the sines behind the wave.
 //! - [`evaluate`](mod@evaluate): scene + time → mesh.
 
 pub mod attachments;
@@ -29,6 +30,7 @@ pub mod follow;
 pub mod follow_through;
 pub mod gusts;
 pub mod keep_out;
+pub mod layer;
 pub mod noise;
 pub mod posed_solids;
 pub mod references_at;
@@ -36,6 +38,7 @@ pub mod stretch_limit;
 pub mod sway;
 pub mod track;
 pub mod wave;
+pub mod wave_tables;
 
 pub use cache::{KeyShape, RestShapeCache, key_obstacles, key_obstacles_among};
 pub use evaluate::{EvaluateOptions, Evaluator, Stage, evaluate, frame_time_secs};

@@ -4,17 +4,18 @@
 
 use glam::{DVec3, Vec3};
 
-use super::falloff::AttenuationField;
+use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::track::sample;
 use crate::mesh::PointArrays;
 use crate::scene::Sway;
 
 /// The whole-cloth displacement before attenuation (metres), weight included.
 /// A zero or non-finite direction gives no displacement.
-pub fn displacement(sway: &Sway, frame: f64, t_secs: f64, weight: f64) -> DVec3 {
+pub fn displacement(sway: &Sway, at: &LayerFrame, weight: f64) -> DVec3 {
+    let frame = at.frame;
     let frequency_hz = sample(&sway.frequency, frame);
     let osc = if frequency_hz > 0.0 {
-        (std::f64::consts::TAU * frequency_hz * t_secs + sample(&sway.phase, frame)).sin()
+        (std::f64::consts::TAU * frequency_hz * at.secs() + sample(&sway.phase, frame)).sin()
     } else {
         1.0
     };
@@ -22,26 +23,20 @@ pub fn displacement(sway: &Sway, frame: f64, t_secs: f64, weight: f64) -> DVec3 
     direction * (weight * sample(&sway.magnitude, frame) * sample(&sway.speed, frame) * osc)
 }
 
-/// Adds the sway to `points`, attenuated per vertex by `ratio` (d_cp/d_max).
-#[inline(always)]
-pub fn apply(
-    sway: &Sway,
-    frame: f64,
-    t_secs: f64,
-    weight: f64,
-    ratio: &[f32],
-    attenuation: &mut AttenuationField,
-    points: &mut PointArrays,
-) {
-    let d = displacement(sway, frame, t_secs, weight).as_vec3();
-    let falloff = sample(&sway.falloff, frame) as f32;
-    if d == Vec3::ZERO || !d.is_finite() {
-        return;
-    }
-    let a = attenuation.of(ratio, falloff);
-    for (values, d) in [(&mut points.x, d.x), (&mut points.y, d.y), (&mut points.z, d.z)] {
-        for (p, &a) in values.iter_mut().zip(a) {
-            *p += d * a;
+/// Adds the sway to `points`, attenuated per vertex.
+impl ApplyLayer for Sway {
+    #[inline(always)]
+    fn apply(&self, at: &LayerFrame, weight: f64, scratch: &mut LayerScratch, points: &mut PointArrays) {
+        let d = displacement(self, at, weight).as_vec3();
+        let falloff = sample(&self.falloff, at.frame) as f32;
+        if d == Vec3::ZERO || !d.is_finite() {
+            return;
+        }
+        let a = scratch.attenuation.of(at.ratio, falloff);
+        for (values, d) in [(&mut points.x, d.x), (&mut points.y, d.y), (&mut points.z, d.z)] {
+            for (p, &a) in values.iter_mut().zip(a) {
+                *p += d * a;
+            }
         }
     }
 }
