@@ -463,14 +463,15 @@ fn work_period_references_are_told_from_ordinary_words() {
 
 /// The editor's state types. Each changes its own fields, through methods
 /// named for what the user did, so a field's writers are found in the file
-/// that defines the type: none of their fields is `pub`, `pub(crate)`,
-/// `pub(super)` or `pub(in …)`.
-const EDITOR_STATE_TYPES: [&str; 15] = [
+/// that defines the type (for `ViewportPanel`, the viewport's folder): none
+/// of their fields is `pub`, `pub(crate)`, `pub(super)` or `pub(in …)`.
+const EDITOR_STATE_TYPES: [&str; 16] = [
     "DrapeApp",
     "Workspace",
     "Session",
     "Shown",
     "Document",
+    "ViewportPanel",
     "StaleCloth",
     "TimelinePanel",
     "ClothPanel",

@@ -1438,7 +1438,7 @@ fn edits_pinned(harness: &Harness<'_, DrapeApp>, point: (u32, u32)) -> bool {
 
 #[test]
 fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
-    use drape::editor::pin_drag::AxisLock;
+    use drape::editor::viewport::pin_drag::AxisLock;
     let workspace = Workspace::new();
     let mut harness = open_editor(&workspace, new_scene(), None);
     let grid_rect = grid_editor_rect(&mut harness);
@@ -1475,8 +1475,8 @@ fn the_gizmo_moves_the_selected_pin_along_the_dragged_axis() {
 /// viewport (they were painted on a foreground layer of their own, over it).
 #[test]
 fn the_save_dialog_covers_the_gizmo() {
-    use drape::editor::gizmo::axis_color;
-    use drape::editor::pin_drag::AxisLock;
+    use drape::editor::viewport::gizmo::axis_color;
+    use drape::editor::viewport::pin_drag::AxisLock;
     let workspace = Workspace::new();
     let mut harness = open_editor(&workspace, new_scene(), None);
     let grid_rect = grid_editor_rect(&mut harness);
@@ -1686,7 +1686,7 @@ fn a_collider_is_picked_dragged_and_moved_along_an_axis_in_the_viewport() {
 
     // The gizmo's Y arrow: up only.
     settle(&mut harness);
-    use drape::editor::pin_drag::AxisLock;
+    use drape::editor::viewport::pin_drag::AxisLock;
     let gizmo = harness.state().gizmo().expect("the collider's gizmo");
     let origin = harness.state().screen_pos(gizmo.origin).unwrap();
     let along = gizmo.tip(AxisLock::Y).unwrap() - origin;
@@ -2396,7 +2396,7 @@ fn release(harness: &mut Harness<'_, DrapeApp>, at: Pos2) {
 /// cloth is drawn as usual.
 #[test]
 fn a_dragged_collider_greys_the_old_cloth_until_the_new_shape_is_in() {
-    use drape::editor::pin_drag::AxisLock;
+    use drape::editor::viewport::pin_drag::AxisLock;
     let workspace = Workspace::new();
     let mut harness = open_round_table_with_top_selected(&workspace);
     assert!(!harness.state().cloth_drawn_stale());
@@ -2406,7 +2406,7 @@ fn a_dragged_collider_greys_the_old_cloth_until_the_new_shape_is_in() {
     let grab = origin + along * 0.7;
     let to = grab + along * 0.6;
     press_and_move(&mut harness, grab, to, 3);
-    std::thread::sleep(drape::editor::stale_cloth::STALE_AFTER + Duration::from_millis(50));
+    std::thread::sleep(drape::editor::viewport::stale_cloth::STALE_AFTER + Duration::from_millis(50));
     harness.step();
     assert_ne!(harness.state().scene(), harness.state().shown_scene(), "the new shape is being solved");
     assert!(harness.state().cloth_drawn_stale(), "the old cloth is drawn as stale during the drag");

@@ -14,12 +14,14 @@ use std::time::{Duration, Instant};
 use eframe::egui::{self, Key as KeyCode, KeyboardShortcut};
 use eframe::egui_wgpu;
 
+use super::attach;
 use super::cloth_panel::{ClothPanel, GRID_EDITOR_HINT};
 use super::colliders_panel::CollidersPanel;
 use super::document::Document;
 use super::export_window::ExportWindow;
 use super::files::{FileWindow, Files};
 use super::layers_panel::LayersPanel;
+use super::pin_clipboard;
 use super::recent::default_config_dir;
 use super::recovery::default_state_dir;
 use super::references_panel::ReferencesPanel;
@@ -31,11 +33,10 @@ use super::shortcuts::{
 use super::shot_panel::ShotPanel;
 use super::timeline::TimelinePanel;
 use super::typing_pace::TypingPace;
-use super::viewport;
-use super::viewport_panel::{Stage, ViewportPanel};
+use super::viewport::ViewportPanel;
+use super::viewport::gpu;
 use super::window_size::{self, DEFAULT_WINDOW_SIZE, MIN_WINDOW_SIZE, WINDOW_SIZE_NAME};
 use super::workspace::{MESSAGE_SECS, Workspace};
-use super::{attach, pin_clipboard};
 use crate::mesh::Mesh;
 use crate::render::OrbitCamera;
 use crate::scene::Scene;
@@ -78,7 +79,7 @@ impl DrapeApp {
     /// Opens `scene`, framing the camera on its keys (or using its saved view).
     pub fn new(scene: Scene, path: Option<PathBuf>, render_state: Option<&egui_wgpu::RenderState>) -> DrapeApp {
         if let Some(render_state) = render_state {
-            viewport::install(render_state);
+            gpu::install(render_state);
         }
         // The first shapes are relaxed before the window shows anything: there is no older shape to show.
         let mut work = Workspace::new(scene, path);
@@ -137,7 +138,7 @@ impl DrapeApp {
 
     /// Where the viewport was drawn in the last frame, in points.
     pub fn viewport_rect(&self) -> egui::Rect {
-        self.viewport.rect
+        self.viewport.rect()
     }
 
     /// Where the status bar (messages, timings) was drawn in the last frame, in points.
@@ -165,12 +166,12 @@ impl DrapeApp {
     }
 
     /// The translate gizmo on the selected pins, as drawn last frame.
-    pub fn gizmo(&self) -> Option<super::gizmo::Gizmo> {
-        self.viewport.gizmo(&self.work, self.viewport.size_px)
+    pub fn gizmo(&self) -> Option<super::viewport::gizmo::Gizmo> {
+        self.viewport.drawn_gizmo(&self.work)
     }
 
     pub fn camera(&self) -> &OrbitCamera {
-        &self.viewport.camera
+        self.viewport.camera()
     }
 
     pub fn frame(&self) -> f64 {
@@ -191,7 +192,7 @@ impl DrapeApp {
         self.work.session.playing()
     }
 
-    /// The mesh on screen: for [`Stage::Animation`], `evaluate` of the shown scene at [`DrapeApp::frame`].
+    /// The mesh on screen: for [`Stage::Animation`](super::viewport::Stage::Animation), `evaluate` of the shown scene at [`DrapeApp::frame`].
     pub fn mesh(&self) -> &Mesh {
         self.work.shown.mesh()
     }
@@ -218,7 +219,7 @@ impl DrapeApp {
     /// Whether the viewport drew the cloth as stale last frame: grey, the
     /// old shape on screen while the document's new one is solved.
     pub fn cloth_drawn_stale(&self) -> bool {
-        self.viewport.stale.drawn_stale()
+        self.viewport.cloth_drawn_stale()
     }
 
     /// Whether a relaxation is pending or running.
@@ -285,12 +286,12 @@ impl DrapeApp {
 
     /// Opens the scene at `path` (a problem is shown in a dialog, the current work kept).
     pub fn open_path(&mut self, path: &Path) {
-        self.files.open_path(&mut self.work, &mut self.viewport.camera, path);
+        self.files.open_path(&mut self.work, self.viewport.camera_mut(), path);
     }
 
     /// Saves the document to `path`; false (with the problem shown) when it could not be written.
     pub fn save_to(&mut self, path: &Path) -> bool {
-        self.files.save_to(&mut self.work, &self.viewport.camera, path)
+        self.files.save_to(&mut self.work, self.viewport.camera(), path)
     }
 
     /// Shows a file problem in a dialog until the user dismisses it.
@@ -311,10 +312,10 @@ impl DrapeApp {
     fn menu_bar(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             let file =
-                ui.menu_button("File", |ui| self.files.file_menu_ui(ui, &mut self.work, &mut self.viewport.camera));
+                ui.menu_button("File", |ui| self.files.file_menu_ui(ui, &mut self.work, self.viewport.camera_mut()));
             match file.inner.flatten() {
                 Some(FileWindow::Export) => self.export.open_for(&self.work.doc),
-                Some(FileWindow::Render) => self.render.open_for(&self.work.doc, self.viewport.toggles.toon),
+                Some(FileWindow::Render) => self.render.open_for(&self.work.doc, self.viewport.toon()),
                 None => {}
             }
             ui.menu_button("Edit", |ui| {
@@ -356,13 +357,10 @@ impl DrapeApp {
             });
             ui.menu_button("View", |ui| {
                 if ui.add(egui::Button::new("Frame all").shortcut_text("F")).clicked() {
-                    self.work.session.look_through_camera(false);
-                    self.viewport.frame_all_pending = true;
+                    self.viewport.frame_all_from_menu(&mut self.work);
                 }
                 ui.separator();
-                for stage in Stage::ALL {
-                    ui.radio_value(&mut self.viewport.stage, stage, stage.label());
-                }
+                self.viewport.stage_menu_ui(ui);
                 ui.separator();
                 // The shot camera's items in the menu itself: a nested menu's items missed real clicks.
                 self.viewport.shot_camera_menu_ui(ui, &mut self.work);
@@ -404,7 +402,8 @@ impl DrapeApp {
         } else if consume(&SHORTCUT_UNDO) {
             self.undo();
         }
-        let (w, camera) = (&mut self.work, &mut self.viewport.camera);
+        let toon = self.viewport.toon();
+        let (w, camera) = (&mut self.work, self.viewport.camera_mut());
         if consume(&SHORTCUT_SAVE_AS) {
             self.files.file_save_as(w);
         } else if consume(&SHORTCUT_SAVE) {
@@ -414,7 +413,7 @@ impl DrapeApp {
             self.files.file_open(w, camera);
         }
         if consume(&SHORTCUT_RENDER) {
-            self.render.open_for(&w.doc, self.viewport.toggles.toon);
+            self.render.open_for(&w.doc, toon);
         }
         if consume(&SHORTCUT_NEW) {
             self.files.file_new(w, camera);
@@ -554,7 +553,7 @@ impl DrapeApp {
                 }
                 None => "Relaxing…".to_owned(),
             });
-            if self.viewport.stale.drawn_stale() {
+            if self.viewport.cloth_drawn_stale() {
                 ui.label("· updating: the grey cloth is the old shape")
                     .on_hover_text("The cloth is drawn in colour again once its new shape is solved");
             }
@@ -712,7 +711,7 @@ impl eframe::App for DrapeApp {
         self.manual.window_ui(&ctx);
         self.export.window_ui(&ctx, &mut self.work);
         self.render.window_ui(&ctx, &mut self.work);
-        self.files.dialogs_ui(&ctx, &mut self.work, &mut self.viewport.camera);
+        self.files.dialogs_ui(&ctx, &mut self.work, self.viewport.camera_mut());
         // A gesture ends when the mouse lets go (a drag on a slider or a pin is one undo step).
         if self.viewport.pin_drag(&self.work).is_none() && !ctx.input(|i| i.pointer.any_down()) {
             self.work.end_gesture();

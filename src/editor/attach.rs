@@ -11,7 +11,7 @@
 
 use glam::{DMat4, DVec3};
 
-use super::reference_pick::SurfaceHit;
+use super::viewport::reference_pick::SurfaceHit;
 use super::workspace::Workspace;
 use crate::animate::attachments::attachment_at;
 use crate::animate::references_at::reference_at;
@@ -266,7 +266,7 @@ pub fn move_pins(w: &mut Workspace, label: &str, key: usize, moves: &[((u32, u32
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::editor::reference_pick::pick_reference_surface;
+    use crate::editor::viewport::reference_pick::pick_reference_surface;
 
     fn cape() -> Scene {
         crate::scene::load(std::path::Path::new("scenes/cape.ron")).unwrap()

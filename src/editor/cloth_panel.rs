@@ -9,13 +9,15 @@ use glam::DVec3;
 
 use super::number_field::{number_field, number_slider};
 
+use super::attach;
 use super::cloth_toon_rows::toon_section_ui;
+use super::edits;
 use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
 use super::node_picker::NodePicker;
 use super::pin_attach_rows::attachment_ui;
+use super::pin_clipboard;
 use super::workspace::Workspace;
-use super::{attach, edits, pin_clipboard};
 use crate::scene::{
     ClothTexture, Follow, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
     MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Pin, Scene,

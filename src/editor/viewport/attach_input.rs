@@ -4,10 +4,10 @@
 
 use glam::Vec2;
 
-use super::attach;
 use super::reference_pick::pick_reference_surface;
-use super::viewport_panel::{SolidLook, ViewportPanel};
-use super::workspace::Workspace;
+use super::{SolidLook, ViewportPanel};
+use crate::editor::attach;
+use crate::editor::workspace::Workspace;
 
 impl ViewportPanel {
     /// A click at `pointer_px` while attaching by clicking: attaches the pin

@@ -1,6 +1,6 @@
 //! A collider dragged in the viewport: which one, from where, at which
 //! frame, and an axis it may be locked to. The viewport's handling of it is
-//! in `viewport_collider_input`.
+//! in the viewport's `collider_input`.
 
 use glam::Vec3;
 

@@ -8,11 +8,12 @@
 use eframe::egui::{self, Response};
 use glam::{Vec2, Vec3};
 
+use super::ViewportPanel;
 use super::collider_drag::ColliderDrag;
+use super::picking;
 use super::pin_drag::{AxisLock, drag_keys};
-use super::viewport_panel::ViewportPanel;
-use super::workspace::Workspace;
-use super::{edits, picking};
+use crate::editor::edits;
+use crate::editor::workspace::Workspace;
 
 impl ViewportPanel {
     /// Starts dragging collider `index` from the world point `anchor`

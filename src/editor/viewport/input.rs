@@ -5,12 +5,14 @@
 use eframe::egui::{self, PointerButton, Response};
 use glam::{Vec2, Vec3};
 
+use super::picking;
 use super::picking::ColliderHit;
 use super::pin_drag::{AxisLock, MovingPin, PinDrag, drag_keys};
-use super::selection::Pick;
-use super::viewport_panel::{SolidLook, ViewportPanel};
-use super::workspace::Workspace;
-use super::{attach, edits, picking};
+use super::{SolidLook, ViewportPanel};
+use crate::editor::attach;
+use crate::editor::edits;
+use crate::editor::selection::Pick;
+use crate::editor::workspace::Workspace;
 
 /// Mouse-wheel points per dolly step.
 const POINTS_PER_DOLLY_STEP: f32 = 50.0;
@@ -151,7 +153,7 @@ impl ViewportPanel {
             if on_gizmo.is_some() {
                 return;
             }
-            let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
+            let how = Pick::from_modifiers(crate::editor::grid_editor::click_modifiers(ui));
             // A plain click selects what it hits and nothing else: pins or one collider.
             let replace = how == Pick::Replace;
             match (w.session.hovered(), self.hovered_collider) {
@@ -201,7 +203,7 @@ impl ViewportPanel {
         if !w.shown_grid_is_current() {
             return;
         }
-        let how = Pick::from_modifiers(super::grid_editor::click_modifiers(ui));
+        let how = Pick::from_modifiers(crate::editor::grid_editor::click_modifiers(ui));
         let rect = response.rect;
         let cols = w.shown.scene().cloth.cols();
         let key = &w.doc.scene().keys[w.edit_key_index()];

@@ -1,22 +1,36 @@
 //! The 3D viewport in the centre and the view bar that chooses what it
 //! shows: the stage of the method, the cloth's overlays, the ground, onion
 //! skin and a camera that follows the cloth. Mouse and keys are in
-//! `viewport_input`; the GPU side is in `viewport`.
+//! [`input`]; the GPU side is in [`gpu`].
+
+mod attach_input;
+mod collider_drag;
+mod collider_input;
+pub mod gizmo;
+pub mod gpu;
+mod input;
+pub mod picking;
+pub mod pin_drag;
+mod plate_view;
+pub mod reference_pick;
+mod shot;
+pub mod shot_view;
+pub mod stale_cloth;
+mod style;
 
 use std::sync::Arc;
 
 use eframe::egui::{self, Sense};
 use eframe::egui_wgpu;
 
-use super::collider_drag::ColliderDrag;
-use super::gizmo::Gizmo;
+use self::collider_drag::ColliderDrag;
+use self::gizmo::Gizmo;
+use self::gpu::ViewportFrame;
+use self::pin_drag::{AxisLock, PinDrag};
+use self::plate_view::PlateView;
+use self::stale_cloth::{StaleCloth, stale_look};
 use super::number_field::number_field;
-use super::picking;
-use super::pin_drag::{AxisLock, PinDrag};
-use super::plate_view::PlateView;
 use super::shown::OnionSkin;
-use super::stale_cloth::{StaleCloth, stale_look};
-use super::viewport::ViewportFrame;
 use super::workspace::Workspace;
 use crate::animate;
 use crate::animate::colliders_at::shape_at;
@@ -141,41 +155,41 @@ impl Stage {
 
 /// The viewport's own state: its camera and ground, what it shows, a pin drag in progress.
 pub struct ViewportPanel {
-    pub camera: OrbitCamera,
-    pub ground: Ground,
-    pub toggles: ViewToggles,
+    camera: OrbitCamera,
+    ground: Ground,
+    toggles: ViewToggles,
     /// The plate's pictures, loaded off the UI thread.
-    pub(super) plate_view: PlateView,
+    plate_view: PlateView,
     /// Said in the camera's frame where the plate's picture should be (loading, or why not).
-    pub(super) plate_note: Option<(String, egui::Color32)>,
-    pub stage: Stage,
-    pub pin_drag: Option<PinDrag>,
+    plate_note: Option<(String, egui::Color32)>,
+    stage: Stage,
+    pin_drag: Option<PinDrag>,
     /// The document the viewport's drags belong to ([`Workspace::document_number`]).
     document: u64,
-    pub collider_drag: Option<ColliderDrag>,
+    collider_drag: Option<ColliderDrag>,
     /// The collider under the mouse (no cloth point being nearer), outlined.
-    pub hovered_collider: Option<usize>,
+    hovered_collider: Option<usize>,
     /// The shown document version the ground was last checked against.
     ground_version: u64,
     /// The viewport's size in pixels, last frame.
-    pub size_px: (u32, u32),
+    size_px: (u32, u32),
     /// Where a box selection started (points), while the button is held.
-    pub box_select: Option<egui::Pos2>,
+    box_select: Option<egui::Pos2>,
     /// The playhead and the cloth's centre when the camera last followed it.
     follow_anchor: Option<(f64, glam::Vec3)>,
     /// Where the viewport was drawn last frame (points).
-    pub rect: egui::Rect,
+    rect: egui::Rect,
     /// Whether the GPU viewport is available (false only in tests without wgpu).
     has_gpu: bool,
     /// The orbiting camera while the shot camera is looked through.
-    pub(super) orbit_before_shot: Option<OrbitCamera>,
+    orbit_before_shot: Option<OrbitCamera>,
     /// Whether the cloth drawn is an old shape while the new one is solved.
-    pub stale: StaleCloth,
+    stale: StaleCloth,
     /// Frame the cloth once the viewport's shape is known (a scene without a
     /// saved view), or once the shot camera is no longer looked through.
-    pub frame_all_pending: bool,
+    frame_all_pending: bool,
     /// Frame the cloth once shown if the saved view does not see it at the opened frame.
-    pub(super) reveal_pending: bool,
+    reveal_pending: bool,
     /// The colliders last tessellated and what they were made from, so a
     /// repaint without a change (orbiting, hovering) does not build them again.
     solids_cache: Option<(SolidsKey, DrawnSolids)>,
@@ -244,6 +258,51 @@ impl ViewportPanel {
             frame_all_pending: framed,
             reveal_pending: !framed,
             solids_cache: None,
+        }
+    }
+
+    /// Where the viewport was drawn last frame, in points.
+    pub fn rect(&self) -> egui::Rect {
+        self.rect
+    }
+
+    /// The orbiting camera (the shot camera's view while looking through it).
+    pub fn camera(&self) -> &OrbitCamera {
+        &self.camera
+    }
+
+    /// The camera for file handling: Open puts a scene's saved view on it.
+    pub fn camera_mut(&mut self) -> &mut OrbitCamera {
+        &mut self.camera
+    }
+
+    /// Whether the cloth is drawn in the toon style (the Render window starts with it).
+    pub fn toon(&self) -> bool {
+        self.toggles.toon
+    }
+
+    /// Whether the last frame drew the cloth as stale: grey, the old shape
+    /// on screen while the document's new one is solved.
+    pub fn cloth_drawn_stale(&self) -> bool {
+        self.stale.drawn_stale()
+    }
+
+    /// The translate gizmo on the selected pins, as drawn last frame.
+    pub fn drawn_gizmo(&self, w: &Workspace) -> Option<Gizmo> {
+        self.gizmo(w, self.size_px)
+    }
+
+    /// View ▸ Frame all: leaves the shot camera and frames the cloth once
+    /// the viewport's shape is known.
+    pub fn frame_all_from_menu(&mut self, w: &mut Workspace) {
+        w.session.look_through_camera(false);
+        self.frame_all_pending = true;
+    }
+
+    /// The View menu's stages of the method, one shown.
+    pub fn stage_menu_ui(&mut self, ui: &mut egui::Ui) {
+        for stage in Stage::ALL {
+            ui.radio_value(&mut self.stage, stage, stage.label());
         }
     }
 
@@ -386,7 +445,7 @@ impl ViewportPanel {
         if w.session.through_camera()
             && let Some(camera) = &w.doc.scene().camera
         {
-            super::shot_view::paint_frame(ui.painter(), camera, area.rect);
+            self::shot_view::paint_frame(ui.painter(), camera, area.rect);
         }
         self.gizmo_ui(ui, w, &area);
         self.plate_note_ui(ui, w, area.rect);

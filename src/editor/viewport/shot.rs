@@ -4,13 +4,13 @@
 
 use eframe::egui;
 
+use super::ViewportPanel;
 use super::plate_view::PlateShown;
 use super::shot_view::{
     camera_from_reference, camera_from_view, detach_camera, frame_rect, key_camera, reference_cameras, through,
 };
-use super::viewport_panel::ViewportPanel;
-use super::workspace::Workspace;
 use crate::animate::track::sample;
+use crate::editor::workspace::Workspace;
 use crate::render::RenderOptions;
 
 impl ViewportPanel {

@@ -8,9 +8,9 @@
 use eframe::egui;
 use glam::DVec3;
 
-use super::param_edit::set_at_keying;
-use super::workspace::Workspace;
 use crate::animate::track::sample;
+use crate::editor::param_edit::set_at_keying;
+use crate::editor::workspace::Workspace;
 use crate::picture::{look_camera, shot_look_at};
 use crate::render::OrbitCamera;
 use crate::scene::{MAX_IMAGE_SIDE_PX, Param, ParamVec3, ReferenceCamera, Scene, ShotCamera};

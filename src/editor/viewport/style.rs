@@ -4,8 +4,8 @@
 
 use eframe::egui;
 
-use super::viewport_panel::ViewportPanel;
-use super::workspace::Workspace;
+use super::ViewportPanel;
+use crate::editor::workspace::Workspace;
 use crate::render::{Style, ToonLook};
 
 /// What the style choices are called and what they say when hovered.
