@@ -581,3 +581,77 @@ fn only_the_workspace_replaces_the_document_what_is_shown_or_the_session() {
     }
     assert!(offenders.is_empty(), "the workspace's parts replaced outside workspace.rs:\n{}", offenders.join("\n"));
 }
+
+/// Functions that may still allow clippy's argument count away, and why. An
+/// entry whose function no longer does fails too, so the list only shrinks.
+const MANY_ARGUMENTS_ALLOWED: [(&str, &str); 1] = [(
+    "keyed_number_row_ui",
+    "a keyed number's row takes the workspace, frame, owner, label, parameter, range and finder one by one",
+)];
+
+/// Whether `line` is an attribute that allows or expects clippy's `too_many_arguments`.
+fn allows_many_arguments(line: &str) -> bool {
+    let trimmed = line.trim_start();
+    (trimmed.starts_with("#[") || trimmed.starts_with("#!["))
+        && (trimmed.contains("allow(") || trimmed.contains("expect("))
+        && trimmed.contains(concat!("too_many", "_arguments"))
+}
+
+/// The name of the first function declared in `lines`, if any.
+fn first_function<'a>(lines: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    lines.take(4).find_map(|line| {
+        let rest = &line[line.find("fn ")? + 3..];
+        Some(&rest[..rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(rest.len())])
+    })
+}
+
+/// A function's arguments are gathered into types with names (a layer's
+/// `LayerFrame`, the approximation's `TrianglePlacer`), not allowed past
+/// clippy's count, and the count is clippy's own.
+#[test]
+fn no_function_allows_too_many_arguments_and_the_threshold_is_clippys() {
+    let mut offenders = Vec::new();
+    let mut allowed_seen = BTreeSet::new();
+    for path in files_under(&["src", "tests", "benches", "fuzz/fuzz_targets", "examples"]) {
+        if path.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let text = fs::read_to_string(&path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
+        let lines: Vec<(usize, &str)> = code_lines(&text).collect();
+        for (at, (number, line)) in lines.iter().enumerate().filter(|(_, (_, line))| allows_many_arguments(line)) {
+            let function = first_function(lines[at + 1..].iter().map(|(_, line)| *line));
+            match MANY_ARGUMENTS_ALLOWED.iter().find(|(name, _)| Some(*name) == function) {
+                Some((name, _)) => {
+                    allowed_seen.insert(*name);
+                }
+                None => offenders.push(format!("{}:{number}: {}", path.display(), line.trim())),
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "allows of too_many_arguments:\n{}", offenders.join("\n"));
+    let stale: Vec<_> = MANY_ARGUMENTS_ALLOWED.iter().filter(|(name, _)| !allowed_seen.contains(name)).collect();
+    assert!(stale.is_empty(), "allow-list entries whose function no longer allows it (remove them): {stale:?}");
+    for config in ["clippy.toml", ".clippy.toml", "Cargo.toml"] {
+        let Ok(text) = fs::read_to_string(config) else { continue };
+        for (number, line) in code_lines(&text) {
+            let line = line.split('#').next().unwrap_or(line);
+            assert!(
+                !line.contains("too-many-arguments") && !line.contains(concat!("too_many", "_arguments")),
+                "{config}:{number}: clippy's argument count is raised or allowed: {}",
+                line.trim()
+            );
+        }
+    }
+}
+
+#[test]
+fn allows_of_many_arguments_are_told_from_other_attributes() {
+    assert!(allows_many_arguments(concat!("    #[allow(clippy::too_many", "_arguments)]")));
+    assert!(allows_many_arguments(concat!("#![expect(clippy::too_many", "_arguments, reason = \"x\")]")));
+    assert!(allows_many_arguments(concat!("#[cfg_attr(test, allow(clippy::too_many", "_arguments))]")));
+    assert!(!allows_many_arguments("#[allow(clippy::type_complexity)]"));
+    assert!(!allows_many_arguments(concat!("let note = \"too_many", "_arguments\";")));
+    let item = ["/// Doc.", "#[inline]", "pub(super) fn place_row(", "    a: u8,"];
+    assert_eq!(first_function(item.into_iter()), Some("place_row"));
+    assert_eq!(first_function(["struct Row {", "}"].into_iter()), None);
+}
