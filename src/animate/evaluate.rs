@@ -7,12 +7,12 @@
 //! the same t gives a bit-identical mesh however it was reached, and the cost
 //! does not grow with t.
 //!
-//! Every layer goes through [`ApplyLayer`] with the same [`LayerFrame`]; the
-//! time is a frame throughout, and a time in seconds
-//! ([`Evaluator::evaluate`]) becomes one first. The layers work on the points as separate
-//! x, y, z arrays ([`PointArrays`]), which their loops vectorise; the mesh's
-//! positions and normals are written together in the last pass, the normals
-//! of the result.
+//! Every layer goes through [`ApplyLayer`] with the same [`LayerFrame`]. The
+//! time is a frame throughout; a time in seconds ([`Evaluator::evaluate`])
+//! becomes one first. The layers work on the points as separate x, y, z
+//! arrays ([`PointArrays`]), which their loops vectorise; the mesh's
+//! positions and normals are written together in the last pass, the
+//! normals of the result.
 
 use std::sync::Arc;
 
