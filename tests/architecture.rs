@@ -489,6 +489,16 @@ const EDITOR_STATE_TYPES: [&str; 16] = [
 const EDITOR_STATE_HELD_OPENLY: [(&str, &str, &str); 3] =
     [("Workspace", "doc", "Document"), ("Workspace", "shown", "Shown"), ("Workspace", "session", "Session")];
 
+/// `line` without a leading `pub`, `pub(crate)`, `pub(in …)` and the like.
+fn without_visibility(line: &str) -> &str {
+    let Some(rest) = line.strip_prefix("pub") else { return line };
+    let rest = match rest.strip_prefix('(') {
+        Some(inside) => inside.split_once(')').map_or(rest, |(_, after)| after),
+        None => rest,
+    };
+    rest.strip_prefix(' ').unwrap_or(line)
+}
+
 /// `(struct name, field name, field type)` of every open (`pub…`) field of
 /// every struct defined with braces in `code`.
 fn open_fields(code: &str) -> Vec<(String, String, String)> {
@@ -508,8 +518,7 @@ fn open_fields(code: &str) -> Vec<(String, String, String)> {
             }
             continue;
         }
-        let declared = trimmed.strip_prefix("pub ").or(trimmed.strip_prefix("pub(super) ")).unwrap_or(trimmed);
-        if let Some(rest) = declared.strip_prefix("struct ")
+        if let Some(rest) = without_visibility(trimmed).strip_prefix("struct ")
             && trimmed.ends_with('{')
             && !line.starts_with(' ')
         {
@@ -527,7 +536,7 @@ fn editor_state_types_have_no_open_fields() {
     for path in files_under(&["src/editor"]) {
         let text = fs::read_to_string(&path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
         for (_, line) in code_lines(&text) {
-            let declared = line.strip_prefix("pub ").or(line.strip_prefix("pub(super) ")).unwrap_or(line);
+            let declared = without_visibility(line);
             if let Some(name) = EDITOR_STATE_TYPES.iter().find(|n| declared.starts_with(&format!("struct {n} "))) {
                 defined.insert(*name);
             }
@@ -555,9 +564,14 @@ fn editor_state_types_have_no_open_fields() {
 fn open_fields_are_found_in_struct_definitions_only() {
     let code = "pub struct Shown {\n    pub scene: Scene,\n    mesh: Arc<Mesh>,\n    pub(super) ghosts: Vec<Ghost>,\n}\n\
                 impl Shown {\n    pub fn scene(&self) -> &Scene {\n        &self.scene\n    }\n}\n\
-                struct Job {\n    pub done: bool,\n}\n";
+                struct Job {\n    pub done: bool,\n}\npub(in crate::editor) struct Window {\n    pub(crate) open: bool,\n}\n";
     let found = open_fields(code);
-    let expected = [("Shown", "scene", "Scene"), ("Shown", "ghosts", "Vec<Ghost>"), ("Job", "done", "bool")];
+    let expected = [
+        ("Shown", "scene", "Scene"),
+        ("Shown", "ghosts", "Vec<Ghost>"),
+        ("Job", "done", "bool"),
+        ("Window", "open", "bool"),
+    ];
     assert_eq!(found, expected.map(|(a, b, c)| (a.to_owned(), b.to_owned(), c.to_owned())));
 }
 

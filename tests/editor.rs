@@ -14,8 +14,8 @@ use std::time::Duration;
 
 use drape::editor::DrapeApp;
 use drape::editor::files::new_scene;
-use drape::editor::grid_editor::GridEditor;
-use drape::editor::window_size;
+use drape::editor::files::window_size;
+use drape::editor::panels::grid_editor::GridEditor;
 use drape::scene::{self, Scene};
 use eframe::App as _;
 use eframe::egui::accesskit::Role;
@@ -462,7 +462,7 @@ fn an_example_opens_as_a_template_and_enter_in_the_question_cancels() {
 /// on, and keeps the size it is closed at for the next start.
 #[test]
 fn the_window_fits_the_screen_and_remembers_its_size() {
-    use drape::editor::window_size::WINDOW_SIZE_NAME;
+    use drape::editor::files::window_size::WINDOW_SIZE_NAME;
     let workspace = Workspace::new();
     let saved = workspace.path("config").join(WINDOW_SIZE_NAME);
     std::fs::create_dir_all(saved.parent().unwrap()).unwrap();
@@ -818,8 +818,8 @@ fn add_keyed_wave(harness: &mut Harness<'_, DrapeApp>) -> usize {
 
 #[test]
 fn the_curve_view_drags_a_parameter_key_and_eases_it_with_bezier_handles() {
-    use drape::editor::bezier_handles::Square;
-    use drape::editor::curve_view::Plot;
+    use drape::editor::timeline::bezier_handles::Square;
+    use drape::editor::timeline::curve_view::Plot;
     use drape::scene::Ease;
 
     let workspace = Workspace::new();
@@ -887,7 +887,7 @@ fn the_curve_view_drags_a_parameter_key_and_eases_it_with_bezier_handles() {
 
 #[test]
 fn a_bezier_handle_in_the_timeline_key_menu_changes_the_easing() {
-    use drape::editor::bezier_handles::Square;
+    use drape::editor::timeline::bezier_handles::Square;
     use drape::scene::Ease;
 
     let workspace = Workspace::new();

@@ -15,27 +15,27 @@ use eframe::egui::{self, Key as KeyCode, KeyboardShortcut};
 use eframe::egui_wgpu;
 
 use super::attach;
-use super::cloth_panel::{ClothPanel, GRID_EDITOR_HINT};
-use super::colliders_panel::CollidersPanel;
 use super::document::Document;
-use super::export_window::ExportWindow;
+use super::files::recent::default_config_dir;
+use super::files::recovery::default_state_dir;
+use super::files::window_size::{self, DEFAULT_WINDOW_SIZE, MIN_WINDOW_SIZE, WINDOW_SIZE_NAME};
 use super::files::{FileWindow, Files};
-use super::layers_panel::LayersPanel;
+use super::panels::cloth::{ClothPanel, GRID_EDITOR_HINT};
+use super::panels::colliders::CollidersPanel;
+use super::panels::layers::LayersPanel;
+use super::panels::references::ReferencesPanel;
+use super::panels::shot::ShotPanel;
 use super::pin_clipboard;
-use super::recent::default_config_dir;
-use super::recovery::default_state_dir;
-use super::references_panel::ReferencesPanel;
-use super::render_window::RenderWindow;
 use super::shortcuts::{
     SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_REDO, SHORTCUT_REDO_ALT, SHORTCUT_RENDER, SHORTCUT_SAVE, SHORTCUT_SAVE_AS,
     SHORTCUT_UNDO, SHORTCUTS,
 };
-use super::shot_panel::ShotPanel;
 use super::timeline::TimelinePanel;
 use super::typing_pace::TypingPace;
 use super::viewport::ViewportPanel;
 use super::viewport::gpu;
-use super::window_size::{self, DEFAULT_WINDOW_SIZE, MIN_WINDOW_SIZE, WINDOW_SIZE_NAME};
+use super::windows::export::ExportWindow;
+use super::windows::render::RenderWindow;
 use super::workspace::{MESSAGE_SECS, Workspace};
 use crate::mesh::Mesh;
 use crate::render::OrbitCamera;
@@ -53,7 +53,7 @@ pub struct DrapeApp {
     export: ExportWindow,
     render: RenderWindow,
     show_shortcuts: bool,
-    manual: super::manual::Manual,
+    manual: super::windows::manual::Manual,
     /// CPU time of the last update and the smoothed time between frames, for the readout.
     last_update_ms: f64,
     frame_interval_ms: f64,
@@ -94,7 +94,7 @@ impl DrapeApp {
             export: ExportWindow::default(),
             render: RenderWindow::default(),
             show_shortcuts: false,
-            manual: super::manual::Manual::default(),
+            manual: super::windows::manual::Manual::default(),
             last_update_ms: 0.0,
             frame_interval_ms: 0.0,
             last_frame_at: None,

@@ -217,7 +217,7 @@ mod tests {
     }
 
     fn wave() -> Layer {
-        crate::editor::layers_panel::new_layer("Wave")
+        crate::editor::panels::layers::new_layer("Wave")
     }
 
     fn frames(param: &Param) -> Vec<(i32, f64)> {

@@ -153,7 +153,7 @@ impl ViewportPanel {
             if on_gizmo.is_some() {
                 return;
             }
-            let how = Pick::from_modifiers(crate::editor::grid_editor::click_modifiers(ui));
+            let how = Pick::from_modifiers(crate::editor::panels::grid_editor::click_modifiers(ui));
             // A plain click selects what it hits and nothing else: pins or one collider.
             let replace = how == Pick::Replace;
             match (w.session.hovered(), self.hovered_collider) {
@@ -203,7 +203,7 @@ impl ViewportPanel {
         if !w.shown_grid_is_current() {
             return;
         }
-        let how = Pick::from_modifiers(crate::editor::grid_editor::click_modifiers(ui));
+        let how = Pick::from_modifiers(crate::editor::panels::grid_editor::click_modifiers(ui));
         let rect = response.rect;
         let cols = w.shown.scene().cloth.cols();
         let key = &w.doc.scene().keys[w.edit_key_index()];

@@ -5,14 +5,14 @@ use eframe::egui;
 
 /// Each page's menu title and text.
 pub const MANUAL_PAGES: [(&str, &str); 8] = [
-    ("Tutorials", include_str!("../../docs/tutorials.md")),
-    ("The editor", include_str!("../../docs/editor.md")),
-    ("Command line", include_str!("../../docs/command-line.md")),
-    ("Exporting", include_str!("../../docs/exporting.md")),
-    ("Scene files", include_str!("../../docs/scene-files.md")),
-    ("Rendering", include_str!("../../docs/rendering.md")),
-    ("Blender", include_str!("../../docs/blender.md")),
-    ("How it works", include_str!("../../docs/how-it-works.md")),
+    ("Tutorials", include_str!("../../../docs/tutorials.md")),
+    ("The editor", include_str!("../../../docs/editor.md")),
+    ("Command line", include_str!("../../../docs/command-line.md")),
+    ("Exporting", include_str!("../../../docs/exporting.md")),
+    ("Scene files", include_str!("../../../docs/scene-files.md")),
+    ("Rendering", include_str!("../../../docs/rendering.md")),
+    ("Blender", include_str!("../../../docs/blender.md")),
+    ("How it works", include_str!("../../../docs/how-it-works.md")),
 ];
 
 /// Which manual page is open, if any.

@@ -9,11 +9,11 @@
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use super::bezier_handles;
-use super::document::Document;
-use super::param_edit::{key_at, param_mut, param_names, toggle_key};
 pub use super::shot_number::ShotNumber;
-use super::workspace::Workspace;
 use crate::animate::track::sample;
+use crate::editor::document::Document;
+use crate::editor::param_edit::{key_at, param_mut, param_names, toggle_key};
+use crate::editor::workspace::Workspace;
 use crate::scene::{Collider, ColliderNumber, Ease, Layer, Param, ParamKey, Reference, Scene, Timeline};
 
 /// Height of the plot, points.
@@ -296,7 +296,7 @@ fn label(value: f64) -> String {
 
 impl CurveView {
     /// The parameter shown for layer `index`: the chosen one, else [`default_param`].
-    pub(super) fn shown_for_layer(&self, index: usize, layer: &Layer) -> Option<Curve> {
+    pub(in crate::editor) fn shown_for_layer(&self, index: usize, layer: &Layer) -> Option<Curve> {
         match self.chosen {
             Some(Curve::Layer(i, name)) if i == index && param_names(layer).iter().any(|(n, _)| *n == name) => {
                 Some(Curve::Layer(index, name))
@@ -307,7 +307,7 @@ impl CurveView {
 
     /// The number shown for collider `index`: the chosen one, else its first
     /// keyed number, else its first.
-    pub(super) fn shown_for_collider(&self, index: usize, collider: &Collider) -> Option<Curve> {
+    pub(in crate::editor) fn shown_for_collider(&self, index: usize, collider: &Collider) -> Option<Curve> {
         let numbers = collider.numbers();
         match self.chosen {
             Some(Curve::Collider(i, number)) if i == index && numbers.contains(&number) => {
@@ -322,7 +322,7 @@ impl CurveView {
 
     /// The number shown for reference `index`: the chosen one, else its first
     /// keyed number, else its centre x.
-    pub(super) fn shown_for_reference(&self, index: usize, reference: &Reference) -> Curve {
+    pub(in crate::editor) fn shown_for_reference(&self, index: usize, reference: &Reference) -> Curve {
         if let Some(Curve::Reference(i, number)) = self.chosen
             && i == index
         {
@@ -334,7 +334,7 @@ impl CurveView {
 
     /// The shot number shown: the chosen one, else the camera's first keyed
     /// number (the plate's opacity counted last), else its position x.
-    pub(super) fn shown_for_shot(&self, scene: &Scene) -> Curve {
+    pub(in crate::editor) fn shown_for_shot(&self, scene: &Scene) -> Curve {
         if let Some(Curve::Shot(number)) = self.chosen
             && number.param(scene).is_some()
         {
@@ -350,7 +350,7 @@ impl CurveView {
 impl CurveView {
     /// The small curve button beside `curve`'s row (`shown`: its curve is
     /// the one below): shows its curve below.
-    pub(super) fn button_ui(&mut self, ui: &mut egui::Ui, curve: Curve, shown: bool) {
+    pub(in crate::editor) fn button_ui(&mut self, ui: &mut egui::Ui, curve: Curve, shown: bool) {
         let name = match curve {
             Curve::Layer(_, name) => name.to_owned(),
             Curve::Collider(..) | Curve::Reference(..) | Curve::Shot(..) => curve.name(),
@@ -379,7 +379,7 @@ impl CurveView {
     }
 
     /// The plot of `curve`, with its keys to edit.
-    pub(super) fn plot_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, curve: Curve) {
+    pub(in crate::editor) fn plot_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, curve: Curve) {
         let Some(param) = curve.param(w.doc.scene()) else { return };
         let name = match curve {
             Curve::Layer(_, name) => name.to_owned(),

@@ -7,8 +7,8 @@
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
-use super::number_field::number_field;
 use crate::animate::ease;
+use crate::editor::number_field::number_field;
 use crate::scene::Ease;
 
 /// Size of the drawing, points: taller than wide, for room above and below the unit square.

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use eframe::egui;
 
 /// Work running on its own thread, producing a `T`.
-pub(super) struct WorkerJob<T> {
+pub(in crate::editor) struct WorkerJob<T> {
     handle: JoinHandle<T>,
     done: Arc<AtomicU64>,
     /// 0 until the work knows how much there is.
@@ -23,7 +23,7 @@ impl<T: Send + 'static> WorkerJob<T> {
     /// Runs `work` on a new thread. It reports `(done, total)` through the
     /// callback it is given (each report repaints the window within a tenth
     /// of a second) and should stop soon after the flag it is given is set.
-    pub(super) fn start(
+    pub(in crate::editor) fn start(
         ctx: egui::Context,
         work: impl FnOnce(&mut dyn FnMut(u64, u64), &AtomicBool) -> T + Send + 'static,
     ) -> WorkerJob<T> {
@@ -44,13 +44,13 @@ impl<T: Send + 'static> WorkerJob<T> {
     }
 
     /// Whether the work has ended (returned or panicked): [`Self::join`] will not wait.
-    pub(super) fn is_finished(&self) -> bool {
+    pub(in crate::editor) fn is_finished(&self) -> bool {
         self.handle.is_finished()
     }
 
     /// The work's result (`Err` when its thread panicked) and how long it
     /// ran; waits for it unless [`Self::is_finished`].
-    pub(super) fn join(self) -> (std::thread::Result<T>, Duration) {
+    pub(in crate::editor) fn join(self) -> (std::thread::Result<T>, Duration) {
         let elapsed = self.started.elapsed();
         (self.handle.join(), elapsed)
     }
@@ -58,13 +58,13 @@ impl<T: Send + 'static> WorkerJob<T> {
 
 impl<T> WorkerJob<T> {
     /// Asks the work to stop; it ends with whatever it returns for a cancel.
-    pub(super) fn cancel(&self) {
+    pub(in crate::editor) fn cancel(&self) {
         self.cancel.store(true, Ordering::Relaxed);
     }
 
     /// A progress bar, `done of total units, seconds` (or `preparing` while
     /// the total is unknown) and Cancel.
-    pub(super) fn progress_ui(&self, ui: &mut egui::Ui, units: &str, preparing: &str) {
+    pub(in crate::editor) fn progress_ui(&self, ui: &mut egui::Ui, units: &str, preparing: &str) {
         let (done, total) = (self.done.load(Ordering::Relaxed), self.total.load(Ordering::Relaxed));
         let elapsed = self.started.elapsed().as_secs_f64();
         let fraction = if total == 0 { 0.0 } else { done as f32 / total as f32 };

@@ -3,15 +3,21 @@
 //! autosave to the recovery file and the offer to restore it. A scene from
 //! the bundled examples' folder is a template: Save asks where, like Save As.
 
+pub mod dialog;
+pub mod prompt;
+pub mod recent;
+pub mod recovery;
+pub mod window_size;
+
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime};
 
 use eframe::egui;
 
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use super::prompt::{DiscardChoice, discard_prompt};
-use super::recent::RecentFiles;
-use super::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, Recovery};
+use self::dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use self::prompt::{DiscardChoice, discard_prompt};
+use self::recent::RecentFiles;
+use self::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, Recovery};
 use super::shortcuts::{SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_RENDER, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
 use super::workspace::Workspace;
 use crate::render::OrbitCamera;

@@ -5,18 +5,18 @@
 
 use eframe::egui;
 
-use super::number_field::number_field;
+use crate::editor::number_field::number_field;
 
-use super::curve_view::{Curve, CurveView};
-use super::icons::{Icon, icon_button};
-use super::param_edit::{key_at, param_mut, param_names, set_at_keying, toggle_key};
-use super::workspace::Workspace;
 use crate::animate::track::sample;
+use crate::editor::icons::{Icon, icon_button};
+use crate::editor::param_edit::{key_at, param_mut, param_names, set_at_keying, toggle_key};
+use crate::editor::timeline::curve_view::{Curve, CurveView};
+use crate::editor::workspace::Workspace;
 use crate::scene::{FollowThrough, Layer, Param, WaveAxis};
 
 /// A new layer of `kind` with gentle defaults that show its effect at once
 /// (the schema's start values); an unknown kind gives a follow-through.
-pub(super) fn new_layer(kind: &str) -> Layer {
+pub(in crate::editor) fn new_layer(kind: &str) -> Layer {
     Layer::with_start_values(kind).unwrap_or_else(|| Layer::FollowThrough(FollowThrough::with_start_values()))
 }
 
@@ -29,7 +29,7 @@ pub struct LayersPanel {
 }
 
 impl LayersPanel {
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+    pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Layers");
         ui.menu_button("Add layer", |ui| {
             for (kind, label) in

@@ -7,12 +7,17 @@
 //!
 //! Every frame is computed directly, so scrubbing shows the frame at once.
 
+pub mod bezier_handles;
+pub mod curve_view;
+mod shot_number;
+mod zoom;
+
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
+use self::zoom::TimelineZoom;
 use super::number_field::number_field;
 use super::param_edit::Keyed;
 use super::session::Repaint;
-use super::timeline_zoom::TimelineZoom;
 use super::workspace::Workspace;
 use crate::scene::{Ease, MAX_FPS, MAX_INBETWEEN_RELAX, MAX_TIMELINE_FRAME, Scene};
 
@@ -528,7 +533,7 @@ fn key_menu(ui: &mut egui::Ui, w: &mut Workspace, index: usize) {
         }
         if let Ease::Bezier(x1, y1, x2, y2) = key.ease {
             let mut handles = [x1, y1, x2, y2];
-            if super::bezier_handles::edit(ui, &mut handles).began {
+            if self::bezier_handles::edit(ui, &mut handles).began {
                 w.doc.begin_gesture("Bézier handles");
             }
             if handles != [x1, y1, x2, y2] {

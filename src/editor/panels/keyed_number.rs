@@ -5,11 +5,11 @@
 
 use eframe::egui;
 
-use super::icons::{Icon, icon_button};
-use super::number_field::number_field;
-use super::param_edit::{key_at, set_at_keying, toggle_key};
-use super::workspace::Workspace;
 use crate::animate::track::sample;
+use crate::editor::icons::{Icon, icon_button};
+use crate::editor::number_field::number_field;
+use crate::editor::param_edit::{key_at, set_at_keying, toggle_key};
+use crate::editor::workspace::Workspace;
 use crate::scene::{Param, Scene};
 
 /// What a number field allows and how fast it drags.

@@ -147,12 +147,15 @@ mod tests {
 
     /// A file dialog with the prompt possibly shown over it.
     struct Stacked {
-        dialog: crate::editor::file_dialog::FileDialog,
+        dialog: crate::editor::files::dialog::FileDialog,
         prompt_open: bool,
         choice: Option<DiscardChoice>,
     }
 
-    fn show_stacked(state: &mut Stacked, ctx: &egui::Context) -> Option<crate::editor::file_dialog::FileDialogOutcome> {
+    fn show_stacked(
+        state: &mut Stacked,
+        ctx: &egui::Context,
+    ) -> Option<crate::editor::files::dialog::FileDialogOutcome> {
         let outcome = state.dialog.show(ctx);
         if state.prompt_open {
             state.choice = discard_prompt(ctx, "Unsaved changes", "Save changes?");
@@ -163,7 +166,7 @@ mod tests {
 
     #[test]
     fn a_prompt_over_a_dialog_takes_the_keys_first() {
-        use crate::editor::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+        use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
         let dir = tempfile::tempdir().unwrap();
         let dialog = FileDialog::new(FileDialogMode::Open, "Open Scene", dir.path(), "", "ron");
         let mut driver = UiDriver::new(Stacked { dialog, prompt_open: false, choice: None }, show_stacked);

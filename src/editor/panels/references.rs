@@ -12,13 +12,13 @@ use std::sync::Arc;
 
 use eframe::egui;
 
-use super::curve_view::{Curve, CurveView, ReferenceNumber};
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
-use super::number_field::number_field;
-use super::param_edit::set_at_keying;
-use super::workspace::Workspace;
 use crate::animate::track::sample;
+use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
+use crate::editor::number_field::number_field;
+use crate::editor::param_edit::set_at_keying;
+use crate::editor::timeline::curve_view::{Curve, CurveView, ReferenceNumber};
+use crate::editor::workspace::Workspace;
 use crate::scene::{
     Attachment, LoadedRig, MAX_PIN_COORD_M, MAX_REFERENCE_SPEED, MAX_THICKNESS_M, MAX_TIMELINE_FRAME, Param, Reference,
     Scene, read_rig, readable_number,
@@ -45,7 +45,7 @@ pub struct ReferencesPanel {
 }
 
 impl ReferencesPanel {
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+    pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("References");
         self.dialog_ui(ui.ctx(), w);
         let hint = "A glTF 2.0 file (.glb, or .gltf with its .bin): drawn with the cloth, its animation played";
@@ -533,7 +533,7 @@ mod tests {
 
     #[test]
     fn a_reference_holding_pins_names_them_and_says_to_detach_them() {
-        let mut scene = crate::scene::parse(include_str!("../../scenes/cape.ron"), "cape.ron").unwrap();
+        let mut scene = crate::scene::parse(include_str!("../../../scenes/cape.ron"), "cape.ron").unwrap();
         let text = holding_pins(&scene, 0).expect("five pins hold the walker");
         assert_eq!(
             text,

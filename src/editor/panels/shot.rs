@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 
 use eframe::egui;
 
-use super::curve_view::{Curve, CurveView, ShotNumber};
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
-use super::number_field::number_field;
-use super::workspace::Workspace;
+use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
+use crate::editor::number_field::number_field;
+use crate::editor::timeline::curve_view::{Curve, CurveView, ShotNumber};
+use crate::editor::workspace::Workspace;
 use crate::scene::{
     MAX_IMAGE_SIDE_PX, MAX_LENS_MM, MAX_PIN_COORD_M, MAX_PLATE_FRAME_OFFSET, Param, Plate, PlateFiles, PlatePattern,
     frame_list, horizontal_fov_deg,
@@ -29,7 +29,7 @@ pub struct ShotPanel {
 }
 
 impl ShotPanel {
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+    pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Shot");
         self.dialog_ui(ui.ctx(), w);
         let frame = w.frame().round() as i32;

@@ -4,9 +4,9 @@
 
 use eframe::egui;
 
-use super::attach::{self, describe};
 use super::node_picker::NodePicker;
-use super::workspace::Workspace;
+use crate::editor::attach::{self, describe};
+use crate::editor::workspace::Workspace;
 use crate::scene::Pin;
 
 /// What the `selected` pins (of the key being edited) are attached to, with

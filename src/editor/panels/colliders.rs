@@ -8,10 +8,10 @@ use std::sync::Arc;
 
 use eframe::egui;
 
-use super::curve_view::{Curve, CurveView};
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
-use super::workspace::Workspace;
+use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
+use crate::editor::timeline::curve_view::{Curve, CurveView};
+use crate::editor::workspace::Workspace;
 use crate::scene::{
     Collider, ColliderNumber, LoadedMesh, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
 };
@@ -27,7 +27,7 @@ pub struct CollidersPanel {
 }
 
 impl CollidersPanel {
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+    pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Colliders");
         self.mesh_dialog_ui(ui.ctx(), w);
         ui.menu_button("Add collider", |ui| {

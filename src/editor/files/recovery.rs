@@ -240,7 +240,7 @@ mod tests {
     use super::*;
     use crate::scene::parse;
 
-    const TENT: &str = include_str!("../../scenes/tent.ron");
+    const TENT: &str = include_str!("../../../scenes/tent.ron");
 
     fn tent() -> Scene {
         parse(TENT, "tent.ron").unwrap()

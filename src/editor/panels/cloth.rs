@@ -7,17 +7,17 @@
 use eframe::egui::{self, Response};
 use glam::DVec3;
 
-use super::number_field::{number_field, number_slider};
+use crate::editor::number_field::{number_field, number_slider};
 
-use super::attach;
 use super::cloth_toon_rows::toon_section_ui;
-use super::edits;
 use super::grid_editor::GridAction;
 use super::grid_editor::GridEditor;
 use super::node_picker::NodePicker;
 use super::pin_attach_rows::attachment_ui;
-use super::pin_clipboard;
-use super::workspace::Workspace;
+use crate::editor::attach;
+use crate::editor::edits;
+use crate::editor::pin_clipboard;
+use crate::editor::workspace::Workspace;
 use crate::scene::{
     ClothTexture, Follow, Key, MAX_ELASTICITY, MAX_FRICTION, MAX_GRID_SIDE, MAX_RELAX_ITERATIONS, MAX_RELAX_TOLERANCE,
     MAX_STRETCH_LIMIT, MAX_THICKNESS_M, MIN_ELASTICITY, MIN_GRID_SIDE, Pin, Scene,
@@ -25,7 +25,7 @@ use crate::scene::{
 use crate::shape::contact::crossing_advice;
 
 /// What clicks and drags do in the grid editor.
-pub(super) const GRID_EDITOR_HINT: &str =
+pub(in crate::editor) const GRID_EDITOR_HINT: &str =
     "Click: pin, or select a pin · Shift: add · Ctrl: toggle · Drag: box-select · Delete: unpin";
 
 /// Width of the "Add key at N" button, points: wide enough for any frame, so the row holds still.
@@ -41,7 +41,7 @@ pub struct ClothPanel {
 }
 
 impl ClothPanel {
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
+    pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.strong("Cloth");
             cloth_section(ui, w);

@@ -5,8 +5,8 @@
 
 use eframe::egui::{self, Response};
 
-use super::number_field::number_field;
-use super::workspace::Workspace;
+use crate::editor::number_field::number_field;
+use crate::editor::workspace::Workspace;
 use crate::scene::{MAX_CREASE_DEG, MAX_INK_WIDTH_PX, Scene, SrgbColor, linear_to_srgb, srgb_to_linear};
 
 /// Applies `change` when `response` changed the value; a drag on the widget is one undo step.
@@ -31,7 +31,7 @@ fn color_button(ui: &mut egui::Ui, color: SrgbColor, label: &str) -> Option<Srgb
 }
 
 /// The Toon rows, collapsed by default so the panel keeps its length.
-pub(super) fn toon_section_ui(ui: &mut egui::Ui, w: &mut Workspace) {
+pub(in crate::editor) fn toon_section_ui(ui: &mut egui::Ui, w: &mut Workspace) {
     egui::CollapsingHeader::new("Toon style").id_salt("toon").show(ui, |ui| {
         ui.weak("How the View menu's Toon and `drape render --style toon` draw the cloth.");
         let toon = w.doc.scene().cloth.toon.clone();

@@ -14,11 +14,11 @@ use std::time::Duration;
 
 use eframe::egui;
 
-use super::document::Document;
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use super::number_field::number_field;
 use super::worker_job::WorkerJob;
-use super::workspace::Workspace;
+use crate::editor::document::Document;
+use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use crate::editor::number_field::number_field;
+use crate::editor::workspace::Workspace;
 use crate::export::sequence::file_stem_for;
 use crate::picture::SceneOverlays;
 use crate::render_job::{
@@ -78,7 +78,7 @@ enum Tone {
 }
 
 /// The Render window's settings and the running render.
-pub(super) struct RenderWindow {
+pub(in crate::editor) struct RenderWindow {
     open: bool,
     kind: RenderKind,
     first: i32,
@@ -157,7 +157,7 @@ impl RenderWindow {
     /// Opens the window on the whole timeline, through the shot camera when
     /// the scene has one, in the viewport's style (`toon`), writing next to
     /// the scene's file; other settings stay as the user left them.
-    pub(super) fn open_for(&mut self, doc: &Document, toon: bool) {
+    pub(in crate::editor) fn open_for(&mut self, doc: &Document, toon: bool) {
         let scene = doc.scene();
         self.open = true;
         self.first = scene.timeline.start;
@@ -204,7 +204,7 @@ impl RenderWindow {
         request
     }
 
-    pub(super) fn window_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
+    pub(in crate::editor) fn window_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
         self.finish(w);
         if !self.open {
             return;
@@ -506,7 +506,7 @@ mod tests {
 
     #[test]
     fn alpha_and_shadow_are_for_pngs_and_leave_out_the_plate() {
-        let scene = crate::scene::parse(include_str!("../../scenes/magic_carpet.ron"), "magic_carpet.ron").unwrap();
+        let scene = crate::scene::parse(include_str!("../../../scenes/magic_carpet.ron"), "magic_carpet.ron").unwrap();
         let mut window =
             RenderWindow { kind: RenderKind::Gif, alpha: true, output: "x.gif".into(), ..Default::default() };
         let request = window.request(&scene, 5);
@@ -523,7 +523,7 @@ mod tests {
 
     #[test]
     fn overlays_are_asked_for_as_drape_render_s_flags_ask() {
-        let scene = crate::scene::parse(include_str!("../../scenes/magic_carpet.ron"), "magic_carpet.ron").unwrap();
+        let scene = crate::scene::parse(include_str!("../../../scenes/magic_carpet.ron"), "magic_carpet.ron").unwrap();
         let window = RenderWindow { overlays: [true, false, true, false], ..Default::default() };
         let overlays = window.request(&scene, 0).overlays;
         assert!(overlays.wireframe && !overlays.pins && overlays.catenaries && !overlays.triangulation);
@@ -569,7 +569,7 @@ mod tests {
     fn file_render_holds_an_old_sequence_back_until_it_is_replaced() {
         let dir = tempfile::tempdir().unwrap();
         let scene_file = dir.path().join("curtain.ron");
-        std::fs::write(&scene_file, include_str!("../../scenes/curtain.ron")).unwrap();
+        std::fs::write(&scene_file, include_str!("../../../scenes/curtain.ron")).unwrap();
         let folder = dir.path().join("frames");
         std::fs::create_dir(&folder).unwrap();
         for frame in 0..6 {

@@ -6,11 +6,11 @@
 
 use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2};
 
-use super::selection::Pick;
+use crate::editor::selection::Pick;
 use crate::scene::{Cloth, Key};
 
 /// What the user did in the grid editor this frame; the [`Pick`] says
-/// what it does to the selection (see [`super::selection`]).
+/// what it does to the selection (see [`crate::editor::selection`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum GridAction {
     /// A click on an unpinned point: pin it where the cloth is now.

@@ -16,12 +16,12 @@ use std::time::Duration;
 
 use eframe::egui;
 
-use super::document::Document;
-use super::file_dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
-use super::number_field::number_field;
 use super::worker_job::WorkerJob;
-use super::workspace::Workspace;
 use crate::animate::Evaluator;
+use crate::editor::document::Document;
+use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
+use crate::editor::number_field::number_field;
+use crate::editor::workspace::Workspace;
 use crate::export::{
     AnimationFormat, ExportError, ExportOptions, ExportSummary, MAX_EXPORT_BYTES, SizeEstimate, check_export_size,
     check_output, export_animation_using,
@@ -65,7 +65,7 @@ struct Refusal {
 }
 
 /// The Export window's settings and the running export.
-pub(super) struct ExportWindow {
+pub(in crate::editor) struct ExportWindow {
     open: bool,
     format: AnimationFormat,
     first: i32,
@@ -167,7 +167,7 @@ fn with_format_extension(path: &str, format: AnimationFormat) -> String {
 
 impl ExportWindow {
     /// Opens the Export window on the whole timeline, next to the scene's file.
-    pub(super) fn open_for(&mut self, doc: &Document) {
+    pub(in crate::editor) fn open_for(&mut self, doc: &Document) {
         let scene = doc.scene();
         let window = self;
         window.open = true;
@@ -184,7 +184,7 @@ impl ExportWindow {
         }
     }
 
-    pub(super) fn window_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
+    pub(in crate::editor) fn window_ui(&mut self, ctx: &egui::Context, w: &mut Workspace) {
         self.finish(w);
         if !self.open {
             return;
@@ -386,7 +386,7 @@ mod tests {
 
     #[test]
     fn a_huge_export_is_held_back_with_its_estimate() {
-        let mut scene = crate::scene::parse(include_str!("../../scenes/curtain.ron"), "curtain.ron").unwrap();
+        let mut scene = crate::scene::parse(include_str!("../../../scenes/curtain.ron"), "curtain.ron").unwrap();
         let dir = tempfile::tempdir().unwrap();
         let output = dir.path().join("curtain.usda");
         assert_eq!(size_refusal(&scene, &(0..=120), &output, AnimationFormat::Usda), None);
@@ -403,7 +403,7 @@ mod tests {
 
     #[test]
     fn an_old_sequence_is_held_back_until_it_may_be_replaced() {
-        let scene = crate::scene::parse(include_str!("../../scenes/curtain.ron"), "curtain.ron").unwrap();
+        let scene = crate::scene::parse(include_str!("../../../scenes/curtain.ron"), "curtain.ron").unwrap();
         let dir = tempfile::tempdir().unwrap();
         for frame in 0..10 {
             std::fs::write(dir.path().join(format!("curtain_{frame:04}.obj")), "old").unwrap();
@@ -420,7 +420,7 @@ mod tests {
 
     #[test]
     fn the_scene_s_own_file_is_never_an_output() {
-        let scene = crate::scene::parse(include_str!("../../scenes/curtain.ron"), "curtain.ron").unwrap();
+        let scene = crate::scene::parse(include_str!("../../../scenes/curtain.ron"), "curtain.ron").unwrap();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("curtain.usda");
         std::fs::write(&path, "the scene").unwrap();
@@ -469,7 +469,7 @@ mod tests {
     fn file_export_holds_an_old_sequence_back_until_it_is_replaced() {
         let dir = tempfile::tempdir().unwrap();
         let scene_file = dir.path().join("curtain.ron");
-        std::fs::write(&scene_file, include_str!("../../scenes/curtain.ron")).unwrap();
+        std::fs::write(&scene_file, include_str!("../../../scenes/curtain.ron")).unwrap();
         let folder = dir.path().join("seq");
         std::fs::create_dir(&folder).unwrap();
         for frame in 0..10 {
@@ -501,7 +501,7 @@ mod tests {
     fn file_export_uses_the_shapes_on_screen() {
         let dir = tempfile::tempdir().unwrap();
         let scene_file = dir.path().join("curtain.ron");
-        std::fs::write(&scene_file, include_str!("../../scenes/curtain.ron")).unwrap();
+        std::fs::write(&scene_file, include_str!("../../../scenes/curtain.ron")).unwrap();
         let mut workspace = Workspace::new(crate::scene::load(&scene_file).unwrap(), Some(scene_file));
         assert!(workspace.shown.wait_for(&workspace.doc, Duration::from_secs(120)), "the keys relax");
         // The viewport has drawn the scene.
