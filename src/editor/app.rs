@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use eframe::egui::{self, Key as KeyCode, KeyboardShortcut};
+use eframe::egui::{self, Key as KeyCode};
 use eframe::egui_wgpu;
 
 use super::attach;
@@ -26,10 +26,7 @@ use super::panels::layers::LayersPanel;
 use super::panels::references::ReferencesPanel;
 use super::panels::shot::ShotPanel;
 use super::pin_clipboard;
-use super::shortcuts::{
-    SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_REDO, SHORTCUT_REDO_ALT, SHORTCUT_RENDER, SHORTCUT_SAVE, SHORTCUT_SAVE_AS,
-    SHORTCUT_UNDO, SHORTCUTS,
-};
+use super::shortcuts::{self, SHORTCUTS};
 use super::timeline::TimelinePanel;
 use super::typing_pace::TypingPace;
 use super::viewport::ViewportPanel;
@@ -324,7 +321,7 @@ impl DrapeApp {
                     Some(label) => format!("Undo {label}"),
                     None => "Undo".to_owned(),
                 };
-                let button = egui::Button::new(undo).shortcut_text(ctx.format_shortcut(&SHORTCUT_UNDO));
+                let button = egui::Button::new(undo).shortcut_text(shortcuts::UNDO.menu_text(&ctx));
                 if ui.add_enabled(self.work.doc.undo_label().is_some(), button).clicked() {
                     self.undo();
                 }
@@ -332,23 +329,35 @@ impl DrapeApp {
                     Some(label) => format!("Redo {label}"),
                     None => "Redo".to_owned(),
                 };
-                let button = egui::Button::new(redo).shortcut_text(ctx.format_shortcut(&SHORTCUT_REDO));
+                let button = egui::Button::new(redo).shortcut_text(shortcuts::REDO.menu_text(&ctx));
                 if ui.add_enabled(self.work.doc.redo_label().is_some(), button).clicked() {
                     self.redo();
                 }
                 ui.separator();
                 let selected = !self.work.session.selection().is_empty();
-                let button = egui::Button::new("Unpin selected").shortcut_text("Delete");
+                let button = egui::Button::new("Unpin selected").shortcut_text(shortcuts::DELETE.menu_text(&ctx));
                 if ui.add_enabled(selected, button).clicked() {
                     self.work.delete_selected_pins();
                 }
-                if ui.add_enabled(selected, egui::Button::new("Copy pin positions").shortcut_text("Ctrl+C")).clicked()
+                if ui
+                    .add_enabled(
+                        selected,
+                        egui::Button::new("Copy pin positions").shortcut_text(shortcuts::COPY_PASTE.menu_text(&ctx)),
+                    )
+                    .clicked()
                     && let Some(text) = pin_clipboard::copy_selected_pins(&mut self.work)
                 {
                     ctx.copy_text(text);
                 }
                 let copied = !self.work.session.copied_pins().is_empty();
-                if ui.add_enabled(copied, egui::Button::new("Paste pin positions").shortcut_text("Ctrl+V")).clicked() {
+                if ui
+                    .add_enabled(
+                        copied,
+                        egui::Button::new("Paste pin positions")
+                            .shortcut_text(shortcuts::COPY_PASTE.second_menu_text(&ctx)),
+                    )
+                    .clicked()
+                {
                     pin_clipboard::paste_pins(&mut self.work, None);
                 }
                 if ui.add_enabled(selected, egui::Button::new("Mirror pins (x to −x)")).clicked() {
@@ -356,7 +365,10 @@ impl DrapeApp {
                 }
             });
             ui.menu_button("View", |ui| {
-                if ui.add(egui::Button::new("Frame all").shortcut_text("F")).clicked() {
+                if ui
+                    .add(egui::Button::new("Frame all").shortcut_text(shortcuts::FRAME_ALL.menu_text(ui.ctx())))
+                    .clicked()
+                {
                     self.viewport.frame_all_from_menu(&mut self.work);
                 }
                 ui.separator();
@@ -384,9 +396,9 @@ impl DrapeApp {
             .collapsible(false)
             .show(ctx, |ui| {
                 egui::Grid::new("shortcuts").striped(true).num_columns(2).show(ui, |ui| {
-                    for (keys, action) in SHORTCUTS {
-                        ui.strong(*keys);
-                        ui.label(*action);
+                    for shortcut in SHORTCUTS {
+                        ui.strong(shortcut.help_text(ctx));
+                        ui.label(shortcut.action);
                         ui.end_row();
                     }
                 });
@@ -395,27 +407,27 @@ impl DrapeApp {
 
     /// Shortcuts with modifiers work even while a text field has focus; plain keys only when none has.
     fn keyboard(&mut self, ctx: &egui::Context, aspect: f32) {
-        let consume = |shortcut: &KeyboardShortcut| ctx.input_mut(|i| i.consume_shortcut(shortcut));
+        let consume = |shortcut: &shortcuts::Shortcut| shortcut.consume(ctx);
         // Longest modifier sets first: Ctrl+Shift+Z must not be taken for Ctrl+Z.
-        if consume(&SHORTCUT_REDO) || consume(&SHORTCUT_REDO_ALT) {
+        if consume(&shortcuts::REDO) {
             self.redo();
-        } else if consume(&SHORTCUT_UNDO) {
+        } else if consume(&shortcuts::UNDO) {
             self.undo();
         }
         let toon = self.viewport.toon();
         let (w, camera) = (&mut self.work, self.viewport.camera_mut());
-        if consume(&SHORTCUT_SAVE_AS) {
+        if consume(&shortcuts::SAVE_AS) {
             self.files.file_save_as(w);
-        } else if consume(&SHORTCUT_SAVE) {
+        } else if consume(&shortcuts::SAVE) {
             self.files.file_save(w, camera);
         }
-        if consume(&SHORTCUT_OPEN) {
+        if consume(&shortcuts::OPEN) {
             self.files.file_open(w, camera);
         }
-        if consume(&SHORTCUT_RENDER) {
+        if consume(&shortcuts::RENDER) {
             self.render.open_for(&w.doc, toon);
         }
-        if consume(&SHORTCUT_NEW) {
+        if consume(&shortcuts::NEW) {
             self.files.file_new(w, camera);
         }
         // Whatever has the focus: the mode is the viewport's, and Esc is how it ends.

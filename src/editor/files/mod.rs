@@ -18,10 +18,10 @@ use self::dialog::{FileDialog, FileDialogMode, FileDialogOutcome};
 use self::prompt::{DiscardChoice, discard_prompt};
 use self::recent::RecentFiles;
 use self::recovery::{AutosaveClock, DEFAULT_AUTOSAVE_INTERVAL, RecoveredScene, Recovery};
-use super::shortcuts::{SHORTCUT_NEW, SHORTCUT_OPEN, SHORTCUT_RENDER, SHORTCUT_SAVE, SHORTCUT_SAVE_AS};
+use super::shortcuts::{self, Shortcut};
 use super::workspace::Workspace;
 use crate::render::OrbitCamera;
-use crate::scene::{self, Cloth, Ease, Key, Pin, RelaxSettings, Scene, Timeline, View};
+use crate::scene::{self, Ease, Key, Pin, RelaxSettings, Scene, View};
 
 /// What waits for the answer to "save changes?".
 #[derive(Clone, Debug, PartialEq)]
@@ -105,14 +105,10 @@ impl Files {
     }
 }
 
-/// File ▸ New: a 1 m square cloth on a 33 × 33 grid hanging from its two top corners.
+/// File ▸ New: the default scene's cloth (1 m square, a 33 × 33 grid) hanging from its two top corners.
 pub fn new_scene() -> Scene {
     let pin = |grid, x| Pin::at(grid, (x, 1.5, 0.0));
     Scene {
-        version: 1,
-        name: String::new(),
-        cloth: Cloth::new((1.0, 1.0), (33, 33)),
-        timeline: Timeline::default(),
         keys: vec![Key {
             frame: 0,
             pins: vec![pin((0, 0), -0.5), pin((32, 0), 0.5)],
@@ -125,13 +121,7 @@ pub fn new_scene() -> Scene {
             friction: crate::scene::DEFAULT_FRICTION,
             placement: None,
         }],
-        layers: Vec::new(),
-        view: None,
-        colliders: Vec::new(),
-        references: Vec::new(),
-        follow: None,
-        camera: None,
-        plate: None,
+        ..Scene::default()
     }
 }
 
@@ -144,11 +134,11 @@ impl Files {
         camera: &mut OrbitCamera,
     ) -> Option<FileWindow> {
         let ctx = ui.ctx().clone();
-        let item = |label: &str, shortcut| egui::Button::new(label).shortcut_text(ctx.format_shortcut(shortcut));
-        if ui.add(item("New", &SHORTCUT_NEW)).clicked() {
+        let item = |label: &str, shortcut: &Shortcut| egui::Button::new(label).shortcut_text(shortcut.menu_text(&ctx));
+        if ui.add(item("New", &shortcuts::NEW)).clicked() {
             self.file_new(w, camera);
         }
-        if ui.add(item("Open…", &SHORTCUT_OPEN)).clicked() {
+        if ui.add(item("Open…", &shortcuts::OPEN)).clicked() {
             self.file_open(w, camera);
         }
         let recent: Vec<PathBuf> = self.recent.paths().to_vec();
@@ -163,10 +153,10 @@ impl Files {
             });
         });
         ui.separator();
-        if ui.add(item("Save", &SHORTCUT_SAVE)).clicked() {
+        if ui.add(item("Save", &shortcuts::SAVE)).clicked() {
             self.file_save(w, camera);
         }
-        if ui.add(item("Save As…", &SHORTCUT_SAVE_AS)).clicked() {
+        if ui.add(item("Save As…", &shortcuts::SAVE_AS)).clicked() {
             self.file_save_as(w);
         }
         ui.separator();
@@ -174,7 +164,7 @@ impl Files {
         if ui.button("Export…").on_hover_text("PC2, MDD, glTF, USD or an OBJ sequence").clicked() {
             chosen = Some(FileWindow::Export);
         }
-        let render = ui.add(item("Render…", &SHORTCUT_RENDER));
+        let render = ui.add(item("Render…", &shortcuts::RENDER));
         if render.on_hover_text("A PNG still, a PNG sequence or a GIF of the scene").clicked() {
             chosen = Some(FileWindow::Render);
         }
