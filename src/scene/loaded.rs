@@ -20,18 +20,6 @@ pub type LoadedMesh = Loaded<MeshSolid>;
 /// A reference's rig once read.
 pub type LoadedRig = Loaded<Rig>;
 
-/// A [`LoadedMesh`] holding `solid` (`None`: not read).
-#[allow(non_snake_case, reason = "spelled as the tuple struct it builds, beside the alias of that name")]
-pub fn LoadedMesh(solid: Option<Arc<MeshSolid>>) -> LoadedMesh {
-    Loaded(solid)
-}
-
-/// A [`LoadedRig`] holding `rig` (`None`: not read).
-#[allow(non_snake_case, reason = "spelled as the tuple struct it builds, beside the alias of that name")]
-pub fn LoadedRig(rig: Option<Arc<Rig>>) -> LoadedRig {
-    Loaded(rig)
-}
-
 impl<T> Default for Loaded<T> {
     fn default() -> Self {
         Loaded(None)

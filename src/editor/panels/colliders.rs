@@ -8,12 +8,12 @@ use std::sync::Arc;
 
 use eframe::egui;
 
-use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
+use super::keyed_number::{KeyedNumber, NumberRange, Owner};
 use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use crate::editor::timeline::curve_view::{Curve, CurveView};
 use crate::editor::workspace::Workspace;
 use crate::scene::{
-    Collider, ColliderNumber, LoadedMesh, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
+    Collider, ColliderNumber, Loaded, MAX_PIN_COORD_M, MAX_THICKNESS_M, Measure, MeshCollider, Param, read_mesh,
 };
 
 /// The Colliders panel's own state: the file dialog picking a mesh (for a
@@ -109,7 +109,7 @@ impl CollidersPanel {
         self.mesh_dialog = None;
         let FileDialogOutcome::Picked(path) = outcome else { return };
         let solid = match read_mesh(&path) {
-            Ok(solid) => LoadedMesh(Some(Arc::new(solid))),
+            Ok(solid) => Loaded(Some(Arc::new(solid))),
             Err(why) => {
                 w.report(format!("Cannot use {} as a collider: {why}", path.display()), true);
                 return;
@@ -193,7 +193,7 @@ fn number_range(number: ColliderNumber) -> NumberRange {
     }
 }
 
-/// One of the collider's animatable numbers as a row ([`keyed_number_row_ui`]).
+/// One of the collider's animatable numbers as a row ([`KeyedNumber`]).
 fn number_row_ui(
     ui: &mut egui::Ui,
     w: &mut Workspace,
@@ -204,7 +204,7 @@ fn number_row_ui(
     param_of: impl Fn(&mut crate::scene::Scene) -> Option<&mut Param>,
 ) {
     let owner = Owner { diamond_prefix: "", noun: "Collider" };
-    keyed_number_row_ui(ui, w, frame, owner, label_text, param, range, param_of);
+    KeyedNumber { owner, label: label_text, param, range }.row_ui(ui, w, frame, param_of);
 }
 
 /// A dialog for a mesh file, starting in the scene's folder.

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use eframe::egui;
 
-use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
+use super::keyed_number::{KeyedNumber, NumberRange, Owner};
 use crate::animate::track::sample;
 use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use crate::editor::number_field::number_field;
@@ -20,8 +20,8 @@ use crate::editor::param_edit::set_at_keying;
 use crate::editor::timeline::curve_view::{Curve, CurveView, ReferenceNumber};
 use crate::editor::workspace::Workspace;
 use crate::scene::{
-    Attachment, LoadedRig, MAX_PIN_COORD_M, MAX_REFERENCE_SPEED, MAX_THICKNESS_M, MAX_TIMELINE_FRAME, Param, Reference,
-    Scene, read_rig, readable_number,
+    Attachment, Loaded, LoadedRig, MAX_PIN_COORD_M, MAX_REFERENCE_SPEED, MAX_THICKNESS_M, MAX_TIMELINE_FRAME, Param,
+    Reference, Scene, read_rig, readable_number,
 };
 use crate::world::rig::Rig;
 
@@ -346,7 +346,7 @@ fn field_edit(w: &mut Workspace, response: &egui::Response, label: &str, change:
     }
 }
 
-/// One of the reference's animatable numbers as a row ([`keyed_number_row_ui`]).
+/// One of the reference's animatable numbers as a row ([`KeyedNumber`]).
 fn number_row_ui(
     ui: &mut egui::Ui,
     w: &mut Workspace,
@@ -356,7 +356,8 @@ fn number_row_ui(
     param_of: impl Fn(&mut Scene) -> Option<&mut Param>,
 ) {
     let owner = Owner { diamond_prefix: "reference ", noun: "Reference" };
-    keyed_number_row_ui(ui, w, frame, owner, &number.label(), param, number_range(number), param_of);
+    let label = number.label();
+    KeyedNumber { owner, label: &label, param, range: number_range(number) }.row_ui(ui, w, frame, param_of);
 }
 
 /// A number's bounds (validation's), drag speed and unit.
@@ -467,7 +468,7 @@ fn rename(w: &mut Workspace, index: usize, name: String) {
 /// The rig in the file at `path`, or `None` with the problem in the status bar.
 fn read_or_report(w: &mut Workspace, path: &Path) -> Option<LoadedRig> {
     match read_rig(path) {
-        Ok(rig) => Some(LoadedRig(Some(Arc::new(rig)))),
+        Ok(rig) => Some(Loaded(Some(Arc::new(rig)))),
         Err(why) => {
             w.report(format!("Cannot use {} as a reference: {why}", path.display()), true);
             None
@@ -527,7 +528,7 @@ mod tests {
 
     fn walker() -> Reference {
         let rig = read_rig(Path::new("assets/walker.glb")).expect("the bundled walker");
-        let reference = new_reference("walker".to_owned(), "walker.glb".to_owned(), LoadedRig(Some(Arc::new(rig))));
+        let reference = new_reference("walker".to_owned(), "walker.glb".to_owned(), Loaded(Some(Arc::new(rig))));
         reference.expect("a reference with defaults")
     }
 
@@ -571,7 +572,7 @@ mod tests {
         assert!((r.clip_time_secs(slow.frames.1, 24.0, clip.secs) - clip.secs.1).abs() < 1e-9);
         r.animation = Some("Run".to_owned());
         assert_eq!(r.clip_frames(24.0), None, "no such clip");
-        r.rig = LoadedRig(None);
+        r.rig = Loaded(None);
         r.animation = None;
         assert_eq!(r.clip_frames(24.0), None, "not read");
     }
@@ -581,7 +582,7 @@ mod tests {
         let mut r = walker();
         let text = summary(&r, 24.0);
         assert!(text.contains(" vertices, ") && text.contains(" joints; clip Walk 0–1 s (frames 0–24 "), "{text}");
-        r.rig = LoadedRig(None);
+        r.rig = Loaded(None);
         assert!(summary(&r, 24.0).contains("not read"));
     }
 

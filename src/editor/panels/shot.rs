@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use eframe::egui;
 
-use super::keyed_number::{NumberRange, Owner, keyed_number_row_ui};
+use super::keyed_number::{KeyedNumber, NumberRange, Owner};
 use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use crate::editor::number_field::number_field;
 use crate::editor::timeline::curve_view::{Curve, CurveView, ShotNumber};
@@ -89,9 +89,9 @@ impl ShotPanel {
     fn number_row_ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace, frame: i32, number: ShotNumber, shown: Curve) {
         let Some(param) = number.param(w.doc.scene()).cloned() else { return };
         let owner = Owner { diamond_prefix: "shot ", noun: "Shot" };
-        keyed_number_row_ui(ui, w, frame, owner, &number.label(), &param, number_range(number), |s| {
-            number.param_mut(s)
-        });
+        let label = number.label();
+        let row = KeyedNumber { owner, label: &label, param: &param, range: number_range(number) };
+        row.row_ui(ui, w, frame, |s| number.param_mut(s));
         let curve = Curve::Shot(number);
         self.curve.button_ui(ui, curve, shown == curve);
         ui.end_row();

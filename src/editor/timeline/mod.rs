@@ -631,7 +631,7 @@ mod tests {
         let mut scene = crate::scene::parse(crate::editor::DEFAULT_SCENE, "magic_carpet.ron").unwrap();
         scene.references = ron::from_str(r#"[(name: "a", file: "a.glb", start_frame: 12), (file: "b.glb")]"#).unwrap();
         for reference in &mut scene.references {
-            reference.rig = crate::scene::LoadedRig(Some(std::sync::Arc::new(walker.clone())));
+            reference.rig = crate::scene::Loaded(Some(std::sync::Arc::new(walker.clone())));
         }
         let bars = reference_bars(&scene);
         assert_eq!(bars.iter().map(|b| (b.name.as_str(), b.lane)).collect::<Vec<_>>(), [("a", 0), ("reference 2", 1)]);
