@@ -43,6 +43,13 @@ impl Reach {
         self.boxes.get(index).is_some_and(|(lo, hi)| lo.cmple(p).all() && hi.cmpge(p).all())
     }
 
+    /// Whether obstacle `index` may be within its thickness of a point of
+    /// the segment `a` → `b`.
+    pub fn near_segment(&self, index: usize, a: DVec3, b: DVec3) -> bool {
+        let (lo, hi) = (a.min(b), a.max(b));
+        self.boxes.get(index).is_some_and(|(l, h)| l.cmple(hi).all() && h.cmpge(lo).all())
+    }
+
     /// Whether any obstacle may be within its thickness of a point of the
     /// segment `a` → `b` (false if either end is not finite).
     pub fn near_path(&self, a: DVec3, b: DVec3) -> bool {
