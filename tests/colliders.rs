@@ -6,6 +6,8 @@
 use drape::animate::posed_solids::PosedSolids;
 use drape::animate::{Evaluator, colliders_at::obstacles_at};
 use drape::scene::{self, Scene};
+use drape::shape::Placement;
+use drape::shape::through::through_obstacles;
 use glam::Vec3;
 
 /// A 0.9 × 0.7 m cloth on a 19 × 15 grid pinned near the middle of a top at
@@ -135,6 +137,57 @@ fn the_bundled_scenes_keep_off_their_colliders_in_every_frame() {
         let Ok(scene) = scene::load(std::path::Path::new(&format!("scenes/{name}.ron"))) else { panic!("{name}") };
         assert!(scene.keys[0].pins.is_empty(), "{name}");
     }
+}
+
+/// Every key of every bundled scene rests clear of its colliders: no grid
+/// point and no place along an edge more than 1 mm inside a solid (a
+/// tablecloth's edges wrap a round table's rim instead of cutting it), and
+/// each is settled.
+#[test]
+fn every_bundled_key_rests_clear_of_its_colliders() {
+    let Ok(entries) = std::fs::read_dir("scenes") else { panic!("the scenes folder") };
+    let mut paths: Vec<_> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    let mut keys_among_colliders = 0;
+    for path in paths.iter().filter(|p| p.extension().is_some_and(|e| e == "ron")) {
+        let scene = match scene::load(path) {
+            Ok(scene) => scene,
+            Err(error) => panic!("{error}"),
+        };
+        let mut evaluator = Evaluator::new();
+        for key in &scene.keys {
+            let obstacles = evaluator.key_obstacles(&scene, key);
+            let shape = evaluator.key_shape(&scene, key);
+            let rest = &shape.rest;
+            let pinned: Vec<bool> = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
+            let through = through_obstacles(&rest.relaxed, (rest.grid.cols, rest.grid.rows), &pinned, &obstacles);
+            let name = path.display();
+            assert_eq!(through, None, "{name}, key at frame {}", key.frame);
+            assert!(rest.relax_report.converged, "{name}, key at frame {}: {}", key.frame, rest.relax_report.verdict());
+            keys_among_colliders += usize::from(!obstacles.is_empty());
+        }
+    }
+    assert!(keys_among_colliders >= 10, "the bundled scenes have keys among colliders: {keys_among_colliders}");
+}
+
+/// A shape that passes through a collider is never settled: a pin inside a
+/// ball holds the edges from it inside, and the verdict says where and what
+/// to do.
+#[test]
+fn a_key_through_a_collider_is_not_settled_and_says_where() {
+    let ball = "Sphere((name: \"ball\", center: (-0.15, 0.743, -0.1), radius: 0.05))";
+    let scene = scene_with(0.743, ball, false);
+    let mut evaluator = Evaluator::new();
+    let shape = evaluator.key_shape(&scene, &scene.keys[0]);
+    let report = shape.rest.relax_report;
+    let Some(through) = report.through else { panic!("the edges from the pin pass through the ball") };
+    assert!(!report.converged);
+    assert_eq!(report.summary(), "NOT settled: passes through a collider");
+    let verdict = report.verdict();
+    assert!(verdict.starts_with("NOT settled: passes through a collider at "), "{verdict}");
+    assert!(verdict.contains("move the pins or the collider apart"), "{verdict}");
+    let (i, j) = through.deepest_at;
+    assert!(i.abs_diff(6) <= 1 && j.abs_diff(5) <= 1, "the deepest place is by the pin at (6, 5): {through:?}");
 }
 
 /// A disabled collider, or one the cloth never reaches (a ground far below

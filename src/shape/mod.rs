@@ -9,6 +9,7 @@ pub mod equilibrium;
 pub mod lay_flat;
 pub mod relax;
 pub mod rest_shape;
+pub mod through;
 
 pub use approximate::{Approximation, CatenaryNetwork, GridSpec, PinLayout, PinPoint, Placement, approximate};
 pub use catenary::Catenary;

@@ -70,6 +70,8 @@ use std::ops::ControlFlow;
 
 use glam::DVec3;
 
+use super::through::Through;
+
 mod drape;
 mod kernel;
 mod layout;
@@ -139,13 +141,18 @@ pub struct RelaxReport {
     /// The fabric has a bending limit (stiffness above 0): when it did not
     /// settle, lowering Stiffness may help where more sweeps do not.
     pub stiff: bool,
+    /// Where the shape passes through a collider: such a shape is never
+    /// settled, however still it lies.
+    pub through: Option<Through>,
 }
 
 impl RelaxReport {
     /// A one-line verdict for a narrow panel ("Settled: last sweep moved
     /// 0.00032 mm"); [`RelaxReport::verdict`] says it in full.
     pub fn summary(&self) -> String {
-        if self.converged {
+        if self.through.is_some() {
+            "NOT settled: passes through a collider".to_owned()
+        } else if self.converged {
             format!("Settled: last sweep moved {}", format_small_mm(self.last_move_m * 1e3))
         } else if self.fell_off {
             "NOT settled: fell past every collider".to_owned()
@@ -169,7 +176,16 @@ impl RelaxReport {
         } else {
             "raise Iterations"
         };
-        if self.converged {
+        if let Some(through) = self.through {
+            let (i, j) = through.deepest_at;
+            format!(
+                "NOT settled: passes through a collider at {} place{} on the cloth, deepest {} inside it near grid \
+                 point ({i}, {j}); move the pins or the collider apart, or lower Elasticity so the cloth hangs clear",
+                through.places,
+                if through.places == 1 { "" } else { "s" },
+                format_small_mm(through.deepest_m * 1e3)
+            )
+        } else if self.converged {
             format!("settled in {sweeps} (last sweep moved points at most {moved})")
         } else if self.fell_off {
             format!(
@@ -603,6 +619,7 @@ mod tests {
             coarse_capped: false,
             fell_off: false,
             stiff: true,
+            through: None,
         };
         assert_eq!(settled.verdict(), "settled in 135 sweeps (last sweep moved points at most 0.00012 mm)");
         let capped =

@@ -8,6 +8,7 @@ use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Pla
 use super::contact::count_crossings;
 use super::lay_flat::{flat_at, lay_flat};
 use super::relax::{Cancelled, DrapeReport, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_resolved};
+use super::through::through_obstacles;
 use crate::scene::{Cloth, Key};
 use crate::world::{ColliderShape, Obstacle, push_out};
 
@@ -128,7 +129,8 @@ impl RestShape {
         lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
         let fall =
             drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
-        Ok(RestShape { relaxed, relax_report: fall_report(fall, &params), kept_apart: false, ..plain })
+        let relax_report = judged(fall_report(fall, &params), &relaxed, grid, &pinned, obstacles);
+        Ok(RestShape { relaxed, relax_report, kept_apart: false, ..plain })
     }
 
     /// Whether this shape, built without colliders, comes within one of
@@ -163,7 +165,7 @@ impl RestShape {
         } else {
             let fall =
                 drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, params, obstacles, key.friction, control)?;
-            fall_report(fall, params)
+            judged(fall_report(fall, params), &relaxed, grid, &pinned, obstacles)
         };
         Ok(RestShape {
             grid,
@@ -196,7 +198,21 @@ fn fall_report(fall: DrapeReport, params: &RelaxParams) -> RelaxReport {
         coarse_capped: false,
         fell_off: fall.fell_off,
         stiff: params.stiffness > 0.0,
+        through: None,
     }
+}
+
+/// `report` with where `positions` pass through `obstacles`: such a shape
+/// is not settled, however still the fall left it.
+fn judged(
+    report: RelaxReport,
+    positions: &[DVec3],
+    grid: GridSpec,
+    pinned: &[bool],
+    obstacles: &[Obstacle],
+) -> RelaxReport {
+    let through = through_obstacles(positions, (grid.cols, grid.rows), pinned, obstacles);
+    RelaxReport { converged: report.converged && through.is_none(), through, ..report }
 }
 
 /// Edges are checked against the colliders at this many equal parts.
