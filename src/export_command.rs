@@ -187,7 +187,14 @@ fn evaluator_with_key_shapes(scene: &Scene, stage: Stage, first: i32, last: i32)
     };
     let mut evaluator = Evaluator::new();
     let mut status = StatusLine::on_stderr();
-    build_key_shapes(&mut evaluator, scene, keys.into_iter(), &mut status);
+    build_key_shapes(&mut evaluator, scene, keys.iter().copied(), &mut status);
+    // The files are written all the same: the verdict says what to change.
+    for key in keys {
+        let report = evaluator.key_shape(scene, key).rest.relax_report;
+        if !report.converged {
+            eprintln!("drape: warning: the key at frame {} is {}", key.frame, report.verdict());
+        }
+    }
     evaluator
 }
 

@@ -1078,6 +1078,34 @@ fn three_hundred_pins_check_and_export_with_every_pin_in_place() {
     }
 }
 
+/// A key whose cloth passes through a collider (its pin inside a ball) is
+/// NOT settled in `drape check` and in `drape export`, which says so on
+/// stderr and writes the file all the same.
+#[test]
+fn check_and_export_say_a_key_through_a_collider_is_not_settled() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "(version: 1, cloth: (size: (0.9, 0.7), grid: (19, 15)), \
+         keys: [(frame: 0, pins: [(grid: (6, 5), pos: (-0.15, 0.743, -0.1)), (grid: (12, 5), pos: (0.15, 0.743, -0.1)), \
+         (grid: (6, 9), pos: (-0.15, 0.743, 0.1)), (grid: (12, 9), pos: (0.15, 0.743, 0.1))])], \
+         colliders: [Sphere((name: \"ball\", center: (-0.15, 0.743, -0.1), radius: 0.05))])";
+    let scene_path = dir.path().join("through.ron");
+    fs::write(&scene_path, text).unwrap();
+    let drape = env!("CARGO_BIN_EXE_drape");
+    let check = Command::new(drape).arg("check").arg(&scene_path).output().unwrap();
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(report.contains("NOT settled: passes through a collider at "), "check says: {report}");
+    assert!(report.contains("near grid point ("), "check says where: {report}");
+    let obj = dir.path().join("through.obj");
+    let export = Command::new(drape).arg("export").arg(&scene_path).arg("-o").arg(&obj).output().unwrap();
+    let said = String::from_utf8_lossy(&export.stderr);
+    assert!(export.status.success(), "export failed: {said}");
+    assert!(
+        said.contains("warning: the key at frame 0 is NOT settled: passes through a collider"),
+        "export says: {said}"
+    );
+    assert!(obj.exists(), "the file is written all the same");
+}
+
 /// `drape check` describes a travelling shot camera by where it starts and
 /// ends, over which frames, instead of calling its position "animated".
 #[test]
