@@ -696,6 +696,9 @@ fn a_thousand_pins_stay_within_a_gigabyte() {
     }
 }
 
+/// What `drape export` says on stderr about a key that did not settle at its cap.
+const NOT_SETTLED_WARNING: &str = "drape: warning: the key at frame 0 is NOT settled: ";
+
 /// Progress shows on a terminal only. Piped (as here), stderr stays empty
 /// unless a key is slow (`DRAPE_SLOW_KEY_SECS`, 5 s by default: set high
 /// here so a loaded machine cannot make this key slow, then 0 so every key
@@ -719,16 +722,18 @@ fn long_work_shows_progress_on_a_terminal_only() {
     let piped = quiet().arg("check").arg(&path).output().unwrap();
     assert!(piped.status.success());
     assert_eq!(stderr(&piped), "", "nothing but the result when stderr is not a terminal");
+    // Export says which key is not settled (50 sweeps leave it moving), and nothing else.
     let piped = quiet().arg("export").arg(&path).arg("-o").arg(&obj).output().unwrap();
     assert!(piped.status.success());
-    assert_eq!(stderr(&piped), "");
+    let text = stderr(&piped);
+    assert!(text.lines().count() == 1 && text.starts_with(NOT_SETTLED_WARNING), "{text:?}");
     for args in
         [vec!["check", path.to_str().unwrap()], vec!["export", path.to_str().unwrap(), "-o", obj.to_str().unwrap()]]
     {
         let piped = drape().env("DRAPE_SLOW_KEY_SECS", "0").args(&args).output().unwrap();
         assert!(piped.status.success());
         let text = stderr(&piped);
-        let lines: Vec<&str> = text.lines().collect();
+        let lines: Vec<&str> = text.lines().filter(|line| !line.starts_with(NOT_SETTLED_WARNING)).collect();
         assert_eq!(lines.len(), 1, "{args:?}: one plain line for the slow key: {text:?}");
         assert!(lines[0].starts_with("drape: key 1/1 (frame 0) is still relaxing after "), "{text:?}");
         assert!(lines[0].contains(" s: sweep "), "{text:?}");
@@ -968,7 +973,10 @@ fn drape_started_with_ctrl_c_ignored_keeps_ignoring_it_and_stays_bounded() {
     send(&child, libc::SIGINT);
     let output = child.wait_with_output().unwrap();
     assert_eq!(output.status.code(), Some(1), "{} {}", output.status, stderr(&output));
-    assert_eq!(stderr(&output), "error: cannot write x.usda: File too large\n");
+    // The rough rest shape (20 sweeps) is not settled, and says so first.
+    let text = stderr(&output);
+    let lines: Vec<&str> = text.lines().filter(|line| !line.starts_with(NOT_SETTLED_WARNING)).collect();
+    assert_eq!(lines, ["error: cannot write x.usda: File too large"], "{text:?}");
     assert_eq!(names_in(dir.path()), ["big.ron"]);
 }
 
