@@ -666,3 +666,18 @@ fn allows_of_many_arguments_are_told_from_other_attributes() {
     assert_eq!(first_function(item.into_iter()), Some("place_row"));
     assert_eq!(first_function(["struct Row {", "}"].into_iter()), None);
 }
+
+/// One module style: a module with children is a folder with its `mod.rs`,
+/// never a `foo.rs` beside a `foo/` folder.
+#[test]
+fn a_module_with_children_is_a_folder_with_its_mod_rs() {
+    let beside: Vec<String> = files_under(&["src"])
+        .into_iter()
+        .filter(|file| file.extension().is_some_and(|ext| ext == "rs") && file.with_extension("").is_dir())
+        .map(|file| file.display().to_string())
+        .collect();
+    assert!(
+        beside.is_empty(),
+        "modules written as a file beside their folder (move each to its folder's mod.rs): {beside:?}"
+    );
+}
