@@ -1,10 +1,14 @@
-//! The world around the cloth as geometry: colliders at one moment, with the
-//! distance and the outward direction from any point to their surface.
+//! The world around the cloth (the name DESIGN.md gives it): what the cloth
+//! meets and follows, apart from the scene file that describes it.
 //!
-//! Pure math on numbers already sampled at a frame (`animate::colliders_at`
-//! samples a scene's colliders): shape and animate use it to keep the cloth
-//! outside, render to draw it. [`rig`] poses the nodes and skinned meshes
-//! of referenced glTF files at any time.
+//! - Colliders as geometry at one moment, with the distance and the outward
+//!   direction from any point to their surface: pure math on numbers
+//!   already sampled at a frame (`animate::colliders_at` samples a scene's
+//!   colliders). Shape and animate use it to keep the cloth outside, render
+//!   to draw it.
+//! - [`rig`]: the referenced glTF characters and props, their nodes and
+//!   skinned meshes posed at any time (what the cloth is pinned to, follows
+//!   and, as a solid, keeps out of).
 
 mod collider_shape;
 mod mesh_solid;
