@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use drape::scene::{Attachment, LoadedRig, NodeAttachment, Reference, Scene};
+use drape::scene::{Attachment, Loaded, NodeAttachment, Reference, Scene};
 use drape::world::rig::{Channel, Clip, Interpolation, Property, Rig, RigNode, Trs};
 use glam::DVec3;
 
@@ -95,7 +95,7 @@ pub fn scene_with_targets(scene: &Scene, targets: &[PinTarget], t_secs: f64) -> 
     let mut reference: Reference =
         ron::from_str(r#"(file: "", visible: false, collider: false)"#).expect("a reference of defaults parses");
     reference.name = REFERENCE_NAME.to_owned();
-    reference.rig = LoadedRig(Some(Arc::new(rig)));
+    reference.rig = Loaded(Some(Arc::new(rig)));
     posed.references.push(reference);
     for (k, key) in posed.keys.iter_mut().enumerate() {
         for pin in &mut key.pins {
