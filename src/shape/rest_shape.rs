@@ -8,7 +8,7 @@ use super::approximate::{Approximation, CatenaryNetwork, GridSpec, PinPoint, Pla
 use super::contact::count_crossings;
 use super::lay_flat::{flat_at, lay_flat};
 use super::relax::{Cancelled, DrapeReport, RelaxParams, RelaxProgress, RelaxReport, drape_among, relax_resolved};
-use super::through::through_obstacles;
+use super::through::{grid_places, through_obstacles};
 use crate::scene::{Cloth, Key};
 use crate::world::{ColliderShape, Obstacle, push_out};
 
@@ -215,21 +215,14 @@ fn judged(
     RelaxReport { converged: report.converged && through.is_none(), through, ..report }
 }
 
-/// Edges are checked against the colliders at this many equal parts.
-const EDGE_SAMPLES: usize = 4;
+/// Edges are checked against the colliders at the points cutting them into this many equal parts.
+const EDGE_PARTS: usize = 4;
 
 /// Whether any point of `positions` (a grid), or any point along one of its
 /// edges, is nearer an obstacle than its thickness.
-fn touches(positions: &[DVec3], (cols, rows): (usize, usize), obstacles: &[Obstacle]) -> bool {
+fn touches(positions: &[DVec3], grid: (usize, usize), obstacles: &[Obstacle]) -> bool {
     let near = |p: DVec3| obstacles.iter().any(|o| o.shape.distance(p) < o.thickness);
-    (0..cols * rows).any(|k| {
-        let (i, j) = (k % cols, k / cols);
-        let ends = [(i + 1 < cols).then(|| k + 1), (j + 1 < rows).then(|| k + cols)];
-        near(positions[k])
-            || ends.into_iter().flatten().any(|q| {
-                (1..EDGE_SAMPLES).any(|t| near(positions[k].lerp(positions[q], t as f64 / EDGE_SAMPLES as f64)))
-            })
-    })
+    grid_places(positions, grid, EDGE_PARTS).any(|(p, _, _)| near(p))
 }
 
 /// Sweeps each grid level may take, after its settling, to settle keeping

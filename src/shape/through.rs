@@ -10,8 +10,9 @@ use crate::world::{Obstacle, Reach};
 /// more than rounding and the fall's own tolerance of its thickness.
 pub const THROUGH_DEPTH_M: f64 = 1e-3;
 
-/// Points measured along each row and column edge, between its ends.
-const EDGE_SAMPLES: usize = 7;
+/// Each row and column edge is measured at the points that cut it into this
+/// many equal parts (seven points between its ends).
+const EDGE_PARTS: usize = 8;
 
 /// How a shape passes through the colliders.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,22 +56,37 @@ pub fn through_obstacles(
             }
         }
     };
-    for k in 0..cols * rows {
-        if !pinned[k] {
-            measure(positions[k], k);
-        }
-        let (i, j) = (k % cols, k / cols);
-        for q in [(i + 1 < cols).then(|| k + 1), (j + 1 < rows).then(|| k + cols)].into_iter().flatten() {
-            for t in 1..=EDGE_SAMPLES {
-                let share = t as f64 / (EDGE_SAMPLES + 1) as f64;
-                measure(positions[k].lerp(positions[q], share), if share <= 0.5 { k } else { q });
-            }
+    for (p, nearest, is_point) in grid_places(positions, (cols, rows), EDGE_PARTS) {
+        if !(is_point && pinned[nearest]) {
+            measure(p, nearest);
         }
     }
     let places: usize = counts.iter().sum();
     let collider = (0..counts.len()).max_by_key(|&i| (counts[i], std::cmp::Reverse(i)))?;
     let deepest_at = (deepest_at % cols, deepest_at / cols);
     (places > 0).then_some(Through { places, deepest_m, deepest_at, collider })
+}
+
+/// Every place of a `cols × rows` grid where contact is measured, in grid
+/// order: each grid point, then the points cutting its row and column
+/// edges into `parts` equal parts. Each comes with the grid point at or
+/// nearest it, and whether it is that grid point.
+pub(super) fn grid_places(
+    positions: &[DVec3],
+    (cols, rows): (usize, usize),
+    parts: usize,
+) -> impl Iterator<Item = (DVec3, usize, bool)> + '_ {
+    (0..cols * rows).flat_map(move |k| {
+        let (i, j) = (k % cols, k / cols);
+        let ends = [(i + 1 < cols).then(|| k + 1), (j + 1 < rows).then(|| k + cols)];
+        let along = ends.into_iter().flatten().flat_map(move |q| {
+            (1..parts).map(move |t| {
+                let share = t as f64 / parts as f64;
+                (positions[k].lerp(positions[q], share), if share <= 0.5 { k } else { q }, false)
+            })
+        });
+        std::iter::once((positions[k], k, true)).chain(along)
+    })
 }
 
 #[cfg(test)]

@@ -53,8 +53,7 @@ impl Reach {
     /// Whether any obstacle may be within its thickness of a point of the
     /// segment `a` → `b` (false if either end is not finite).
     pub fn near_path(&self, a: DVec3, b: DVec3) -> bool {
-        let (lo, hi) = (a.min(b), a.max(b));
-        a.is_finite() && b.is_finite() && self.boxes.iter().any(|(l, h)| l.cmple(hi).all() && h.cmpge(lo).all())
+        a.is_finite() && b.is_finite() && (0..self.boxes.len()).any(|index| self.near_segment(index, a, b))
     }
 }
 
