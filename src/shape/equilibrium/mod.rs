@@ -351,8 +351,9 @@ pub fn equilibrate_watched(
     let mut report = EquilibriumReport { tolerance, residual: residual(&gradient), ..EquilibriumReport::default() };
     // Levenberg–Marquardt shift relative to the largest diagonal entry.
     let mut shift_share = 1e-9;
+    let mut last_move_m = 0.0;
     while report.residual > tolerance && report.steps < max_steps {
-        control(RelaxProgress { cols, rows, iteration: report.steps, max_iterations: max_steps })
+        control(RelaxProgress { cols, rows, iteration: report.steps, max_iterations: max_steps, last_move_m })
             .is_continue()
             .then_some(())
             .ok_or(Cancelled)?;
@@ -400,6 +401,7 @@ pub fn equilibrate_watched(
             continue;
         }
         std::mem::swap(&mut x, &mut trial);
+        last_move_m = alpha * longest;
         watched.iter_mut().zip(&x).for_each(|(w, p)| *w = *p + centre);
         watch(&watched);
         std::mem::swap(&mut gradient, &mut trial_gradient);

@@ -164,7 +164,8 @@ pub fn drape_among(
             largest = largest.max((p - before[k]).length());
         }
         calm_steps = if largest < calm { calm_steps + 1 } else { 0 };
-        let progress = RelaxProgress { cols, rows, iteration: step + 1, max_iterations: max_steps };
+        let progress =
+            RelaxProgress { cols, rows, iteration: step + 1, max_iterations: max_steps, last_move_m: largest };
         if control(progress).is_break() {
             return Err(Cancelled);
         }

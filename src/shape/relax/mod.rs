@@ -116,6 +116,9 @@ pub struct RelaxProgress {
     /// Sweeps done on this level so far.
     pub iteration: u32,
     pub max_iterations: u32,
+    /// Largest move the last sweep or step made or asked for, metres (0
+    /// before the first).
+    pub last_move_m: f64,
 }
 
 /// A relaxation stopped from outside (a newer edit made it stale).

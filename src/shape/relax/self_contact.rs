@@ -17,7 +17,12 @@
 //! axis (a fold sliding along another) is left free.
 //!
 //! - A pair short of its floor is pushed apart along its axis, the two sides
-//!   sharing the push, one pair after another, for a few rounds.
+//!   sharing the push, one pair after another, for a few rounds. A push
+//!   leaves each point within the floor of its path in the sweep (the line
+//!   from where the sweep started it to where the sweep left it): a point
+//!   pushed off its path is further from where its constraints want it,
+//!   the next sweep's step is larger, and so is the next push (a crumpled
+//!   cloth once ran off by kilometres within a hundred sweeps).
 //! - After those rounds a pair still short of its floor but with a positive
 //!   gap has crossed nothing and is left (the floor gives rather than jam);
 //!   one whose gap is gone goes back to where the sweep started it.
@@ -97,6 +102,8 @@ pub(super) struct SelfContact {
     odometer_m: Vec<f64>,
     /// Positions and velocities (when pairs are listed) at the start of the sweep.
     before: [Vec<f64>; 3],
+    /// Per grid point, where the sweep left it before contact moved it.
+    swept: Vec<DVec3>,
     velocity_before: [Vec<f64>; 3],
     velocities_kept: bool,
     /// Per grid point: its odometer plus how far it is from where the sweep started it.
@@ -168,6 +175,7 @@ impl SelfContact {
             drift_m: 0.0,
             odometer_m: vec![0.0; n],
             before: Default::default(),
+            swept: vec![DVec3::ZERO; n],
             velocity_before: Default::default(),
             velocities_kept: false,
             trip_m: vec![0.0; n],
@@ -216,7 +224,8 @@ impl SelfContact {
         }
         let limit_m = moved_m + allowance_m;
         for (k, &slot) in self.slots.iter().enumerate() {
-            self.trip_m[k] = self.odometer_m[k] + at_split(position, slot).distance(at(&self.before, slot));
+            self.swept[k] = at_split(position, slot);
+            self.trip_m[k] = self.odometer_m[k] + self.swept[k].distance(at(&self.before, slot));
         }
         self.moved_at.fill(0);
         self.moves = 0;
@@ -365,7 +374,8 @@ impl SelfContact {
 
     /// Moves the pair's free points apart along `axis` (from the triangle
     /// to the segment) by `by_m`, shared between the two sides, each point
-    /// kept within `limit_m` of where the sweep started it.
+    /// kept within `limit_m` of where the sweep started it and within the
+    /// floor of its path in the sweep.
     fn push_apart(
         &mut self,
         points: [u32; 5],
@@ -393,6 +403,7 @@ impl SelfContact {
                 let slot = self.slots[k];
                 let start = at(&self.before, slot);
                 let mut p = at_split(position, slot) + axis * (by_m * share);
+                p = near_path(p, start, self.swept[k], self.floor_m);
                 let d = p - start;
                 if d.length() > limit_m {
                     p = start + d * (limit_m / d.length());
@@ -515,6 +526,15 @@ impl SelfContact {
         self.radius_m = radius_m;
         self.drift_m = 0.0;
     }
+}
+
+/// `p` moved, if it must be, to within `reach_m` of the segment from `start` to `end`.
+fn near_path(p: DVec3, start: DVec3, end: DVec3, reach_m: f64) -> DVec3 {
+    let path = end - start;
+    let along = if path == DVec3::ZERO { 0.0 } else { ((p - start).dot(path) / path.length_squared()).clamp(0.0, 1.0) };
+    let on_path = start + path * along;
+    let off = p - on_path;
+    if off.length() > reach_m { on_path + off * (reach_m / off.length()) } else { p }
 }
 
 /// The largest share t of the move from `start` to `end` (each point along

@@ -288,6 +288,7 @@ impl Sweeper {
                 rows: self.rows,
                 iteration: iteration + 1,
                 max_iterations: settle_sweeps.saturating_add(params.max_iterations),
+                last_move_m: report.last_move_m,
             };
             if control(progress).is_break() {
                 return Err(Cancelled);
