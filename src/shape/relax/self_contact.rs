@@ -18,12 +18,11 @@
 //!
 //! - A pair short of its floor is pushed apart along its axis, the two sides
 //!   sharing the push, one pair after another, for a few rounds. A push
-//!   leaves each point within the skin (a quarter of the spacing) of its
-//!   path in the sweep, the line from where the sweep started it to where
-//!   the sweep left it: pushed further, a point is further from where its
-//!   constraints want it, the next sweep's step is larger, and so is the
-//!   next push (a crumpled cloth once ran off by kilometres within a
-//!   hundred sweeps).
+//!   leaves each point within the floor of its path in the sweep (the line
+//!   from where the sweep started it to where the sweep left it): a point
+//!   pushed off its path is further from where its constraints want it,
+//!   the next sweep's step is larger, and so is the next push (a crumpled
+//!   cloth once ran off by kilometres within a hundred sweeps).
 //! - After those rounds a pair still short of its floor but with a positive
 //!   gap has crossed nothing and is left (the floor gives rather than jam);
 //!   one whose gap is gone goes back to where the sweep started it.
@@ -376,7 +375,7 @@ impl SelfContact {
     /// Moves the pair's free points apart along `axis` (from the triangle
     /// to the segment) by `by_m`, shared between the two sides, each point
     /// kept within `limit_m` of where the sweep started it and within the
-    /// skin of its path in the sweep.
+    /// floor of its path in the sweep.
     fn push_apart(
         &mut self,
         points: [u32; 5],
@@ -404,7 +403,7 @@ impl SelfContact {
                 let slot = self.slots[k];
                 let start = at(&self.before, slot);
                 let mut p = at_split(position, slot) + axis * (by_m * share);
-                p = near_path(p, start, self.swept[k], self.skin_m);
+                p = near_path(p, start, self.swept[k], self.floor_m);
                 let d = p - start;
                 if d.length() > limit_m {
                     p = start + d * (limit_m / d.length());
