@@ -1234,8 +1234,17 @@ fn a_relaxation_keeps_its_progress_and_cancel_while_the_cloth_is_hovered() {
     assert!(!cancel.accesskit_node().is_disabled());
     assert!(harness.state().status_rect().contains(cancel.rect().center()), "Cancel is in the status bar");
 
-    // One frame per event: the spinner keeps asking for frames, and a press held longer is no click.
     let at = cancel.rect().center();
+    click_while_relaxing(&mut harness, at);
+    assert_eq!(harness.state().scene(), &opened, "the edit is taken back");
+    assert!(harness.state_mut().wait_for_shapes(Duration::from_secs(10)), "the relaxation stops at once");
+    assert_eq!(harness.state().document().redo_label(), Some("Elasticity"));
+    assert!(harness.query_by_label_contains("Relaxation cancelled").is_some(), "the status says so");
+}
+
+/// A click at `at` one frame per event: the spinner keeps asking for frames,
+/// and a press held longer is no click.
+fn click_while_relaxing(harness: &mut Harness<'_, DrapeApp>, at: Pos2) {
     harness.event(Event::PointerMoved(at));
     harness.step();
     for pressed in [true, false] {
@@ -1247,10 +1256,54 @@ fn a_relaxation_keeps_its_progress_and_cancel_while_the_cloth_is_hovered() {
         });
         harness.step();
     }
-    assert_eq!(harness.state().scene(), &opened, "the edit is taken back");
+}
+
+/// An undo can ask for a slow relaxation too (it brings back a fabric that
+/// does not settle): Cancel then redoes the undo, and so does a plain Redo,
+/// which stops the relaxation the undo asked for.
+#[test]
+fn a_relaxation_an_undo_asked_for_is_cancelled_by_redoing_it() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    let opened = harness.state().scene().clone();
+    harness.state_mut().apply("Elasticity", |s| {
+        for key in &mut s.keys {
+            key.elasticity = 1.2;
+            key.relax.iterations = drape::scene::MAX_RELAX_ITERATIONS;
+            key.relax.tolerance = 1e-15;
+        }
+    });
+    harness.state_mut().apply("Tolerance", |s| {
+        for (key, was) in s.keys.iter_mut().zip(&opened.keys) {
+            key.relax = was.relax.clone();
+        }
+    });
+    assert!(harness.state_mut().wait_for_shapes(Duration::from_secs(120)), "the second edit settles");
+    let settled = harness.state().scene().clone();
+
+    harness.state_mut().undo();
+    for _ in 0..4 {
+        harness.step();
+    }
+    assert!(harness.state().is_relaxing(), "the undo asks for the fabric that does not settle");
+    let cancel = harness.get_by_label("Cancel");
+    assert!(!cancel.accesskit_node().is_disabled(), "Cancel can stop what an undo asked for");
+    let at = cancel.rect().center();
+    click_while_relaxing(&mut harness, at);
+    assert_eq!(harness.state().scene(), &settled, "the undo is redone");
     assert!(harness.state_mut().wait_for_shapes(Duration::from_secs(10)), "the relaxation stops at once");
-    assert_eq!(harness.state().document().redo_label(), Some("Elasticity"));
-    assert!(harness.query_by_label_contains("Relaxation cancelled").is_some(), "the status says so");
+    assert_eq!(harness.state().document().undo_label(), Some("Tolerance"));
+    assert!(harness.query_by_label_contains("1 undo redone").is_some(), "the status says so");
+
+    harness.state_mut().undo();
+    for _ in 0..4 {
+        harness.step();
+    }
+    assert!(harness.state().is_relaxing());
+    harness.state_mut().redo();
+    harness.step();
+    assert!(harness.state_mut().wait_for_shapes(Duration::from_secs(10)), "the redo stops the relaxation too");
+    assert_eq!(harness.state().shown_scene(), &settled);
 }
 
 fn wheel(delta_y: f32, modifiers: Modifiers) -> Event {

@@ -33,7 +33,7 @@ use super::viewport::ViewportPanel;
 use super::viewport::gpu;
 use super::windows::export::ExportWindow;
 use super::windows::render::RenderWindow;
-use super::workspace::{MESSAGE_SECS, Workspace};
+use super::workspace::{MESSAGE_SECS, TakeBack, Workspace};
 use crate::mesh::Mesh;
 use crate::render::OrbitCamera;
 use crate::scene::Scene;
@@ -542,9 +542,14 @@ impl DrapeApp {
         } else if relaxing {
             ui.add(egui::Spinner::new());
             // Before the progress, whose width changes with every sweep, so it holds still under the mouse.
-            let hint = "Stop relaxing: the edits that asked for it are taken back (Redo brings them back)";
-            let edits = self.work.edits_being_relaxed();
-            let cancel = ui.add_enabled(edits.is_some(), egui::Button::new("Cancel").small()).on_hover_text(hint);
+            let back = self.work.relaxation_take_back();
+            let hint = match back {
+                Some(TakeBack::Undos(_)) => {
+                    "Stop relaxing: the undo that asked for it is redone (Undo takes it back again)"
+                }
+                _ => "Stop relaxing: the edits that asked for it are taken back (Redo brings them back)",
+            };
+            let cancel = ui.add_enabled(back.is_some(), egui::Button::new("Cancel").small()).on_hover_text(hint);
             if cancel.clicked() {
                 self.work.cancel_relaxation();
             }

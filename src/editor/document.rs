@@ -152,6 +152,12 @@ impl Document {
         self.undo.iter().rev().position(|step| step.scene == *scene).map(|at| at + 1)
     }
 
+    /// How many redos bring the document to `scene`: `None` when it is not
+    /// ahead on the redo stack.
+    pub fn redo_steps_to(&self, scene: &Scene) -> Option<usize> {
+        self.redo.iter().rev().position(|step| step.scene == *scene).map(|at| at + 1)
+    }
+
     /// Steps back one edit; false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
         self.end_gesture();

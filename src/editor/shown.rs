@@ -40,6 +40,9 @@ pub struct Shown {
     repaint_context: Arc<OnceLock<egui::Context>>,
     /// The shapes last asked of the worker, so a request is made once per change.
     requested: Option<(Cloth, Vec<KeyAmong>)>,
+    /// Shapes were asked for a document other than the scene on screen,
+    /// and the worker may still be relaxing them.
+    asked_elsewhere: bool,
     /// Versions of the document asked of the worker during a drag and not
     /// shown yet: the oldest (likely the one being solved) and the newest.
     /// Each is shown as soon as its shapes are in, so a drag shows the cloth
@@ -86,6 +89,7 @@ impl Shown {
             shaper,
             repaint_context,
             requested: None,
+            asked_elsewhere: false,
             asked_during_drag: Vec::new(),
             mesh: Arc::default(),
             mesh_of: None,
@@ -177,6 +181,7 @@ impl Shown {
     pub fn stop_relaxing(&mut self) {
         self.shaper.cancel();
         self.requested = None;
+        self.asked_elsewhere = false;
     }
 
     /// A new document: nothing asked of the worker, the mesh rebuilt.
@@ -212,12 +217,20 @@ impl Shown {
         let scene = doc.scene();
         if *scene == self.scene {
             self.asked_during_drag.clear();
+            if std::mem::take(&mut self.asked_elsewhere) {
+                // The document came back to the scene on screen (a redo after
+                // an undo): what was asked since is stale.
+                self.shaper.cancel();
+                self.requested = None;
+                self.crossings_asked = None;
+            }
             self.count_crossings();
             return;
         }
         let missing = self.missing_shapes(scene);
         if missing.is_empty() {
             self.asked_during_drag.clear();
+            self.asked_elsewhere = false;
             self.scene = scene.clone();
             self.version += 1;
             self.mesh_of = None;
@@ -239,6 +252,7 @@ impl Shown {
             let supersede = !doc.in_gesture();
             self.shaper.request(&request.0, request.1.clone(), supersede);
             self.requested = Some(request);
+            self.asked_elsewhere = true;
             if supersede {
                 self.asked_during_drag.clear();
             } else {

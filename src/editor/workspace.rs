@@ -27,6 +27,15 @@ pub struct Message {
     pub at: Instant,
 }
 
+/// How Cancel in the status bar brings the document back to the scene on screen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TakeBack {
+    /// Undo this many edits, which asked for the relaxation.
+    Edits(usize),
+    /// Redo this many undos, which asked for it.
+    Undos(usize),
+}
+
 pub struct Workspace {
     pub doc: Document,
     pub shown: Shown,
@@ -173,24 +182,41 @@ impl Workspace {
         }
     }
 
-    /// How many edits Cancel in the status bar takes back to stop the
-    /// running relaxation: those since the scene on screen. `None` when
-    /// there is nothing to take back (the scene on screen is the document,
-    /// or not in the undo history).
-    pub fn edits_being_relaxed(&self) -> Option<usize> {
-        self.doc.undo_steps_to(self.shown.scene()).filter(|steps| *steps > 0)
+    /// What Cancel in the status bar does to stop the running relaxation:
+    /// take back the edits since the scene on screen, or redo the undos that
+    /// left it. `None` when neither leads back to it (the scene on screen is
+    /// the document, or not in the history).
+    pub fn relaxation_take_back(&self) -> Option<TakeBack> {
+        let shown = self.shown.scene();
+        if let Some(steps) = self.doc.undo_steps_to(shown).filter(|steps| *steps > 0) {
+            return Some(TakeBack::Edits(steps));
+        }
+        self.doc.redo_steps_to(shown).map(TakeBack::Undos)
     }
 
-    /// Stops the running relaxation by taking back the edits that asked for
-    /// it (they stay on Redo), so the scene on screen is the document again.
+    /// Stops the running relaxation by bringing the document back to the
+    /// scene on screen ([`Workspace::relaxation_take_back`]): edits taken
+    /// back stay on Redo, undos redone stay on Undo.
     pub fn cancel_relaxation(&mut self) {
-        let Some(steps) = self.edits_being_relaxed() else { return };
-        for _ in 0..steps {
-            self.doc.undo();
-        }
+        let Some(back) = self.relaxation_take_back() else { return };
+        let message = match back {
+            TakeBack::Edits(steps) => {
+                for _ in 0..steps {
+                    self.doc.undo();
+                }
+                let (edits, them) = if steps == 1 { ("edit", "it") } else { ("edits", "them") };
+                format!("Relaxation cancelled: {steps} {edits} taken back (Redo brings {them} back).")
+            }
+            TakeBack::Undos(steps) => {
+                for _ in 0..steps {
+                    self.doc.redo();
+                }
+                let (undos, them) = if steps == 1 { ("undo", "it") } else { ("undos", "them") };
+                format!("Relaxation cancelled: {steps} {undos} redone (Undo takes {them} back again).")
+            }
+        };
         self.shown.stop_relaxing();
-        let (edits, them) = if steps == 1 { ("edit", "it") } else { ("edits", "them") };
-        self.report(format!("Relaxation cancelled: {steps} {edits} taken back (Redo brings {them} back)."), false);
+        self.report(message, false);
     }
 
     /// The key an edit of the key in effect (`label`) goes to: that key, or
