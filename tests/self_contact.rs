@@ -11,10 +11,15 @@ const DEFAULT_STIFFNESS: f64 = 0.2;
 
 fn build(n: u32, pins: Vec<Pin>, stiffness: f64, thickness: f64) -> RestShape {
     let cloth = Cloth::new((1.0, 1.0), (n, n));
-    let key = Key {
+    RestShape::build(&cloth, &key(pins, 1.0, stiffness, thickness))
+}
+
+/// A key at frame 0 with the default relaxation settings.
+fn key(pins: Vec<Pin>, elasticity: f64, stiffness: f64, thickness: f64) -> Key {
+    Key {
         frame: 0,
         pins,
-        elasticity: 1.0,
+        elasticity,
         stiffness,
         relax: RelaxSettings::default(),
         ease: Ease::EaseInOut,
@@ -22,8 +27,7 @@ fn build(n: u32, pins: Vec<Pin>, stiffness: f64, thickness: f64) -> RestShape {
         thickness,
         friction: DEFAULT_FRICTION,
         placement: None,
-    };
-    RestShape::build(&cloth, &key)
+    }
 }
 
 /// Two top corners `width_m` apart (negative: crossed over).
@@ -143,23 +147,13 @@ fn a_drape_that_does_not_reach_itself_is_the_same_with_or_without_thickness() {
 #[test]
 fn folds_that_cannot_be_kept_apart_never_run_the_cloth_away() {
     let cloth = Cloth::new((1.0, 1.0), (33, 33));
-    let key = Key {
-        frame: 0,
-        pins: vec![
-            Pin::at((0, 0), (-0.5, 1.5, 0.0)),
-            Pin::at((32, 0), (0.5, 1.5, 0.0)),
-            Pin::at((0, 32), (-0.5, 1.0, 0.5)),
-            Pin::at((32, 32), (0.4994271231268916, 0.45001577848317753, 1.7077784640244735e-6)),
-        ],
-        elasticity: 1.05,
-        stiffness: DEFAULT_STIFFNESS,
-        relax: RelaxSettings::default(),
-        ease: Ease::EaseInOut,
-        inbetween_relax: 0,
-        thickness: DEFAULT_THICKNESS_M,
-        friction: DEFAULT_FRICTION,
-        placement: None,
-    };
+    let pins = vec![
+        Pin::at((0, 0), (-0.5, 1.5, 0.0)),
+        Pin::at((32, 0), (0.5, 1.5, 0.0)),
+        Pin::at((0, 32), (-0.5, 1.0, 0.5)),
+        Pin::at((32, 32), (0.4994271231268916, 0.45001577848317753, 1.7077784640244735e-6)),
+    ];
+    let key = key(pins, 1.05, DEFAULT_STIFFNESS, DEFAULT_THICKNESS_M);
     let mut largest_m = 0.0f64;
     let mut sweeps = 0u32;
     let built = RestShape::build_among(&cloth, &key, &[], &mut |progress| {
