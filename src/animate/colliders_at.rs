@@ -37,6 +37,21 @@ pub fn obstacles_at(scene: &Scene, frame: f64, solids: &PosedSolids) -> Vec<Obst
     obstacles
 }
 
+/// The enabled colliders of `scene` that never move ([`Collider::is_still`]),
+/// each with the thickness the cloth keeps from it: its own, else
+/// `key_thickness`. References are left out: they move with their poses.
+pub fn still_obstacles(scene: &Scene, key_thickness: f64) -> Vec<Obstacle> {
+    scene
+        .colliders
+        .iter()
+        .filter(|collider| collider.enabled() && collider.is_still())
+        .filter_map(|collider| {
+            let thickness = collider.thickness().map_or(key_thickness, |t| sample(t, 0.0));
+            Some(Obstacle { shape: shape_at(collider, 0.0)?, thickness: thickness.max(0.0) })
+        })
+        .collect()
+}
+
 /// The references of `scene` that keep the cloth out, posed at `frame`,
 /// each with the thickness the cloth keeps from it: its own, else
 /// `key_thickness`. One solid per reference, of all its meshes, from

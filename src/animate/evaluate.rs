@@ -22,6 +22,7 @@ use super::attachments::{carry_to_attachments, posed_key};
 use super::blend::{Segment, blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache, key_obstacles_among};
 use super::colliders_at::obstacles_at;
+use super::detours::SegmentDetours;
 use super::follow::carry_with_node;
 use super::keep_out::keep_out;
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
@@ -81,6 +82,8 @@ pub struct Evaluator {
     before_layers: PointArrays,
     /// Points pinned in both keys around the frame (only with colliders).
     held: Vec<bool>,
+    /// In-betweens' paths round the colliders that never move, per segment.
+    detours: SegmentDetours,
 }
 
 impl Evaluator {
@@ -214,11 +217,17 @@ impl Evaluator {
         } else {
             let shapes = self.cache.shapes(scene, &self.solids);
             let segment = segment_at(&scene.keys, frame);
+            let paths = self.detours.at_frame(scene, &shapes, frame);
             blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
             let (a, b, eased) = match segment {
                 Segment::Hold(index) => (index, index, 0.0),
                 Segment::Between { from, eased } => (from, from + 1, eased),
             };
+            if let Segment::Between { from, eased } = segment
+                && let Some(paths) = paths.get(from)
+            {
+                paths.go_round(eased, points);
+            }
             carry_with_node(scene, &shapes, (a, b, eased), frame, points);
             carry_to_attachments(scene, (a, b), eased, frame, points);
             let obstacles = obstacles_at(scene, frame, &self.solids);
@@ -242,6 +251,7 @@ impl Evaluator {
                     ratio: &self.ratio,
                     keys: &scene.keys,
                     shapes: &shapes,
+                    paths: &paths,
                 };
                 for layer in scene.layers.iter().filter(|l| l.enabled()) {
                     let weight = sample(layer.weight(), frame);

@@ -21,17 +21,22 @@ use glam::Vec3;
 
 use super::blend::{Segment, segment_at};
 use super::cache::KeyShape;
+use super::detours::SegmentPaths;
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::track::sample;
 use crate::mesh::PointArrays;
 use crate::scene::FollowThrough;
 
-/// The straight vertex blend of the rest shapes at vertex `k` in `segment`.
+/// The vertex blend of the rest shapes at vertex `k` in `segment`: straight,
+/// or round a collider where `paths` say so.
 #[inline]
-fn blended_vertex(shapes: &[Arc<KeyShape>], segment: Segment, k: usize) -> Vec3 {
+fn blended_vertex(shapes: &[Arc<KeyShape>], paths: &[Arc<SegmentPaths>], segment: Segment, k: usize) -> Vec3 {
     match segment {
         Segment::Hold(index) => shapes[index].positions[k],
         Segment::Between { from, eased } => {
+            if let Some(p) = paths.get(from).and_then(|paths| paths.at(k, eased)) {
+                return p;
+            }
             let (p, q) = (shapes[from].positions[k], shapes[from + 1].positions[k]);
             p + (q - p) * eased as f32
         }
@@ -47,6 +52,7 @@ fn lag_within_limit(
     limit: f32,
     falloff: f32,
     shapes: &[Arc<KeyShape>],
+    paths: &[Arc<SegmentPaths>],
     now: Segment,
     then: Segment,
 ) -> f64 {
@@ -63,7 +69,7 @@ fn lag_within_limit(
     let allowed_m = limit * d_max_m / falloff.max(1.0);
     let n = shapes[0].positions.len();
     let farthest_m = (0..n)
-        .map(|k| (blended_vertex(shapes, then, k) - blended_vertex(shapes, now, k)).length())
+        .map(|k| (blended_vertex(shapes, paths, then, k) - blended_vertex(shapes, paths, now, k)).length())
         .fold(0.0f32, f32::max);
     if farthest_m > allowed_m && farthest_m.is_finite() {
         lag_secs * f64::from(allowed_m / farthest_m)
@@ -85,7 +91,7 @@ impl ApplyLayer for FollowThrough {
         }
         let now = segment_at(keys, frame);
         let then = segment_at(keys, frame - lag_secs * fps);
-        let lag_secs = lag_within_limit(lag_secs, at.stretch_limit, falloff, shapes, now, then);
+        let lag_secs = lag_within_limit(lag_secs, at.stretch_limit, falloff, shapes, at.paths, now, then);
         let weight = weight as f32;
         for (k, &a) in scratch.attenuation.of(at.ratio, falloff).iter().enumerate() {
             if a == 0.0 {
@@ -95,7 +101,7 @@ impl ApplyLayer for FollowThrough {
             if then == now {
                 continue;
             }
-            let moved = points.get(k) + (blended_vertex(shapes, then, k) - blended_vertex(shapes, now, k)) * weight;
+            let moved = points.get(k) + (blended_vertex(shapes, at.paths, then, k) - blended_vertex(shapes, at.paths, now, k)) * weight;
             points.set(k, moved);
         }
     }
@@ -154,6 +160,7 @@ mod tests {
             ratio: &ratio,
             keys: &keys,
             shapes: &shapes,
+            paths: &[],
         };
         follow.apply(&at, 1.0, &mut LayerScratch::default(), &mut points);
         let positions: Vec<Vec3> = (0..points.len()).map(|k| points.get(k)).collect();
@@ -175,7 +182,7 @@ mod tests {
         let (cloth, keys) = keys(5.0);
         let mut evaluator = Evaluator::new();
         let shapes: Vec<_> = keys.iter().map(|k| evaluator.cache_mut().shape(&cloth, k, &[])).collect();
-        let blended = blended_vertex(&shapes, segment_at(&keys, 8.0), middle);
+        let blended = blended_vertex(&shapes, &[], segment_at(&keys, 8.0), middle);
         assert!(capped[middle].z < blended.z - 0.02, "the middle trails: {} vs {}", capped[middle].z, blended.z);
         assert!((held[middle] - capped[middle]).length() < 1e-3, "the cap is continuous in time");
     }

@@ -9,6 +9,7 @@
 use std::sync::Arc;
 
 use super::cache::KeyShape;
+use super::detours::SegmentPaths;
 use super::falloff::AttenuationField;
 use super::noise::FractalSampler;
 use super::wave_tables::WaveTables;
@@ -34,6 +35,8 @@ pub struct LayerFrame<'a> {
     /// The scene's keys and their rest shapes, for layers that blend them at other times.
     pub keys: &'a [Key],
     pub shapes: &'a [Arc<KeyShape>],
+    /// Per segment, the points whose blend goes round a collider ([`super::detours`]); empty without colliders.
+    pub paths: &'a [Arc<SegmentPaths>],
 }
 
 impl LayerFrame<'_> {
@@ -106,6 +109,7 @@ mod tests {
             ratio: &ratio,
             keys: &scene.keys,
             shapes: &shapes,
+            paths: &[],
         };
         for &kind in Layer::KINDS {
             let Some(layer) = Layer::with_start_values(kind) else { panic!("{kind} has start values") };

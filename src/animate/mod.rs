@@ -12,6 +12,7 @@
 //!   are listed once in `scene/layers.rs`.
 //! - [`stretch_limit`]: after the layers, no edge longer than the cloth allows.
 //! - [`colliders_at`], [`keep_out`]: the colliders at a frame, and every point kept outside them.
+//! - [`detours`]: in-betweens that go round the colliders that never move instead of through them.
 //! - [`posed_solids`]: the colliding references' solids at the poses asked for last.
 //! - [`follow`]: the cloth carried by a node of a reference.
 //! - [`attachments`]: pins bound to a reference, exactly on it at every frame.
@@ -23,6 +24,7 @@ pub mod attachments;
 pub mod blend;
 pub mod cache;
 pub mod colliders_at;
+pub mod detours;
 pub mod ease;
 pub mod evaluate;
 pub mod falloff;

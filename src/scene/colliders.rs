@@ -372,6 +372,12 @@ impl Collider {
         self.common_mut().2
     }
 
+    /// Whether no number of the collider is animated: it is the same solid at every frame.
+    pub fn is_still(&self) -> bool {
+        let constant = |p: Option<&Param>| p.is_none_or(|p| matches!(p, Param::Constant(_)));
+        constant(self.thickness()) && self.numbers().into_iter().all(|n| constant(self.param(n)))
+    }
+
     /// The label used in messages: `Box collider "table"`, or `Box collider 2` when unnamed.
     pub fn label(&self, index: usize) -> String {
         let (kind, name) = (self.kind(), self.name());

@@ -1,0 +1,180 @@
+//! In-betweens that go round the colliders that never move: where the
+//! straight blend would carry a point through a table (a cloth lifted off
+//! it, or put back on it), the point takes a path round the solid instead
+//! ([`crate::world::path_around`]), decided by where it rests in the two
+//! keys alone. Each point moves along its path by the segment's easing, the
+//! same share of the path as the straight blend would be of the line, so a
+//! segment still starts and ends exactly on its keys' shapes and every
+//! frame depends on the scene and the frame only.
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use super::cache::KeyShape;
+use super::colliders_at::still_obstacles;
+use crate::mesh::PointArrays;
+use super::track::sample;
+use crate::scene::{Layer, Scene};
+use crate::world::{Obstacle, path_around};
+
+/// One point's path round the colliders between two keys.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Detour {
+    /// The grid point (index `j·cols + i`).
+    pub point: usize,
+    /// From the first key's position through the path's inner points to the second's.
+    pub path: Vec<DVec3>,
+    /// The length of the path up to each of its points (m), from 0.
+    pub length_to: Vec<f64>,
+}
+
+impl Detour {
+    /// The point `share` (0 to 1) of the way along the path.
+    pub fn at(&self, share: f64) -> DVec3 {
+        let Some(&total) = self.length_to.last() else { return DVec3::NAN };
+        let wanted = total * share.clamp(0.0, 1.0);
+        let leg = self.length_to.partition_point(|&l| l <= wanted).clamp(1, self.path.len() - 1);
+        let (start, end) = (self.length_to[leg - 1], self.length_to[leg]);
+        let within = if end > start { (wanted - start) / (end - start) } else { 0.0 };
+        self.path[leg - 1].lerp(self.path[leg], within)
+    }
+}
+
+/// The paths of one segment's detoured points.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SegmentPaths {
+    detours: Vec<Detour>,
+    /// Per grid point, its detour's index in `detours` (`u32::MAX`: none).
+    of_point: Vec<u32>,
+}
+
+impl SegmentPaths {
+    /// The paths round `obstacles` of every point that the straight blend
+    /// from `a` to `b` would carry through one; points pinned in both keys
+    /// move between their pins as the animator put them.
+    pub fn between(a: &KeyShape, b: &KeyShape, obstacles: &[Obstacle]) -> SegmentPaths {
+        let n = a.points.len().min(b.points.len());
+        let mut paths = SegmentPaths::default();
+        if obstacles.is_empty() {
+            return paths;
+        }
+        for point in 0..n {
+            if a.pinned.get(point) == Some(&true) && b.pinned.get(point) == Some(&true) {
+                continue;
+            }
+            let (from, to) = (a.points.get(point).as_dvec3(), b.points.get(point).as_dvec3());
+            let Some(inner) = path_around(obstacles, from, to) else { continue };
+            let path: Vec<DVec3> = std::iter::once(from).chain(inner).chain(std::iter::once(to)).collect();
+            let mut length_to = vec![0.0];
+            for leg in path.windows(2) {
+                length_to.push(length_to[length_to.len() - 1] + leg[0].distance(leg[1]));
+            }
+            if paths.of_point.is_empty() {
+                paths.of_point = vec![u32::MAX; n];
+            }
+            paths.of_point[point] = paths.detours.len() as u32;
+            paths.detours.push(Detour { point, path, length_to });
+        }
+        paths
+    }
+
+    /// The detoured points' paths.
+    pub fn detours(&self) -> &[Detour] {
+        &self.detours
+    }
+
+    /// Where point `k` is `eased` of the way between the keys, if it goes
+    /// round a collider; `None` for a point that blends straight, and under
+    /// overshooting easings (below 0 or past 1), which blend straight.
+    #[inline]
+    pub fn at(&self, k: usize, eased: f64) -> Option<glam::Vec3> {
+        let &index = self.of_point.get(k)?;
+        let detour = self.detours.get(index as usize)?;
+        (eased > 0.0 && eased < 1.0).then(|| detour.at(eased).as_vec3())
+    }
+
+    /// Moves every detoured point of a blend `eased` of the way between its keys onto its path.
+    pub fn go_round(&self, eased: f64, points: &mut PointArrays) {
+        for detour in &self.detours {
+            if let Some(p) = self.at(detour.point, eased)
+                && detour.point < points.len()
+            {
+                points.set(detour.point, p);
+            }
+        }
+    }
+}
+
+/// Segments' detours among the scene's still colliders, kept by the
+/// segment's two rest shapes and its obstacles.
+#[derive(Debug, Default)]
+pub struct SegmentDetours {
+    entries: Vec<Entry>,
+}
+
+#[derive(Debug)]
+struct Entry {
+    a: Arc<KeyShape>,
+    b: Arc<KeyShape>,
+    obstacles: Vec<Obstacle>,
+    paths: Arc<SegmentPaths>,
+}
+
+/// Segments whose detours are kept at most (the oldest go first).
+const KEPT_SEGMENTS: usize = 64;
+
+impl SegmentDetours {
+    /// The detours of the segments of `scene` (`shapes` its keys' rest
+    /// shapes, in order) that `frame` reads: the one it falls in, and those
+    /// a follow-through layer's lag reaches back into; every other segment
+    /// is given no detours, so what a frame gets never depends on what was
+    /// evaluated before. Each is worked out once per content; none without
+    /// still colliders. A key with in-between relaxation blends its segment
+    /// straight, as the relaxation decides.
+    pub fn at_frame(&mut self, scene: &Scene, shapes: &[Arc<KeyShape>], frame: f64) -> Vec<Arc<SegmentPaths>> {
+        let segments = shapes.len().saturating_sub(1);
+        if scene.colliders.is_empty() || segments == 0 || !frame.is_finite() {
+            return Vec::new();
+        }
+        let lag_frames = scene
+            .layers
+            .iter()
+            .filter(|layer| layer.enabled())
+            .filter_map(|layer| match layer {
+                Layer::FollowThrough(f) => Some(sample(&f.lag, frame)),
+                _ => None,
+            })
+            .filter(|lag| lag.is_finite())
+            .fold(0.0, f64::max)
+            * scene.timeline.fps;
+        let earliest = frame - lag_frames.max(0.0);
+        let none = Arc::new(SegmentPaths::default());
+        (0..segments)
+            .map(|from| {
+                let (key_a, key_b) = (&scene.keys[from], &scene.keys[from + 1]);
+                let read = f64::from(key_b.frame) > earliest && f64::from(key_a.frame) < frame;
+                if !read || key_a.inbetween_relax > 0 {
+                    return none.clone();
+                }
+                let obstacles = still_obstacles(scene, key_a.thickness.max(key_b.thickness));
+                self.between(&shapes[from], &shapes[from + 1], obstacles)
+            })
+            .collect()
+    }
+
+    /// The detours between `a` and `b` among `obstacles`, from the kept ones or worked out.
+    fn between(&mut self, a: &Arc<KeyShape>, b: &Arc<KeyShape>, obstacles: Vec<Obstacle>) -> Arc<SegmentPaths> {
+        let found =
+            self.entries.iter().position(|e| Arc::ptr_eq(&e.a, a) && Arc::ptr_eq(&e.b, b) && e.obstacles == obstacles);
+        if let Some(index) = found {
+            return self.entries[index].paths.clone();
+        }
+        let paths = Arc::new(SegmentPaths::between(a, b, &obstacles));
+        if self.entries.len() == KEPT_SEGMENTS {
+            self.entries.remove(0);
+        }
+        self.entries.push(Entry { a: a.clone(), b: b.clone(), obstacles, paths: paths.clone() });
+        paths
+    }
+}
