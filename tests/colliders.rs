@@ -174,7 +174,8 @@ fn assert_nothing_through_deeper_than(scene: &Scene, name: &str, deepest_m: f64)
 #[test]
 fn a_fast_lift_off_a_round_table_goes_round_its_rim() {
     let Ok(text) = std::fs::read_to_string("scenes/round_table.ron") else { panic!("the round table") };
-    let text = text.replace("frame: 36,", "frame: 12,").replace("frame: 72,", "frame: 24,").replace("end: 120", "end: 36");
+    let text =
+        text.replace("frame: 36,", "frame: 12,").replace("frame: 72,", "frame: 24,").replace("end: 120", "end: 36");
     let scene = match scene::parse(&text, "fast lift") {
         Ok(scene) => scene,
         Err(error) => panic!("{error}"),
@@ -190,7 +191,9 @@ fn a_fast_lift_off_a_round_table_goes_round_its_rim() {
 fn frames_among_colliders_are_the_same_in_any_order() {
     let Ok(scene) = scene::load(std::path::Path::new("scenes/round_table.ron")) else { panic!("the round table") };
     let frames: Vec<f64> = (0..=120).step_by(4).map(f64::from).chain([17.5, 53.25]).collect();
-    let bits = |mesh: &drape::mesh::Mesh| mesh.positions.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+    let bits = |mesh: &drape::mesh::Mesh| {
+        mesh.positions.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>()
+    };
     let mut forward = Evaluator::new();
     let ahead: Vec<_> = frames.iter().map(|&f| bits(&forward.evaluate_frame(&scene, f))).collect();
     let mut backward = Evaluator::new();

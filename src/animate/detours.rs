@@ -13,8 +13,8 @@ use glam::DVec3;
 
 use super::cache::KeyShape;
 use super::colliders_at::still_obstacles;
-use crate::mesh::PointArrays;
 use super::track::sample;
+use crate::mesh::PointArrays;
 use crate::scene::{Layer, Scene};
 use crate::world::{Obstacle, path_around};
 

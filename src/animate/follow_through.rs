@@ -101,7 +101,8 @@ impl ApplyLayer for FollowThrough {
             if then == now {
                 continue;
             }
-            let moved = points.get(k) + (blended_vertex(shapes, at.paths, then, k) - blended_vertex(shapes, at.paths, now, k)) * weight;
+            let moved = points.get(k)
+                + (blended_vertex(shapes, at.paths, then, k) - blended_vertex(shapes, at.paths, now, k)) * weight;
             points.set(k, moved);
         }
     }

@@ -52,7 +52,10 @@ pub fn path_around(obstacles: &[Obstacle], a: DVec3, b: DVec3) -> Option<Vec<DVe
     first_cut(obstacles, a, b)?;
     let mut path = vec![a, b];
     loop {
-        let cut = path.windows(2).enumerate().find_map(|(leg, ends)| first_cut(obstacles, ends[0], ends[1]).map(|c| (leg, c)));
+        let cut = path
+            .windows(2)
+            .enumerate()
+            .find_map(|(leg, ends)| first_cut(obstacles, ends[0], ends[1]).map(|c| (leg, c)));
         let Some((leg, (obstacle, enter))) = cut else { break };
         if path.len() - 2 == MAX_CORNERS {
             return None;
@@ -88,15 +91,19 @@ fn corner_for(obstacles: &[Obstacle], obstacle: &Obstacle, middle: DVec3, (from,
     let facing = (facing.length() > 1e-9).then(|| facing.normalize());
     let directions: Vec<DVec3> = facing.into_iter().chain(turns).collect();
     let clear = |p: DVec3| obstacles.iter().all(|o| o.shape.distance(p) >= o.thickness + allowance(o));
-    let cut_legs = |p: DVec3| [(from, p), (p, to)].iter().filter(|(a, b)| first_cut(obstacles, *a, *b).is_some()).count();
+    let cut_legs =
+        |p: DVec3| [(from, p), (p, to)].iter().filter(|(a, b)| first_cut(obstacles, *a, *b).is_some()).count();
     let around = |p: &DVec3| from.distance(*p) + p.distance(to);
     let shortest = |corners: Vec<DVec3>| corners.into_iter().min_by(|p, q| around(p).total_cmp(&around(q)));
     let nearest: Vec<(DVec3, DVec3)> = directions
         .iter()
-        .filter_map(|&sideways| edge_of(0.0, MIN_GRAZE_M, &|d| clear(middle + sideways * d)).map(|d| (sideways, middle + sideways * d)))
+        .filter_map(|&sideways| {
+            edge_of(0.0, MIN_GRAZE_M, &|d| clear(middle + sideways * d)).map(|d| (sideways, middle + sideways * d))
+        })
         .collect();
     let cuts: Vec<usize> = nearest.iter().map(|&(_, p)| cut_legs(p)).collect();
-    if let Some(corner) = shortest(nearest.iter().zip(&cuts).filter(|(_, c)| **c == 0).map(|((_, p), _)| *p).collect()) {
+    if let Some(corner) = shortest(nearest.iter().zip(&cuts).filter(|(_, c)| **c == 0).map(|((_, p), _)| *p).collect())
+    {
         return Some(corner);
     }
     let farther: Vec<DVec3> = nearest
@@ -169,7 +176,8 @@ fn taut(obstacles: &[Obstacle], path: &[DVec3]) -> Vec<DVec3> {
     points[0] = path[0];
     points[TAUT_POINTS] = path[path.len() - 1];
     // Kept a little off the surfaces, so the legs between them keep clear.
-    let kept: Vec<Obstacle> = obstacles.iter().map(|o| Obstacle { shape: o.shape.clone(), thickness: o.thickness + allowance(o) }).collect();
+    let kept: Vec<Obstacle> =
+        obstacles.iter().map(|o| Obstacle { shape: o.shape.clone(), thickness: o.thickness + allowance(o) }).collect();
     for _ in 0..TAUT_PASSES {
         let mut largest: f64 = 0.0;
         for i in 1..TAUT_POINTS {
