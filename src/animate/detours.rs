@@ -9,14 +9,12 @@
 
 use std::sync::Arc;
 
-use glam::DVec3;
-
 use super::cache::KeyShape;
 use super::colliders_at::still_obstacles;
 use super::track::sample;
 use crate::mesh::PointArrays;
 use crate::scene::{Layer, Scene};
-use crate::world::{Obstacle, path_around};
+use crate::world::{Obstacle, Polyline, path_around};
 
 /// One point's path round the colliders between two keys.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,21 +22,7 @@ pub struct Detour {
     /// The grid point (index `j·cols + i`).
     pub point: usize,
     /// From the first key's position through the path's inner points to the second's.
-    pub path: Vec<DVec3>,
-    /// The length of the path up to each of its points (m), from 0.
-    pub length_to: Vec<f64>,
-}
-
-impl Detour {
-    /// The point `share` (0 to 1) of the way along the path.
-    pub fn at(&self, share: f64) -> DVec3 {
-        let Some(&total) = self.length_to.last() else { return DVec3::NAN };
-        let wanted = total * share.clamp(0.0, 1.0);
-        let leg = self.length_to.partition_point(|&l| l <= wanted).clamp(1, self.path.len() - 1);
-        let (start, end) = (self.length_to[leg - 1], self.length_to[leg]);
-        let within = if end > start { (wanted - start) / (end - start) } else { 0.0 };
-        self.path[leg - 1].lerp(self.path[leg], within)
-    }
+    pub path: Polyline,
 }
 
 /// The paths of one segment's detoured points.
@@ -65,16 +49,12 @@ impl SegmentPaths {
             }
             let (from, to) = (a.points.get(point).as_dvec3(), b.points.get(point).as_dvec3());
             let Some(inner) = path_around(obstacles, from, to) else { continue };
-            let path: Vec<DVec3> = std::iter::once(from).chain(inner).chain(std::iter::once(to)).collect();
-            let mut length_to = vec![0.0];
-            for leg in path.windows(2) {
-                length_to.push(length_to[length_to.len() - 1] + leg[0].distance(leg[1]));
-            }
+            let path = Polyline::through(std::iter::once(from).chain(inner).chain(std::iter::once(to)).collect());
             if paths.of_point.is_empty() {
                 paths.of_point = vec![u32::MAX; n];
             }
             paths.of_point[point] = paths.detours.len() as u32;
-            paths.detours.push(Detour { point, path, length_to });
+            paths.detours.push(Detour { point, path });
         }
         paths
     }
@@ -91,7 +71,7 @@ impl SegmentPaths {
     pub fn at(&self, k: usize, eased: f64) -> Option<glam::Vec3> {
         let &index = self.of_point.get(k)?;
         let detour = self.detours.get(index as usize)?;
-        (eased > 0.0 && eased < 1.0).then(|| detour.at(eased).as_vec3())
+        (eased > 0.0 && eased < 1.0).then(|| detour.path.at(eased).as_vec3())
     }
 
     /// Moves every detoured point of a blend `eased` of the way between its keys onto its path.

@@ -22,7 +22,7 @@ mod tessellate;
 
 pub use collider_shape::{ColliderShape, MESH_EXACT_WITHIN_M};
 pub use mesh_solid::{MAX_MESH_TRIANGLES, MeshSolid, MeshSolidError};
-pub use path_around::path_around;
+pub use path_around::{Polyline, path_around};
 pub use push_out::{Obstacle, Reach, push_out, push_out_along, slide_along};
 pub use ray::ray_hit;
 pub use surface_point::SurfacePoint;

@@ -40,6 +40,47 @@ const TAUT_POINTS: usize = 32;
 const TAUT_PASSES: usize = 300;
 const TAUT_STILL_M: f64 = 1e-5;
 
+/// A path through points, measured along its length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polyline {
+    points: Vec<DVec3>,
+    /// The length of the path up to each of its points (m), from 0.
+    length_to: Vec<f64>,
+}
+
+impl Polyline {
+    /// The path through `points` (at least one), in order.
+    pub fn through(points: Vec<DVec3>) -> Polyline {
+        let mut length_to = vec![0.0];
+        for leg in points.windows(2) {
+            length_to.push(length_to[length_to.len() - 1] + leg[0].distance(leg[1]));
+        }
+        Polyline { points, length_to }
+    }
+
+    /// Its whole length (m).
+    pub fn length(&self) -> f64 {
+        self.length_to.last().copied().unwrap_or(0.0)
+    }
+
+    /// The point `share` (0 to 1) of the way along it.
+    pub fn at(&self, share: f64) -> DVec3 {
+        self.at_length(self.length() * share.clamp(0.0, 1.0))
+    }
+
+    /// The point `wanted` metres along it.
+    pub fn at_length(&self, wanted: f64) -> DVec3 {
+        let Some(&first) = self.points.first() else { return DVec3::NAN };
+        if self.points.len() == 1 {
+            return first;
+        }
+        let leg = self.length_to.partition_point(|&l| l <= wanted).clamp(1, self.points.len() - 1);
+        let (start, end) = (self.length_to[leg - 1], self.length_to[leg]);
+        let within = if end > start { (wanted - start) / (end - start) } else { 0.0 };
+        self.points[leg - 1].lerp(self.points[leg], within)
+    }
+}
+
 /// The inner points of a path from `a` to `b` round `obstacles` that keeps
 /// their thickness (less a share of it: see [`GRAZE_SHARE`]) along every
 /// leg: `None` when the straight line already does, when `a` or `b` is
@@ -162,17 +203,10 @@ fn edge_of(inside: f64, step: f64, pass: &dyn Fn(f64) -> bool) -> Option<f64> {
 /// table top; where a leg still cuts a solid's edge, a point is put at the
 /// edge. The caller checks that no leg enters a solid all the same.
 fn taut(obstacles: &[Obstacle], path: &[DVec3]) -> Vec<DVec3> {
-    let mut length_to = vec![0.0];
-    for leg in path.windows(2) {
-        length_to.push(length_to[length_to.len() - 1] + leg[0].distance(leg[1]));
-    }
-    let total = length_to[length_to.len() - 1];
-    let at = |wanted: f64| {
-        let leg = length_to.partition_point(|&l| l <= wanted).clamp(1, path.len() - 1);
-        let (start, end) = (length_to[leg - 1], length_to[leg]);
-        path[leg - 1].lerp(path[leg], if end > start { (wanted - start) / (end - start) } else { 0.0 })
-    };
-    let mut points: Vec<DVec3> = (0..=TAUT_POINTS).map(|i| at(total * i as f64 / TAUT_POINTS as f64)).collect();
+    let line = Polyline::through(path.to_vec());
+    let total = line.length();
+    let mut points: Vec<DVec3> =
+        (0..=TAUT_POINTS).map(|i| line.at_length(total * i as f64 / TAUT_POINTS as f64)).collect();
     points[0] = path[0];
     points[TAUT_POINTS] = path[path.len() - 1];
     // Kept a little off the surfaces, so the legs between them keep clear.
