@@ -94,17 +94,41 @@ pub fn reference_camera_at(scene: &Scene, from: &ReferenceCamera, frame: f64) ->
 }
 
 impl PosedReference<'_> {
-    /// All its meshes at this pose as one solid in scene coordinates, built
-    /// afresh ([`PosedSolids::solid`] keeps the latest); None when they hold
-    /// no triangle with area.
+    /// All its meshes at this pose as one solid in scene coordinates,
+    /// moved from the rig's solid at rest ([`rest_solid`]) as
+    /// [`PosedSolids::solid`] does with the rest solid it keeps; None when
+    /// they hold no triangle with area.
     pub fn build_solid(&self) -> Option<MeshSolid> {
-        let mut vertices = Vec::new();
-        let mut triangles = Vec::new();
-        for (mesh, placed) in self.rig.meshes().iter().zip(self.meshes()) {
-            let base = vertices.len() as u32;
-            vertices.extend(placed.positions);
-            triangles.extend(mesh.indices.chunks_exact(3).map(|t| [t[0] + base, t[1] + base, t[2] + base]));
-        }
-        MeshSolid::new(&vertices, &triangles).ok()
+        self.solid_from(&rest_solid(self.rig)?)
     }
+
+    /// All its meshes at this pose as one solid, `rest` (the rig's
+    /// [`rest_solid`]) moved to this pose.
+    pub fn solid_from(&self, rest: &MeshSolid) -> Option<MeshSolid> {
+        let mut vertices = Vec::with_capacity(self.rig.vertex_count());
+        let mut mesh_vertices = Vec::new();
+        for mesh in 0..self.rig.meshes().len() {
+            self.rig.posed_positions(mesh, &self.pose, &mut mesh_vertices);
+            vertices.extend(mesh_vertices.iter().map(|p| self.scene_from_file.transform_point3(*p)));
+        }
+        rest.moved_to(&vertices).ok()
+    }
+}
+
+/// All meshes of `rig` at its rest pose as one solid, each mesh welded
+/// within itself only: what every pose's solid is moved from, so that one
+/// pose's solid never depends on another's. None when they hold no
+/// triangle with area.
+pub fn rest_solid(rig: &Rig) -> Option<MeshSolid> {
+    let pose = rig.rest_pose();
+    let (mut vertices, mut triangles, mut parts) = (Vec::new(), Vec::new(), Vec::new());
+    let mut mesh_vertices = Vec::new();
+    for (index, mesh) in rig.meshes().iter().enumerate() {
+        let base = vertices.len() as u32;
+        rig.posed_positions(index, &pose, &mut mesh_vertices);
+        vertices.extend_from_slice(&mesh_vertices);
+        parts.extend(std::iter::repeat_n(index as u32, mesh_vertices.len()));
+        triangles.extend(mesh.indices.chunks_exact(3).map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+    }
+    MeshSolid::with_parts(&vertices, &triangles, &parts).ok()
 }

@@ -221,7 +221,7 @@ const EDGE_PARTS: usize = 4;
 /// Whether any point of `positions` (a grid), or any point along one of its
 /// edges, is nearer an obstacle than its thickness.
 fn touches(positions: &[DVec3], grid: (usize, usize), obstacles: &[Obstacle]) -> bool {
-    let near = |p: DVec3| obstacles.iter().any(|o| o.shape.distance(p) < o.thickness);
+    let near = |p: DVec3| obstacles.iter().any(|o| !o.shape.keeps_clear(p, o.thickness));
     grid_places(positions, grid, EDGE_PARTS).any(|(p, _, _)| near(p))
 }
 

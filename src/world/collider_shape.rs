@@ -109,6 +109,24 @@ impl ColliderShape {
         self.surface_point(p).distance
     }
 
+    /// Whether `p` is `keep` or more outside the surface: the same answer
+    /// as `distance(p) >= keep`, cheaper for a mesh far from `p`.
+    pub fn keeps_clear(&self, p: DVec3, keep: f64) -> bool {
+        let ColliderShape::Mesh { ref solid, center, world_from_local, scale } = *self else {
+            return self.distance(p) >= keep;
+        };
+        if !p.is_finite() {
+            return true;
+        }
+        let local = world_from_local.transpose() * (p - center) / scale;
+        let (lo, hi) = solid.bounds();
+        let off_box = (lo - local).max(local - hi).max(DVec3::ZERO).length() * scale;
+        if off_box > MESH_EXACT_WITHIN_M {
+            return off_box >= keep;
+        }
+        solid.keeps_clear(local, keep / scale)
+    }
+
     /// Whether the solid, swollen by `margin`, may reach into the box
     /// `min`..`max`: a cheap test that never misses a contact.
     pub fn may_reach(&self, min: DVec3, max: DVec3, margin: f64) -> bool {

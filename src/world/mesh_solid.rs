@@ -1,19 +1,29 @@
 //! A closed triangle mesh as a solid: signed distances and outward
 //! directions from any point, in the mesh's own coordinates.
 //!
-//! The queries are parry3d's (a bounding-volume hierarchy over the
-//! triangles, and the angle-weighted pseudo-normals of Bærentzen et al. for
-//! inside or outside), so a point is inside where the mesh, closed and
-//! consistently wound, encloses it. A mesh with holes still answers: its
-//! inside is then what the pseudo-normals say near the surface.
+//! The nearest point is parry3d's (a bounding-volume hierarchy over the
+//! triangles); inside or outside is what the angle-weighted pseudo-normal
+//! of the nearest feature says ([`MeshSides`]), so a point is inside where
+//! the mesh, closed and consistently wound, encloses it. A mesh with holes
+//! still answers: its inside is then what the pseudo-normals say near the
+//! surface.
+//!
+//! A solid can be moved to new vertex positions with the same triangles
+//! (a skinned body at another pose, [`MeshSolid::moved_to`]): the hierarchy
+//! built for the first positions is refitted, not rebuilt, and every move
+//! starts from that first build, so a pose's solid never depends on which
+//! pose was asked for before.
 
 use std::fmt;
+use std::sync::{Arc, OnceLock};
 
 use glam::DVec3;
 use parry3d_f64::math::Vector as ParryVector;
 use parry3d_f64::query::PointQueryWithLocation;
-use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+use parry3d_f64::shape::{TriMesh, TriMeshFlags, TrianglePointLocation};
 
+use super::far_field::FarField;
+use super::mesh_sides::{Feature, MeshSides};
 use super::surface_point::SurfacePoint;
 
 /// Most triangles a mesh collider may have: beyond it, queries for every
@@ -23,10 +33,26 @@ pub const MAX_MESH_TRIANGLES: usize = 2_000_000;
 /// A triangle mesh ready for distance queries.
 pub struct MeshSolid {
     trimesh: TriMesh,
+    /// What every position of the same triangles shares.
+    topology: Arc<Topology>,
     /// Corners of the box around the vertices, in mesh coordinates.
     bounds: (DVec3, DVec3),
     /// A digest of the vertices and triangles: equal meshes, equal digests.
     fingerprint: u64,
+    /// Where a closed mesh is certainly far outside, made on first use;
+    /// None for a mesh with holes.
+    far: OnceLock<Option<FarField>>,
+}
+
+/// The triangles as they were given, and what welding them made.
+struct Topology {
+    /// How many vertices were given.
+    given_vertices: usize,
+    /// A digest of the triangles as given, for the fingerprint of a moved solid.
+    triangles_digest: u64,
+    /// For each welded vertex, the given vertex whose position it takes.
+    source: Vec<u32>,
+    sides: MeshSides,
 }
 
 /// Why triangles do not make a solid.
@@ -42,13 +68,22 @@ pub enum MeshSolidError {
     BadIndex { triangle: usize, vertex: u32, vertices: usize },
     #[error("its triangles have no area")]
     Degenerate,
+    #[error("{given} vertices were given to move a solid made of {expected}")]
+    VertexCount { given: usize, expected: usize },
 }
 
 impl MeshSolid {
     /// The solid bounded by `triangles` (indices into `vertices`, wound
-    /// counter-clockwise seen from outside). Duplicate vertices are merged
-    /// and triangles without area dropped.
+    /// counter-clockwise seen from outside). Vertices at the same place are
+    /// welded into one and triangles without area dropped.
     pub fn new(vertices: &[DVec3], triangles: &[[u32; 3]]) -> Result<MeshSolid, MeshSolidError> {
+        MeshSolid::with_parts(vertices, triangles, &[])
+    }
+
+    /// [`MeshSolid::new`] for a mesh made of parts (`part[v]` for each
+    /// vertex; empty: one part) that are welded only within a part, so
+    /// that parts that touch at this position can move apart.
+    pub fn with_parts(vertices: &[DVec3], triangles: &[[u32; 3]], part: &[u32]) -> Result<MeshSolid, MeshSolidError> {
         if triangles.is_empty() {
             return Err(MeshSolidError::Empty);
         }
@@ -67,28 +102,84 @@ impl MeshSolid {
         let (lo, hi) =
             vertices.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
         let tiny_area = (hi - lo).length_squared() * 1e-14;
-        let kept: Vec<[u32; 3]> = triangles
-            .iter()
-            .filter(|t| {
-                let [a, b, c] = t.map(|i| vertices[i as usize]);
-                (b - a).cross(c - a).length() > tiny_area
-            })
-            .copied()
-            .collect();
-        if kept.is_empty() {
+        // Welded in the order vertices are first named, as parry's own merge does.
+        let mut welded: std::collections::HashMap<(u32, [u64; 3]), u32> = std::collections::HashMap::new();
+        let mut source: Vec<u32> = Vec::new();
+        let mut indices: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
+        for t in triangles {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            if (b - a).cross(c - a).length() <= tiny_area {
+                continue;
+            }
+            let weld = t.map(|i| {
+                let v = vertices[i as usize];
+                // + 0.0 makes -0.0 weld with 0.0.
+                let place = (part.get(i as usize).copied().unwrap_or(0), [v.x, v.y, v.z].map(|c| (c + 0.0).to_bits()));
+                *welded.entry(place).or_insert_with(|| {
+                    source.push(i);
+                    source.len() as u32 - 1
+                })
+            });
+            if weld[0] != weld[1] && weld[1] != weld[2] && weld[0] != weld[2] {
+                indices.push(weld);
+            }
+        }
+        if indices.is_empty() {
             return Err(MeshSolidError::Degenerate);
         }
-        let points: Vec<ParryVector> = vertices.iter().map(|v| ParryVector::new(v.x, v.y, v.z)).collect();
-        let flags =
-            TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES;
-        let trimesh = TriMesh::with_flags(points, kept, flags).map_err(|_| MeshSolidError::Degenerate)?;
-        if trimesh.indices().is_empty() {
-            return Err(MeshSolidError::Degenerate);
+        let points: Vec<ParryVector> = source.iter().map(|&i| to_parry(vertices[i as usize])).collect();
+        let sides = MeshSides::new(points.len(), &indices);
+        let trimesh =
+            TriMesh::with_flags(points, indices, TriMeshFlags::DEFORMABLE).map_err(|_| MeshSolidError::Degenerate)?;
+        let triangles_digest = digest(triangles.iter().flat_map(|t| t.map(u64::from)));
+        let topology = Topology { given_vertices: vertices.len(), triangles_digest, source, sides };
+        let fingerprint = fingerprint(vertices, triangles_digest);
+        Ok(MeshSolid::around(trimesh, Arc::new(topology), fingerprint))
+    }
+
+    /// The same triangles over `vertices` (numbered as the vertices this
+    /// solid was first made from): a refit of the first build's hierarchy.
+    /// Equal vertices make equal solids, whatever was moved before.
+    pub fn moved_to(&self, vertices: &[DVec3]) -> Result<MeshSolid, MeshSolidError> {
+        let topology = &self.topology;
+        if vertices.len() != topology.given_vertices {
+            return Err(MeshSolidError::VertexCount { given: vertices.len(), expected: topology.given_vertices });
         }
+        if !vertices.iter().all(|v| v.is_finite()) {
+            return Err(MeshSolidError::NotFinite);
+        }
+        let points: Vec<ParryVector> = topology.source.iter().map(|&i| to_parry(vertices[i as usize])).collect();
+        let mut trimesh = self.trimesh.clone();
+        trimesh.set_vertices(&points);
+        let fingerprint = fingerprint(vertices, topology.triangles_digest);
+        Ok(MeshSolid::around(trimesh, topology.clone(), fingerprint))
+    }
+
+    fn around(trimesh: TriMesh, topology: Arc<Topology>, fingerprint: u64) -> MeshSolid {
         let aabb = trimesh.local_aabb();
         let bounds =
             (DVec3::new(aabb.mins.x, aabb.mins.y, aabb.mins.z), DVec3::new(aabb.maxs.x, aabb.maxs.y, aabb.maxs.z));
-        Ok(MeshSolid { trimesh, bounds, fingerprint: fingerprint(vertices, triangles) })
+        MeshSolid { trimesh, topology, bounds, fingerprint, far: OnceLock::new() }
+    }
+
+    /// Whether `p` is at least `keep` outside the surface: the same answer
+    /// as `surface_point(p).distance >= keep`, without searching the
+    /// triangles where a closed mesh's [`FarField`] already knows.
+    pub fn keeps_clear(&self, p: DVec3, keep: f64) -> bool {
+        let far = self.far.get_or_init(|| {
+            self.topology.sides.is_closed().then(|| {
+                let (vertices, indices) = (self.trimesh.vertices(), self.trimesh.indices());
+                let corner = |i: u32| {
+                    let v = vertices[i as usize];
+                    DVec3::new(v.x, v.y, v.z)
+                };
+                FarField::new(self.bounds, indices.iter().map(|t| t.map(corner)))
+            })
+        });
+        if far.as_ref().and_then(|far| far.outside_by(p)).is_some_and(|by| by >= keep) {
+            return true;
+        }
+        self.surface_point(p).distance >= keep
     }
 
     /// Signed distance from `p` (mesh coordinates; negative inside) and the
@@ -98,14 +189,18 @@ impl MeshSolid {
         if !p.is_finite() {
             return SurfacePoint { distance: f64::INFINITY, outward: DVec3::Y };
         }
-        let query = ParryVector::new(p.x, p.y, p.z);
-        // Not solid: the nearest surface point even from inside; the
-        // pseudo-normals set `is_inside`.
-        let (projection, (triangle, _)) = self.trimesh.project_local_point_and_get_location(query, false);
+        // Not solid: the nearest surface point even from inside.
+        let (projection, (triangle, location)) = self.trimesh.project_local_point_and_get_location(to_parry(p), false);
         let nearest = DVec3::new(projection.point.x, projection.point.y, projection.point.z);
+        let feature = match location {
+            TrianglePointLocation::OnVertex(i) => Feature::Vertex(i as u8),
+            TrianglePointLocation::OnEdge(i, _) => Feature::Edge(i as u8),
+            TrianglePointLocation::OnFace(..) | TrianglePointLocation::OnSolid => Feature::Face,
+        };
+        let pseudo_normal = self.pseudo_normal(triangle as usize, feature);
         let gap = p - nearest;
         let length = gap.length();
-        let inside = projection.is_inside;
+        let inside = gap.dot(pseudo_normal) <= 0.0;
         let outward = if length > 1e-12 {
             if inside { -gap / length } else { gap / length }
         } else {
@@ -114,12 +209,20 @@ impl MeshSolid {
         SurfacePoint { distance: if inside { -length } else { length }, outward }
     }
 
+    fn pseudo_normal(&self, triangle: usize, feature: Feature) -> DVec3 {
+        let corner = |i: u32| {
+            let v = self.trimesh.vertices()[i as usize];
+            DVec3::new(v.x, v.y, v.z)
+        };
+        self.topology.sides.pseudo_normal(&corner, self.trimesh.indices(), triangle, feature)
+    }
+
     /// The box around the vertices, in mesh coordinates.
     pub fn bounds(&self) -> (DVec3, DVec3) {
         self.bounds
     }
 
-    /// The vertices and triangles after merging and dropping, for drawing.
+    /// The vertices and triangles after welding and dropping, for drawing.
     pub fn triangles(&self) -> (Vec<DVec3>, &[[u32; 3]]) {
         let vertices = self.trimesh.vertices().iter().map(|p| DVec3::new(p.x, p.y, p.z)).collect();
         (vertices, self.trimesh.indices())
@@ -135,6 +238,10 @@ impl MeshSolid {
     }
 }
 
+fn to_parry(v: DVec3) -> ParryVector {
+    ParryVector::new(v.x, v.y, v.z)
+}
+
 impl fmt::Debug for MeshSolid {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "MeshSolid({} triangles, {:016x})", self.triangle_count(), self.fingerprint)
@@ -148,22 +255,19 @@ impl PartialEq for MeshSolid {
     }
 }
 
-/// FNV-1a over the bits of every coordinate and index.
-fn fingerprint(vertices: &[DVec3], triangles: &[[u32; 3]]) -> u64 {
-    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |word: u64| {
-        for byte in word.to_le_bytes() {
-            hash ^= u64::from(byte);
-            hash = hash.wrapping_mul(0x0100_0000_01b3);
-        }
-    };
-    for v in vertices {
-        [v.x, v.y, v.z].into_iter().for_each(|c| eat(c.to_bits()));
-    }
-    for t in triangles {
-        t.iter().for_each(|&i| eat(u64::from(i)));
-    }
-    hash
+/// A digest of the bits of every coordinate, and of the triangles'.
+fn fingerprint(vertices: &[DVec3], triangles_digest: u64) -> u64 {
+    let coordinates = vertices.iter().flat_map(|v| [v.x, v.y, v.z].map(f64::to_bits));
+    digest(coordinates.chain([triangles_digest]))
+}
+
+/// FNV-1a over whole words, each word's high bits folded down after its
+/// multiply so that every bit reaches the next.
+fn digest(words: impl Iterator<Item = u64>) -> u64 {
+    words.fold(0xcbf2_9ce4_8422_2325, |hash: u64, word| {
+        let hash = (hash ^ word).wrapping_mul(0x0100_0000_01b3);
+        hash ^ (hash >> 32)
+    })
 }
 
 #[cfg(test)]
@@ -184,6 +288,83 @@ mod tests {
         let quads = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
         let triangles = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
         (vertices, triangles)
+    }
+
+    /// A sphere of radius 0.5: `n` bands from pole to pole, 2n around,
+    /// wound outwards.
+    fn sphere(n: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+        let around = 2 * n;
+        let mut vertices = vec![DVec3::Y * 0.5, -DVec3::Y * 0.5];
+        for band in 1..n {
+            let polar = std::f64::consts::PI * f64::from(band) / f64::from(n);
+            for k in 0..around {
+                let azimuth = std::f64::consts::TAU * f64::from(k) / f64::from(around);
+                vertices.push(0.5 * DVec3::new(polar.sin() * azimuth.cos(), polar.cos(), -polar.sin() * azimuth.sin()));
+            }
+        }
+        let at = |band: u32, k: u32| 2 + (band - 1) * around + k % around;
+        let mut triangles = Vec::new();
+        for k in 0..around {
+            triangles.push([0, at(1, k), at(1, k + 1)]);
+            triangles.push([1, at(n - 1, k + 1), at(n - 1, k)]);
+            for band in 1..n - 1 {
+                triangles.push([at(band, k), at(band + 1, k), at(band + 1, k + 1)]);
+                triangles.push([at(band, k), at(band + 1, k + 1), at(band, k + 1)]);
+            }
+        }
+        (vertices, triangles)
+    }
+
+    /// Points spread through the box ±0.9.
+    fn probes() -> impl Iterator<Item = DVec3> {
+        (0..4000).map(|i| {
+            let t = f64::from(i) * 0.618_034;
+            DVec3::new(t.sin(), (1.7 * t).cos(), (2.3 * t + 0.4).sin()) * 0.9
+        })
+    }
+
+    #[test]
+    fn a_moved_solid_answers_as_one_built_where_it_was_moved_to() {
+        let (vertices, triangles) = sphere(24);
+        let rest = MeshSolid::new(&vertices, &triangles).unwrap();
+        assert!(rest.topology.sides.is_closed());
+        // Bent and squashed: a pose far from the first build's.
+        let bent: Vec<DVec3> = vertices.iter().map(|v| DVec3::new(v.x + 0.6 * v.y * v.y, 0.7 * v.y, v.z)).collect();
+        let moved = rest.moved_to(&bent).unwrap();
+        let fresh = MeshSolid::new(&bent, &triangles).unwrap();
+        assert_eq!(moved, fresh, "the same vertices and triangles");
+        assert_eq!(moved.bounds(), fresh.bounds());
+        for p in probes() {
+            let (a, b) = (moved.surface_point(p), fresh.surface_point(p));
+            assert!(
+                (a.distance - b.distance).abs() < 1e-12 && a.outward.abs_diff_eq(b.outward, 1e-9),
+                "{p}: {a:?} {b:?}"
+            );
+        }
+        // Moving it back gives the first solid's answers, whatever came between.
+        let back = moved.moved_to(&vertices).unwrap();
+        assert_eq!(back, rest);
+        assert!(probes().all(|p| back.surface_point(p) == rest.moved_to(&vertices).unwrap().surface_point(p)));
+        assert_eq!(
+            rest.moved_to(&bent[1..]).unwrap_err(),
+            MeshSolidError::VertexCount { given: bent.len() - 1, expected: bent.len() }
+        );
+    }
+
+    #[test]
+    fn keeps_clear_says_what_the_distance_says_closed_or_not() {
+        let (vertices, triangles) = sphere(32);
+        let open: Vec<[u32; 3]> = triangles[8..].to_vec();
+        for (name, triangles) in [("closed", &triangles), ("open", &open)] {
+            let solid = MeshSolid::new(&vertices, triangles).unwrap();
+            assert_eq!(solid.topology.sides.is_closed(), name == "closed");
+            for keep in [0.0, 0.003, 0.05] {
+                for p in probes() {
+                    let distance = solid.surface_point(p).distance;
+                    assert_eq!(solid.keeps_clear(p, keep), distance >= keep, "{name}, {p} at {distance} for {keep}");
+                }
+            }
+        }
     }
 
     #[test]

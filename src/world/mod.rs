@@ -11,6 +11,8 @@
 //!   and, as a solid, keeps out of).
 
 mod collider_shape;
+mod far_field;
+mod mesh_sides;
 mod mesh_solid;
 mod outline;
 mod path_around;

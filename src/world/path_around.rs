@@ -131,7 +131,7 @@ fn corner_for(obstacles: &[Obstacle], obstacle: &Obstacle, middle: DVec3, (from,
     });
     let facing = (facing.length() > 1e-9).then(|| facing.normalize());
     let directions: Vec<DVec3> = facing.into_iter().chain(turns).collect();
-    let clear = |p: DVec3| obstacles.iter().all(|o| o.shape.distance(p) >= o.thickness + allowance(o));
+    let clear = |p: DVec3| obstacles.iter().all(|o| o.shape.keeps_clear(p, o.thickness + allowance(o)));
     let cut_legs =
         |p: DVec3| [(from, p), (p, to)].iter().filter(|(a, b)| first_cut(obstacles, *a, *b).is_some()).count();
     let around = |p: &DVec3| from.distance(*p) + p.distance(to);
@@ -292,7 +292,7 @@ fn level(obstacle: &Obstacle) -> f64 {
 
 /// Whether `p` is nearer a solid than a path may come.
 fn cuts_at(obstacles: &[Obstacle], p: DVec3) -> bool {
-    obstacles.iter().any(|o| o.shape.distance(p) < level(o))
+    obstacles.iter().any(|o| !o.shape.keeps_clear(p, level(o)))
 }
 
 /// The obstacle the straight path `from` → `to` first cuts, and where (a share of the path).

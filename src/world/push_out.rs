@@ -111,11 +111,11 @@ pub fn push_out_along(obstacles: &[Obstacle], from: DVec3, to: DVec3) -> DVec3 {
         let mut moved = false;
         for obstacle in obstacles {
             let (shape, keep) = (&obstacle.shape, obstacle.thickness);
-            if shape.distance(p) >= keep {
+            if shape.keeps_clear(p, keep) {
                 continue;
             }
             moved = true;
-            if from != p && shape.distance(from) >= keep {
+            if from != p && shape.keeps_clear(from, keep) {
                 let entry = entry_point(shape, keep, from, p);
                 let n = shape.surface_point(entry).outward;
                 p -= n * (p - entry).dot(n).min(0.0);
@@ -138,7 +138,7 @@ fn entry_point(shape: &ColliderShape, keep: f64, from: DVec3, to: DVec3) -> DVec
     let (mut outside, mut inside) = (0.0, 1.0);
     for _ in 0..ENTRY_STEPS {
         let mid = 0.5 * (outside + inside);
-        if shape.distance(from.lerp(to, mid)) >= keep {
+        if shape.keeps_clear(from.lerp(to, mid), keep) {
             outside = mid;
         } else {
             inside = mid;

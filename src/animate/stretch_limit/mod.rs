@@ -543,7 +543,7 @@ fn mark_rank(marks: &mut [u64], r: usize) {
 /// `p` moved out of `obstacles` the nearest way (unchanged if outside).
 fn kept_out(obstacles: &[Obstacle], p: [f32; 3]) -> [f32; 3] {
     let at = glam::DVec3::new(p[0].into(), p[1].into(), p[2].into());
-    if obstacles.iter().all(|o| o.shape.distance(at) >= o.thickness) {
+    if obstacles.iter().all(|o| o.shape.keeps_clear(at, o.thickness)) {
         return p;
     }
     let q = push_out(obstacles, at);

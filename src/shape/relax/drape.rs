@@ -131,7 +131,7 @@ pub fn drape_among(
             // checked below.
             for k in (0..n).filter(|&k| !pinned[k]) {
                 let p = positions[k];
-                if obstacles.iter().enumerate().any(|(i, o)| reach.near(i, p) && o.shape.distance(p) < o.thickness) {
+                if obstacles.iter().enumerate().any(|(i, o)| reach.near(i, p) && !o.shape.keeps_clear(p, o.thickness)) {
                     let out = push_out(obstacles, positions[k]);
                     pushed[k] += out - positions[k];
                     positions[k] = out;
