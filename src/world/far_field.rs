@@ -8,16 +8,22 @@
 //!
 //! Only for closed meshes: through a hole the reached cells could run
 //! inside, where the nearest triangle's side says "inside".
+//!
+//! A row of cells along x is one 64-bit word, so growing and filling work
+//! a row at a time: a posed body's grid is made in a fraction of a
+//! millisecond.
 
 use glam::DVec3;
 
-/// About how many cells the grid has: few enough to mark and fill in a
-/// fraction of a millisecond for a posed body, many enough that a cloth
-/// a few centimetres off the body is in clear cells.
-const TARGET_CELLS: f64 = 65_536.0;
+/// About how many cells the grid has (at most 64 along x): many enough
+/// that a cloth a few centimetres off the body is in clear cells.
+const TARGET_CELLS: f64 = 262_144.0;
 
-/// Unmarked cells around the box on every side, so the fill starts from
-/// cells that are certainly outside.
+/// Cells along x: one bit each in a row's word.
+const ROW_CELLS: usize = 64;
+
+/// Cells around the box on every side that no triangle reaches, so the
+/// fill starts from cells that are certainly outside.
 const BORDER_CELLS: usize = 2;
 
 pub struct FarField {
@@ -28,8 +34,9 @@ pub struct FarField {
     /// The mesh's box: a point outside it is outside the solid by at least
     /// its distance to it.
     bounds: (DVec3, DVec3),
-    /// Per cell: reached from the edge through cells no triangle is near.
-    clear: Vec<bool>,
+    /// Per row (y + ny · z), a bit per cell along x: reached from the edge
+    /// through cells no triangle is near.
+    clear: Vec<u64>,
 }
 
 impl FarField {
@@ -37,26 +44,31 @@ impl FarField {
     pub fn new(bounds: (DVec3, DVec3), triangles: impl Iterator<Item = [DVec3; 3]>) -> FarField {
         let (lo, hi) = bounds;
         let extent = (hi - lo).max(DVec3::splat(1e-9));
-        let cell_m = (extent.x * extent.y * extent.z / TARGET_CELLS).cbrt().max(extent.max_element() / 256.0);
+        let cell_m = (extent.x * extent.y * extent.z / TARGET_CELLS)
+            .cbrt()
+            .max(extent.max_element() / 256.0)
+            .max(extent.x / (ROW_CELLS - 2 * BORDER_CELLS - 2) as f64);
         let border = DVec3::splat(cell_m * BORDER_CELLS as f64);
         let origin = lo - border;
         let span = extent + 2.0 * border;
         let dims = [span.x, span.y, span.z].map(|s| (s / cell_m).ceil() as usize + 1);
+        let dims = [dims[0].min(ROW_CELLS), dims[1], dims[2]];
         let mut field = FarField { origin, cell_m, dims, bounds, clear: Vec::new() };
-        let mut near = vec![false; dims[0] * dims[1] * dims[2]];
+        let [nx, ny, nz] = dims;
+        let mut touched = vec![0u64; ny * nz];
         for [a, b, c] in triangles {
-            // The triangle's box, grown by a cell: every cell with a neighbour it touches.
             let (from, to) = (field.cell_of(a.min(b).min(c)), field.cell_of(a.max(b).max(c)));
-            let from = from.map(|c| c.saturating_sub(1));
-            let to: [usize; 3] = std::array::from_fn(|i| (to[i] + 1).min(dims[i] - 1));
+            let cells = span_bits(from[0], to[0]);
             for z in from[2]..=to[2] {
-                for y in from[1]..=to[1] {
-                    let row = field.index([0, y, z]);
-                    near[row + from[0]..=row + to[0]].fill(true);
+                for row in &mut touched[from[1] + ny * z..=to[1] + ny * z] {
+                    *row |= cells;
                 }
             }
         }
-        field.clear = field.fill_from_edge(&near);
+        let all = span_bits(0, nx - 1);
+        let near = grown(&touched, [nx, ny, nz], all);
+        let free: Vec<u64> = near.iter().map(|row| !row & all).collect();
+        field.clear = reached_from_edge(&free, [nx, ny, nz]);
         field
     }
 
@@ -78,8 +90,9 @@ impl FarField {
         if !(at.cmpge(DVec3::ZERO).all()) {
             return false;
         }
-        let cell = [at.x as usize, at.y as usize, at.z as usize];
-        cell.iter().zip(&self.dims).all(|(c, d)| c < d) && self.clear[self.index(cell)]
+        let [x, y, z] = [at.x as usize, at.y as usize, at.z as usize];
+        let [nx, ny, nz] = self.dims;
+        x < nx && y < ny && z < nz && (self.clear[y + ny * z] >> x) & 1 == 1
     }
 
     /// The cell holding `p`, clamped into the grid.
@@ -88,67 +101,97 @@ impl FarField {
         let at = [at.x, at.y, at.z];
         std::array::from_fn(|axis| (at[axis] as usize).min(self.dims[axis] - 1))
     }
+}
 
-    fn index(&self, [x, y, z]: [usize; 3]) -> usize {
-        x + self.dims[0] * (y + self.dims[1] * z)
-    }
+/// The bits `from..=to` of a row.
+fn span_bits(from: usize, to: usize) -> u64 {
+    let width = to + 1 - from;
+    let ones = if width >= 64 { u64::MAX } else { (1u64 << width) - 1 };
+    ones << from
+}
 
-    /// The cells not `near` joined to the grid's edge by cells not `near`:
-    /// outside, since no triangle comes between.
-    fn fill_from_edge(&self, near: &[bool]) -> Vec<bool> {
-        let [nx, ny, nz] = self.dims;
-        let (sy, sz) = (nx, nx * ny);
-        let mut reached = vec![false; near.len()];
-        let mut todo: Vec<u32> = Vec::new();
-        let visit = |i: usize, reached: &mut Vec<bool>, todo: &mut Vec<u32>| {
-            if !near[i] && !reached[i] {
-                reached[i] = true;
-                todo.push(i as u32);
-            }
-        };
-        // The six faces of the grid.
-        for z in 0..nz {
-            for y in 0..ny {
-                for x in [0, nx - 1] {
-                    visit(self.index([x, y, z]), &mut reached, &mut todo);
-                }
-            }
-            for x in 0..nx {
-                for y in [0, ny - 1] {
-                    visit(self.index([x, y, z]), &mut reached, &mut todo);
-                }
-            }
-        }
+/// `rows` grown by one cell along each axis in turn: each cell and its 26
+/// neighbours (`all`: the bits of cells in the grid).
+fn grown(rows: &[u64], [_, ny, nz]: [usize; 3], all: u64) -> Vec<u64> {
+    let along_x: Vec<u64> = rows.iter().map(|&r| (r | r << 1 | r >> 1) & all).collect();
+    let mut along_y = along_x.clone();
+    for z in 0..nz {
         for y in 0..ny {
-            for x in 0..nx {
-                for z in [0, nz - 1] {
-                    visit(self.index([x, y, z]), &mut reached, &mut todo);
-                }
-            }
-        }
-        while let Some(i) = todo.pop() {
-            let i = i as usize;
-            let (x, y, z) = (i % nx, (i / sy) % ny, i / sz);
-            if x > 0 {
-                visit(i - 1, &mut reached, &mut todo);
-            }
-            if x + 1 < nx {
-                visit(i + 1, &mut reached, &mut todo);
-            }
+            let i = y + ny * z;
             if y > 0 {
-                visit(i - sy, &mut reached, &mut todo);
+                along_y[i] |= along_x[i - 1];
             }
             if y + 1 < ny {
-                visit(i + sy, &mut reached, &mut todo);
-            }
-            if z > 0 {
-                visit(i - sz, &mut reached, &mut todo);
-            }
-            if z + 1 < nz {
-                visit(i + sz, &mut reached, &mut todo);
+                along_y[i] |= along_x[i + 1];
             }
         }
-        reached
+    }
+    let mut along_z = along_y.clone();
+    for z in 0..nz {
+        for y in 0..ny {
+            let i = y + ny * z;
+            if z > 0 {
+                along_z[i] |= along_y[i - ny];
+            }
+            if z + 1 < nz {
+                along_z[i] |= along_y[i + ny];
+            }
+        }
+    }
+    along_z
+}
+
+/// The cells of `free` joined to the grid's edge through `free` cells,
+/// sweeping the rows forward and back until nothing changes: the same
+/// cells a flood fill reaches.
+fn reached_from_edge(free: &[u64], [nx, ny, nz]: [usize; 3]) -> Vec<u64> {
+    let ends = 1u64 | 1u64 << (nx - 1);
+    let mut reached: Vec<u64> = (0..free.len())
+        .map(|i| {
+            let (y, z) = (i % ny, i / ny);
+            let edge_row = y == 0 || z == 0 || y + 1 == ny || z + 1 == nz;
+            free[i] & if edge_row { u64::MAX } else { ends }
+        })
+        .collect();
+    // Spreads a row's reached cells along the row's free cells.
+    let along = |mut row: u64, free: u64| loop {
+        let next = (row | row << 1 | row >> 1) & free;
+        if next == row {
+            return row;
+        }
+        row = next;
+    };
+    let visit = |i: usize, reached: &mut [u64]| {
+        let (y, z) = (i % ny, i / ny);
+        let mut from = reached[i];
+        if y > 0 {
+            from |= reached[i - 1];
+        }
+        if y + 1 < ny {
+            from |= reached[i + 1];
+        }
+        if z > 0 {
+            from |= reached[i - ny];
+        }
+        if z + 1 < nz {
+            from |= reached[i + ny];
+        }
+        let row = along(from & free[i], free[i]);
+        let changed = row != reached[i];
+        reached[i] = row;
+        changed
+    };
+    loop {
+        let mut changed = false;
+        for i in 0..free.len() {
+            changed |= visit(i, &mut reached);
+        }
+        for i in (0..free.len()).rev() {
+            changed |= visit(i, &mut reached);
+        }
+        if !changed {
+            return reached;
+        }
     }
 }
 
