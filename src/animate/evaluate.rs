@@ -24,7 +24,7 @@ use super::cache::{KeyShape, RestShapeCache, key_obstacles_among};
 use super::colliders_at::obstacles_at;
 use super::detours::SegmentDetours;
 use super::follow::carry_with_node;
-use super::keep_out::keep_out;
+use super::keep_out::{ClearPoints, keep_out};
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::posed_solids::PosedSolids;
 use super::stretch_limit::StretchLimiter;
@@ -82,6 +82,8 @@ pub struct Evaluator {
     before_layers: PointArrays,
     /// Points pinned in both keys around the frame (only with colliders).
     held: Vec<bool>,
+    /// Points found clear of this frame's colliders, where they were then.
+    clear_points: ClearPoints,
     /// In-betweens' paths round the colliders that never move, per segment.
     detours: SegmentDetours,
 }
@@ -231,6 +233,7 @@ impl Evaluator {
             carry_with_node(scene, &shapes, (a, b, eased), frame, points);
             carry_to_attachments(scene, (a, b), eased, frame, points);
             let obstacles = obstacles_at(scene, frame, &self.solids);
+            self.clear_points.forget();
             self.held.clear();
             if obstacles.is_empty() {
                 self.before_layers = PointArrays::default();
@@ -269,13 +272,13 @@ impl Evaluator {
                 // them, and the limit can pull points back in: alternate, and
                 // keep out last, so nothing ends inside.
                 for _ in 0..CONTACT_ROUNDS {
-                    if !keep_out(&obstacles, &self.held, &self.before_layers, points) {
+                    if !keep_out(&obstacles, &self.held, &self.before_layers, &mut self.clear_points, points) {
                         break;
                     }
                     self.stretch_limiter.apply(limit, (cols, rows), &self.ratio, reaches, points);
                 }
             }
-            keep_out(&obstacles, &self.held, &self.before_layers, points);
+            keep_out(&obstacles, &self.held, &self.before_layers, &mut self.clear_points, points);
         }
         // The mesh's positions and normals, interleaved row by row.
         let interleave = |out: &mut Vec<Vec3>, [x, y, z]: [&[f32]; 3]| {

@@ -16,12 +16,47 @@ use glam::DVec3;
 use crate::mesh::PointArrays;
 use crate::world::{Obstacle, Reach, push_out, push_out_along};
 
+/// Where each point was when it was last found clear of every obstacle
+/// (its coordinates' bits), so that asking again about a point nothing has
+/// moved since costs nothing. Good for one frame's obstacles only:
+/// [`ClearPoints::forget`] when they change.
+#[derive(Clone, Debug, Default)]
+pub struct ClearPoints {
+    at: Vec<[u32; 3]>,
+}
+
+impl ClearPoints {
+    /// Nothing is known clear (the obstacles changed).
+    pub fn forget(&mut self) {
+        self.at.clear();
+    }
+
+    fn is_clear(&self, k: usize, bits: [u32; 3]) -> bool {
+        self.at.get(k) == Some(&bits)
+    }
+
+    fn set_clear(&mut self, k: usize, bits: [u32; 3], n: usize) {
+        if self.at.len() != n {
+            // NaN bits: no point's position, so nothing is known.
+            self.at = vec![[u32::MAX; 3]; n];
+        }
+        self.at[k] = bits;
+    }
+}
+
 /// Moves every point of `points` not `held` (pinned in both keys around
 /// the frame) out of `obstacles`, the way it came from the same point of
 /// `before` (equal lengths; an empty `before` means "from where it is").
-/// Points outside every obstacle are left bit for bit as they are. Returns
+/// Points outside every obstacle are left bit for bit as they are; `clear`
+/// remembers them, and passes over those still where they were. Returns
 /// whether any point moved.
-pub fn keep_out(obstacles: &[Obstacle], held: &[bool], before: &PointArrays, points: &mut PointArrays) -> bool {
+pub fn keep_out(
+    obstacles: &[Obstacle],
+    held: &[bool],
+    before: &PointArrays,
+    clear: &mut ClearPoints,
+    points: &mut PointArrays,
+) -> bool {
     let n = points.len();
     if obstacles.is_empty() || n == 0 || held.len() != n {
         return false;
@@ -36,6 +71,10 @@ pub fn keep_out(obstacles: &[Obstacle], held: &[bool], before: &PointArrays, poi
     let mut moved = false;
     let has_before = before.len() == n;
     for (k, _) in held.iter().enumerate().filter(|(_, held)| !**held) {
+        let bits = [points.x[k].to_bits(), points.y[k].to_bits(), points.z[k].to_bits()];
+        if clear.is_clear(k, bits) {
+            continue;
+        }
         let p = DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
         // Outside every obstacle's reach it stays, as pushing out would leave it.
         if !(0..near.len()).any(|i| reach.near(i, p)) {
@@ -51,6 +90,7 @@ pub fn keep_out(obstacles: &[Obstacle], held: &[bool], before: &PointArrays, poi
             push_out(&near, p)
         };
         if q == p {
+            clear.set_clear(k, bits, n);
             continue;
         }
         // Rounded to f32 the point may land a hair inside; nudge it out by a micrometre.
@@ -100,7 +140,7 @@ mod tests {
         let mut held = vec![false; 9];
         held[0] = true;
         points.y[0] = 0.7; // a pin inside the table stays there
-        keep_out(&[table()], &held, &PointArrays::from_vec3s(&before), &mut points);
+        keep_out(&[table()], &held, &PointArrays::from_vec3s(&before), &mut ClearPoints::default(), &mut points);
         assert_eq!(points.y[0], 0.7);
         for (k, dipped) in after.iter().enumerate().skip(1) {
             let p = points.get(k);
@@ -111,13 +151,32 @@ mod tests {
     }
 
     #[test]
+    fn points_known_clear_are_passed_over_with_the_same_answer() {
+        let row =
+            |dip: f32| -> Vec<Vec3> { (0..9).map(|i| Vec3::new(i as f32 * 0.1 - 0.4, 0.745 - dip, 0.0)).collect() };
+        let before = PointArrays::from_vec3s(&row(0.0));
+        let mut clear = ClearPoints::default();
+        let mut points = PointArrays::from_vec3s(&row(0.0));
+        assert!(!keep_out(&[table()], &[false; 9], &before, &mut clear, &mut points), "on the top, clear");
+        assert!(clear.at.iter().all(|&bits| bits[0] != u32::MAX), "all remembered");
+        // Moved into the top: not passed over, pushed out as a fresh call would.
+        let mut dipped = PointArrays::from_vec3s(&row(0.01));
+        let mut fresh = dipped.clone();
+        assert!(keep_out(&[table()], &[false; 9], &before, &mut clear, &mut dipped));
+        keep_out(&[table()], &[false; 9], &before, &mut ClearPoints::default(), &mut fresh);
+        assert_eq!(dipped, fresh);
+        clear.forget();
+        assert!(clear.at.is_empty());
+    }
+
+    #[test]
     fn points_outside_are_untouched_and_no_obstacles_change_nothing() {
         let cloth: Vec<Vec3> = (0..4).map(|i| Vec3::new(i as f32, 2.0, 0.0)).collect();
         let mut points = PointArrays::from_vec3s(&cloth);
         let before = points.clone();
-        keep_out(&[table()], &[false; 4], &PointArrays::default(), &mut points);
+        keep_out(&[table()], &[false; 4], &PointArrays::default(), &mut ClearPoints::default(), &mut points);
         assert_eq!(points, before);
-        keep_out(&[], &[false; 4], &PointArrays::default(), &mut points);
+        keep_out(&[], &[false; 4], &PointArrays::default(), &mut ClearPoints::default(), &mut points);
         assert_eq!(points, before);
     }
 }
