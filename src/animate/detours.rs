@@ -16,6 +16,9 @@ use crate::mesh::PointArrays;
 use crate::scene::{Layer, Scene};
 use crate::world::{Obstacle, Polyline, path_around};
 
+/// Most threads working out one segment's paths.
+const MAX_THREADS: usize = 16;
+
 /// One point's path round the colliders between two keys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Detour {
@@ -38,18 +41,42 @@ impl SegmentPaths {
     /// from `a` to `b` would carry through one; points pinned in both keys
     /// move between their pins as the animator put them.
     pub fn between(a: &KeyShape, b: &KeyShape, obstacles: &[Obstacle]) -> SegmentPaths {
+        let threads = std::thread::available_parallelism().map_or(1, |c| c.get()).clamp(1, MAX_THREADS);
+        SegmentPaths::between_on(a, b, obstacles, threads)
+    }
+
+    /// [`SegmentPaths::between`], worked out on `threads` threads.
+    fn between_on(a: &KeyShape, b: &KeyShape, obstacles: &[Obstacle], threads: usize) -> SegmentPaths {
         let n = a.points.len().min(b.points.len());
         let mut paths = SegmentPaths::default();
         if obstacles.is_empty() {
             return paths;
         }
-        for point in 0..n {
+        let around = |point: usize| {
             if a.pinned.get(point) == Some(&true) && b.pinned.get(point) == Some(&true) {
-                continue;
+                return None;
             }
             let (from, to) = (a.points.get(point).as_dvec3(), b.points.get(point).as_dvec3());
-            let Some(inner) = path_around(obstacles, from, to) else { continue };
-            let path = Polyline::through(std::iter::once(from).chain(inner).chain(std::iter::once(to)).collect());
+            let inner = path_around(obstacles, from, to)?;
+            Some(Polyline::through(std::iter::once(from).chain(inner).chain(std::iter::once(to)).collect()))
+        };
+        // Each point's path is its own: worked out on every core (the points
+        // dealt out in turn, as the ones that go round cluster near a rim) and
+        // put back in point order, the same on any count of cores.
+        let threads = threads.max(1);
+        let mut found: Vec<(usize, Polyline)> = std::thread::scope(|scope| {
+            let dealt: Vec<_> = (0..threads)
+                .map(|first| {
+                    let around = &around;
+                    scope.spawn(move || {
+                        (first..n).step_by(threads).filter_map(|p| Some((p, around(p)?))).collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            dealt.into_iter().flat_map(|d| d.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect()
+        });
+        found.sort_unstable_by_key(|(point, _)| *point);
+        for (point, path) in found {
             if paths.of_point.is_empty() {
                 paths.of_point = vec![u32::MAX; n];
             }
@@ -156,5 +183,28 @@ impl SegmentDetours {
         }
         self.entries.push(Entry { a: a.clone(), b: b.clone(), obstacles, paths: paths.clone() });
         paths
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::animate::Evaluator;
+
+    #[test]
+    fn the_paths_are_the_same_on_any_count_of_threads() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/tablecloth_pull.ron");
+        let Ok(scene) = crate::scene::load(&path) else { panic!("the bundled tablecloth pull loads") };
+        let mut evaluator = Evaluator::new();
+        let shapes: Vec<Arc<KeyShape>> = scene.keys.iter().map(|k| evaluator.key_shape(&scene, k)).collect();
+        let obstacles = still_obstacles(&scene, scene.keys[0].thickness);
+        let mut detoured = 0;
+        for pair in shapes.windows(2) {
+            let one = SegmentPaths::between_on(&pair[0], &pair[1], &obstacles, 1);
+            assert_eq!(SegmentPaths::between_on(&pair[0], &pair[1], &obstacles, 3), one);
+            assert_eq!(SegmentPaths::between_on(&pair[0], &pair[1], &obstacles, 8), one);
+            detoured += one.detours().len();
+        }
+        assert!(detoured > 0, "some points go round the table");
     }
 }
