@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use glam::{DMat3, DVec2, DVec3};
 
-use super::mesh_solid::MeshSolid;
+use super::mesh_solid::{MeshSolid, outside_box};
 use super::surface_point::SurfacePoint;
 
 /// A collider's solid in world space (metres). Rotations are world_from_local.
@@ -74,8 +74,7 @@ impl ColliderShape {
                 // Far from the mesh's box, the distance to the box: a lower bound,
                 // which is all a contact test or a sphere trace needs, without
                 // searching the triangles.
-                let (lo, hi) = solid.bounds();
-                let outside = (lo - local).max(local - hi).max(DVec3::ZERO);
+                let outside = outside_box(solid.bounds(), local);
                 let gap = outside.length();
                 if gap * scale > MESH_EXACT_WITHIN_M {
                     return SurfacePoint { distance: gap * scale, outward: world_from_local * (outside / gap) };
@@ -119,8 +118,7 @@ impl ColliderShape {
             return true;
         }
         let local = world_from_local.transpose() * (p - center) / scale;
-        let (lo, hi) = solid.bounds();
-        let off_box = (lo - local).max(local - hi).max(DVec3::ZERO).length() * scale;
+        let off_box = outside_box(solid.bounds(), local).length() * scale;
         if off_box > MESH_EXACT_WITHIN_M {
             return off_box >= keep;
         }

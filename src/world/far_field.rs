@@ -15,6 +15,8 @@
 
 use glam::DVec3;
 
+use super::mesh_solid::outside_box;
+
 /// About how many cells the grid has (at most 64 along x): many enough
 /// that a cloth a few centimetres off the body is in clear cells.
 const TARGET_CELLS: f64 = 262_144.0;
@@ -76,8 +78,7 @@ impl FarField {
     /// cell's point is a cell's width from every marked cell; 1 % of it is
     /// left for rounding in finding the cell.
     pub fn outside_by(&self, p: DVec3) -> Option<f64> {
-        let (lo, hi) = self.bounds;
-        let off_box = (lo - p).max(p - hi).max(DVec3::ZERO).length();
+        let off_box = outside_box(self.bounds, p).length();
         let clear = self.clear_at(p).then_some(0.99 * self.cell_m);
         if off_box > 0.0 {
             return Some(off_box.max(clear.unwrap_or(0.0)));

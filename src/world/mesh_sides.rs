@@ -72,8 +72,9 @@ impl MeshSides {
     }
 
     /// The pseudo-normal at `feature` of triangle `triangle` (not unit
-    /// length; `vertex` gives each vertex's position): a point is inside where its offset from its nearest surface
-    /// point has a negative dot product with it.
+    /// length; `vertex` gives each vertex's position): a point is inside
+    /// where its offset from its nearest surface point has a negative dot
+    /// product with it.
     pub fn pseudo_normal(
         &self,
         vertex: &impl Fn(u32) -> DVec3,
@@ -82,11 +83,10 @@ impl MeshSides {
         feature: Feature,
     ) -> DVec3 {
         let corner = |t: usize, i: usize| vertex(indices[t][i]);
-        let unit_normal = |t: usize| (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).try_normalize();
+        let normal = |t: usize| (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0));
+        let unit_normal = |t: usize| normal(t).try_normalize();
         match feature {
-            Feature::Face => {
-                (corner(triangle, 1) - corner(triangle, 0)).cross(corner(triangle, 2) - corner(triangle, 0))
-            }
+            Feature::Face => normal(triangle),
             Feature::Edge(i) => {
                 let e = self.triangle_edges[triangle][usize::from(i)] as usize;
                 let around = &self.edge_triangles[self.edge_start[e] as usize..self.edge_start[e + 1] as usize];

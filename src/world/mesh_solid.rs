@@ -14,6 +14,7 @@
 //! starts from that first build, so a pose's solid never depends on which
 //! pose was asked for before.
 
+use std::collections::HashMap;
 use std::fmt;
 use std::sync::{Arc, OnceLock};
 
@@ -103,7 +104,7 @@ impl MeshSolid {
             vertices.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
         let tiny_area = (hi - lo).length_squared() * 1e-14;
         // Welded in the order vertices are first named, as parry's own merge does.
-        let mut welded: std::collections::HashMap<(u32, [u64; 3]), u32> = std::collections::HashMap::new();
+        let mut welded: HashMap<(u32, [u64; 3]), u32> = HashMap::new();
         let mut source: Vec<u32> = Vec::new();
         let mut indices: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
         for t in triangles {
@@ -236,6 +237,12 @@ impl MeshSolid {
     pub fn fingerprint(&self) -> u64 {
         self.fingerprint
     }
+}
+
+/// The offset from the box `bounds` to `p`, axis by axis (zero inside it):
+/// its length is the distance to the box.
+pub(super) fn outside_box((lo, hi): (DVec3, DVec3), p: DVec3) -> DVec3 {
+    (lo - p).max(p - hi).max(DVec3::ZERO)
 }
 
 fn to_parry(v: DVec3) -> ParryVector {
