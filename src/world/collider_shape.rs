@@ -5,7 +5,8 @@ use std::sync::Arc;
 
 use glam::{DMat3, DVec2, DVec3};
 
-use super::mesh_solid::{MeshSolid, outside_box};
+use super::far_field::outside_box;
+use super::mesh_solid::MeshSolid;
 use super::surface_point::SurfacePoint;
 
 /// A collider's solid in world space (metres). Rotations are world_from_local.

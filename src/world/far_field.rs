@@ -15,8 +15,6 @@
 
 use glam::DVec3;
 
-use super::mesh_solid::outside_box;
-
 /// About how many cells the grid has (at most 64 along x): many enough
 /// that a cloth a few centimetres off the body is in clear cells.
 const TARGET_CELLS: f64 = 262_144.0;
@@ -102,6 +100,12 @@ impl FarField {
         let at = [at.x, at.y, at.z];
         std::array::from_fn(|axis| (at[axis] as usize).min(self.dims[axis] - 1))
     }
+}
+
+/// The offset from the box `bounds` to `p`, axis by axis (zero inside it):
+/// its length is the distance to the box.
+pub(super) fn outside_box((lo, hi): (DVec3, DVec3), p: DVec3) -> DVec3 {
+    (lo - p).max(p - hi).max(DVec3::ZERO)
 }
 
 /// The bits `from..=to` of a row.

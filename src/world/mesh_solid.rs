@@ -239,12 +239,6 @@ impl MeshSolid {
     }
 }
 
-/// The offset from the box `bounds` to `p`, axis by axis (zero inside it):
-/// its length is the distance to the box.
-pub(super) fn outside_box((lo, hi): (DVec3, DVec3), p: DVec3) -> DVec3 {
-    (lo - p).max(p - hi).max(DVec3::ZERO)
-}
-
 fn to_parry(v: DVec3) -> ParryVector {
     ParryVector::new(v.x, v.y, v.z)
 }
