@@ -301,3 +301,22 @@ fn check_reads_every_file_of_a_sequence_the_timeline_shows() {
     );
     assert!(!run.status.success() && stderr.starts_with(&expected), "{stderr}\nexpected {expected}");
 }
+
+/// A scene named without a folder, run in its own folder (`drape render
+/// shot.ron`), finds a plate sequence beside it as it does by a full path.
+#[test]
+fn a_plate_sequence_beside_a_scene_named_bare_is_found() {
+    let dir = tempfile::tempdir().unwrap();
+    for number in [1, 2, 3] {
+        std::fs::write(dir.path().join(format!("bg_{number:04}.png")), png_bytes(8, 6)).unwrap();
+    }
+    curtain_with_plate(dir.path(), "bg_####.png");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_drape"))
+        .args(["check", "curtain.ron"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("PNG 8 × 6 px"), "{stdout}");
+}

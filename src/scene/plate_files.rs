@@ -62,6 +62,8 @@ impl PlateFiles {
         }
         let first = scene_folder.join(files.pattern.file_name(0));
         let dir = first.parent().map_or_else(|| scene_folder.to_owned(), Path::to_owned);
+        // A scene named bare (`drape render shot.ron`) lies in the working folder.
+        let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
         let entries = std::fs::read_dir(&dir).map_err(|error| {
             format!("plate: cannot read the folder of {:?} ({}: {error})", plate.file, dir.display())
         })?;
