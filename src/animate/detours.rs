@@ -118,6 +118,8 @@ impl SegmentPaths {
 #[derive(Debug, Default)]
 pub struct SegmentDetours {
     entries: Vec<Entry>,
+    /// Segments worked out here rather than handed in ([`SegmentDetours::insert`]).
+    worked_out: usize,
 }
 
 #[derive(Debug)]
@@ -126,6 +128,22 @@ struct Entry {
     b: Arc<KeyShape>,
     obstacles: Vec<Obstacle>,
     paths: Arc<SegmentPaths>,
+}
+
+/// One segment whose paths are to be worked out: its keys' rest shapes and
+/// the still colliders between them.
+#[derive(Clone, Debug)]
+pub struct SegmentAsk {
+    pub a: Arc<KeyShape>,
+    pub b: Arc<KeyShape>,
+    pub obstacles: Vec<Obstacle>,
+}
+
+impl SegmentAsk {
+    /// The segment's paths ([`SegmentPaths::between`]).
+    pub fn paths(&self) -> SegmentPaths {
+        SegmentPaths::between(&self.a, &self.b, &self.obstacles)
+    }
 }
 
 /// Segments whose detours are kept at most (the oldest go first).
@@ -161,29 +179,70 @@ impl SegmentDetours {
             .map(|from| {
                 let (key_a, key_b) = (&scene.keys[from], &scene.keys[from + 1]);
                 let read = f64::from(key_b.frame) > earliest && f64::from(key_a.frame) < frame;
-                if !read || key_a.inbetween_relax > 0 {
+                if !read {
                     return none.clone();
                 }
-                let obstacles = still_obstacles(scene, key_a.thickness.max(key_b.thickness));
-                self.between(&shapes[from], &shapes[from + 1], obstacles)
+                segment_ask(scene, shapes, from).map_or_else(|| none.clone(), |ask| self.between(ask))
             })
             .collect()
     }
 
-    /// The detours between `a` and `b` among `obstacles`, from the kept ones or worked out.
-    fn between(&mut self, a: &Arc<KeyShape>, b: &Arc<KeyShape>, obstacles: Vec<Obstacle>) -> Arc<SegmentPaths> {
-        let found =
-            self.entries.iter().position(|e| Arc::ptr_eq(&e.a, a) && Arc::ptr_eq(&e.b, b) && e.obstacles == obstacles);
-        if let Some(index) = found {
-            return self.entries[index].paths.clone();
+    /// Every segment of `scene` (`shapes` its keys' rest shapes) that has
+    /// paths to go round and none kept: what a worker can work out ahead and
+    /// hand in ([`SegmentDetours::insert`]), so that no frame waits for them.
+    pub fn missing(&self, scene: &Scene, shapes: &[Arc<KeyShape>]) -> Vec<SegmentAsk> {
+        if scene.colliders.is_empty() {
+            return Vec::new();
         }
-        let paths = Arc::new(SegmentPaths::between(a, b, &obstacles));
+        (0..shapes.len().saturating_sub(1))
+            .filter_map(|from| segment_ask(scene, shapes, from))
+            .filter(|ask| self.kept(ask).is_none())
+            .collect()
+    }
+
+    /// Keeps `paths`, worked out elsewhere for `ask` ([`SegmentAsk::paths`]).
+    pub fn insert(&mut self, ask: SegmentAsk, paths: Arc<SegmentPaths>) {
+        if self.kept(&ask).is_some() {
+            return;
+        }
         if self.entries.len() == KEPT_SEGMENTS {
             self.entries.remove(0);
         }
-        self.entries.push(Entry { a: a.clone(), b: b.clone(), obstacles, paths: paths.clone() });
+        self.entries.push(Entry { a: ask.a, b: ask.b, obstacles: ask.obstacles, paths });
+    }
+
+    /// How many segments were worked out here, not handed in.
+    pub fn worked_out(&self) -> usize {
+        self.worked_out
+    }
+
+    fn kept(&self, ask: &SegmentAsk) -> Option<usize> {
+        self.entries
+            .iter()
+            .position(|e| Arc::ptr_eq(&e.a, &ask.a) && Arc::ptr_eq(&e.b, &ask.b) && e.obstacles == ask.obstacles)
+    }
+
+    /// The detours of `ask`, from the kept ones or worked out.
+    fn between(&mut self, ask: SegmentAsk) -> Arc<SegmentPaths> {
+        if let Some(index) = self.kept(&ask) {
+            return self.entries[index].paths.clone();
+        }
+        let paths = Arc::new(ask.paths());
+        self.worked_out += 1;
+        self.insert(ask, paths.clone());
         paths
     }
+}
+
+/// The segment from key `from` to the next, among the still colliders, if
+/// it goes round them: not where the first key relaxes its in-betweens.
+fn segment_ask(scene: &Scene, shapes: &[Arc<KeyShape>], from: usize) -> Option<SegmentAsk> {
+    let (key_a, key_b) = (scene.keys.get(from)?, scene.keys.get(from + 1)?);
+    if key_a.inbetween_relax > 0 {
+        return None;
+    }
+    let obstacles = still_obstacles(scene, key_a.thickness.max(key_b.thickness));
+    Some(SegmentAsk { a: shapes.get(from)?.clone(), b: shapes.get(from + 1)?.clone(), obstacles })
 }
 
 #[cfg(test)]

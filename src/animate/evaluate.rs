@@ -22,7 +22,7 @@ use super::attachments::{carry_to_attachments, posed_key};
 use super::blend::{Segment, blend_segment, segment_at};
 use super::cache::{KeyShape, RestShapeCache, key_obstacles_among};
 use super::colliders_at::obstacles_at;
-use super::detours::SegmentDetours;
+use super::detours::{SegmentAsk, SegmentDetours, SegmentPaths};
 use super::follow::carry_with_node;
 use super::keep_out::{ClearPoints, keep_out};
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
@@ -112,6 +112,29 @@ impl Evaluator {
     /// colliding references' solids from the poses this evaluator built lately.
     pub fn key_obstacles(&self, scene: &Scene, key: &Key) -> Vec<crate::world::Obstacle> {
         key_obstacles_among(scene, key, &self.solids)
+    }
+
+    /// The segments of `scene` whose paths round its still colliders are not
+    /// kept here, once every key's shape is in the cache (none before): for a
+    /// worker to work out ([`SegmentAsk::paths`]) and hand in
+    /// ([`Evaluator::insert_paths`]), so that drawing a frame never waits for them.
+    pub fn missing_paths(&self, scene: &Scene) -> Vec<SegmentAsk> {
+        let shapes: Option<Vec<Arc<KeyShape>>> = scene
+            .keys
+            .iter()
+            .map(|k| self.cache.get(&scene.cloth, &posed_key(scene, k), &self.key_obstacles(scene, k)))
+            .collect();
+        shapes.map_or_else(Vec::new, |shapes| self.detours.missing(scene, &shapes))
+    }
+
+    /// Keeps a segment's paths worked out elsewhere ([`Evaluator::missing_paths`]).
+    pub fn insert_paths(&mut self, ask: SegmentAsk, paths: Arc<SegmentPaths>) {
+        self.detours.insert(ask, paths);
+    }
+
+    /// How many segments' paths this evaluator worked out itself, not handed in.
+    pub fn paths_worked_out(&self) -> usize {
+        self.detours.worked_out()
     }
 
     /// The cached shape of one key (built if needed), for callers that show

@@ -26,6 +26,7 @@ use super::panels::layers::LayersPanel;
 use super::panels::references::ReferencesPanel;
 use super::panels::shot::ShotPanel;
 use super::pin_clipboard;
+use super::shaper::ShaperStatus;
 use super::shortcuts::{self, SHORTCUTS};
 use super::timeline::TimelinePanel;
 use super::typing_pace::TypingPace;
@@ -554,6 +555,11 @@ impl DrapeApp {
                 self.work.cancel_relaxation();
             }
             ui.label(match &status {
+                Some(ShaperStatus { paths: Some((done, total)), started, .. }) => format!(
+                    "Finding the in-betweens' paths round the colliders… segment {} of {total} ({:.1} s)",
+                    done + 1,
+                    started.elapsed().as_secs_f64()
+                ),
                 Some(status) => {
                     let keys = if status.keys_total > 1 {
                         format!(" key {} of {},", status.keys_done + 1, status.keys_total)

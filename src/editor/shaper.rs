@@ -8,7 +8,9 @@
 //! undo, the end of a drag) do, so a stale relaxation of a large grid never
 //! delays the shape the user asked for. The moves of a drag in progress do
 //! not, so a drag shows each finished shape while it goes on instead of
-//! cancelling every relaxation before it can finish.
+//! cancelling every relaxation before it can finish. The in-betweens'
+//! paths round the still colliders are worked out here too, once the shapes
+//! they join are in, so drawing a frame never waits for them.
 
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -18,6 +20,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::animate::KeyShape;
+use crate::animate::detours::{SegmentAsk, SegmentPaths};
 use crate::scene::{Cloth, Key};
 use crate::world::Obstacle;
 
@@ -43,7 +46,12 @@ pub struct ShaperStatus {
     pub started: Instant,
     /// The relaxing is done: the new shapes' self-crossings are being counted.
     pub counting: bool,
+    /// Segments whose paths round the colliders are worked out so far, and in all.
+    pub paths: Option<(usize, usize)>,
 }
+
+/// One segment's paths, ready for the evaluator ([`crate::animate::Evaluator::insert_paths`]).
+pub type BuiltPaths = (SegmentAsk, Arc<SegmentPaths>);
 
 struct Job {
     generation: u64,
@@ -55,6 +63,8 @@ struct Job {
     count_crossings: bool,
     /// Shapes relaxed elsewhere whose crossings to count, after the keys.
     count: Vec<Arc<KeyShape>>,
+    /// Segments whose paths round the colliders to work out.
+    paths: Vec<SegmentAsk>,
 }
 
 struct Shared {
@@ -71,6 +81,7 @@ struct Shared {
 pub struct Shaper {
     shared: Arc<Shared>,
     results: Receiver<Built>,
+    paths: Receiver<BuiltPaths>,
     worker: Option<JoinHandle<()>>,
     next_generation: u64,
 }
@@ -87,12 +98,13 @@ impl Shaper {
             repaint: Box::new(repaint),
         });
         let (sender, results) = mpsc::channel();
+        let (paths_sender, paths) = mpsc::channel();
         let worker_shared = shared.clone();
         let worker = std::thread::Builder::new()
             .name("drape-relax".to_owned())
-            .spawn(move || work(&worker_shared, &sender))
+            .spawn(move || work(&worker_shared, &sender, &paths_sender))
             .expect("the relaxation thread starts");
-        Shaper { shared, results, worker: Some(worker), next_generation: 1 }
+        Shaper { shared, results, paths, worker: Some(worker), next_generation: 1 }
     }
 
     /// Asks for the shapes of `keys` on `cloth`, each among its colliders
@@ -105,8 +117,37 @@ impl Shaper {
             self.shared.cancel_below.store(generation, Ordering::Relaxed);
         }
         let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
-        *pending = Some(Job { generation, cloth: cloth.clone(), keys, count_crossings: supersede, count: Vec::new() });
+        *pending = Some(Job {
+            generation,
+            cloth: cloth.clone(),
+            keys,
+            count_crossings: supersede,
+            count: Vec::new(),
+            paths: Vec::new(),
+        });
         self.shared.wake.notify_one();
+    }
+
+    /// Asks for the paths of `segments` round their colliders, unless a
+    /// request is pending (the shapes asked then make these stale; false);
+    /// each comes back through [`Shaper::take_paths`].
+    pub fn work_out_paths(&mut self, cloth: &Cloth, segments: Vec<SegmentAsk>) -> bool {
+        let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
+        if pending.is_some() {
+            return false;
+        }
+        let generation = self.next_generation;
+        self.next_generation += 1;
+        *pending = Some(Job {
+            generation,
+            cloth: cloth.clone(),
+            keys: Vec::new(),
+            count_crossings: false,
+            count: Vec::new(),
+            paths: segments,
+        });
+        self.shared.wake.notify_one();
+        true
     }
 
     /// Asks for the self-crossings of `shapes` to be counted
@@ -117,8 +158,14 @@ impl Shaper {
         if pending.is_none() {
             let generation = self.next_generation;
             self.next_generation += 1;
-            *pending =
-                Some(Job { generation, cloth: cloth.clone(), keys: Vec::new(), count_crossings: true, count: shapes });
+            *pending = Some(Job {
+                generation,
+                cloth: cloth.clone(),
+                keys: Vec::new(),
+                count_crossings: true,
+                count: shapes,
+                paths: Vec::new(),
+            });
             self.shared.wake.notify_one();
         }
     }
@@ -132,6 +179,11 @@ impl Shaper {
     /// The shapes finished since the last call.
     pub fn take_built(&self) -> Vec<Built> {
         self.results.try_iter().collect()
+    }
+
+    /// The segments' paths finished since the last call.
+    pub fn take_paths(&self) -> Vec<BuiltPaths> {
+        self.paths.try_iter().collect()
     }
 
     /// The running relaxation, if any.
@@ -168,7 +220,7 @@ impl Drop for Shaper {
     }
 }
 
-fn work(shared: &Shared, results: &Sender<Built>) {
+fn work(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>) {
     loop {
         let job = {
             let mut pending = shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
@@ -185,7 +237,8 @@ fn work(shared: &Shared, results: &Sender<Built>) {
                         iteration: 0,
                         max_iterations: 0,
                         started: Instant::now(),
-                        counting: job.keys.is_empty(),
+                        counting: job.keys.is_empty() && job.paths.is_empty(),
+                        paths: (job.keys.is_empty() && !job.paths.is_empty()).then_some((0, job.paths.len())),
                     };
                     *shared.status.lock().unwrap_or_else(PoisonError::into_inner) = Some(status);
                     break job;
@@ -193,13 +246,13 @@ fn work(shared: &Shared, results: &Sender<Built>) {
                 pending = shared.wake.wait(pending).unwrap_or_else(PoisonError::into_inner);
             }
         };
-        run(shared, results, job);
+        run(shared, results, paths, job);
         *shared.status.lock().unwrap_or_else(PoisonError::into_inner) = None;
         (shared.repaint)();
     }
 }
 
-fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
+fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job: Job) {
     let total = job.keys.len();
     let mut finished = Vec::with_capacity(total);
     for (done, (key, obstacles)) in job.keys.into_iter().enumerate() {
@@ -241,6 +294,20 @@ fn run(shared: &Shared, results: &Sender<Built>, job: Job) {
         finished.push(shape.clone());
         let built = Built { cloth: job.cloth.clone(), key, obstacles, shape };
         if results.send(built).is_err() {
+            return;
+        }
+        (shared.repaint)();
+    }
+    let segments = job.paths.len();
+    for (done, ask) in job.paths.into_iter().enumerate() {
+        if job.generation < shared.cancel_below.load(Ordering::Relaxed) {
+            return;
+        }
+        if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+            status.paths = Some((done, segments));
+        }
+        let worked_out = Arc::new(ask.paths());
+        if paths.send((ask, worked_out)).is_err() {
             return;
         }
         (shared.repaint)();

@@ -13,6 +13,7 @@ use eframe::egui;
 
 use super::document::Document;
 use super::shaper::{Shaper, ShaperStatus};
+use crate::animate::detours::SegmentAsk;
 use crate::animate::{self, Evaluator};
 use crate::mesh::Mesh;
 use crate::picture::{SceneOverlays, key_overlay, scene_bounds};
@@ -62,6 +63,8 @@ pub struct Shown {
     opened_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// The shown version whose shapes the worker was last asked to count crossings of.
     crossings_asked: Option<u64>,
+    /// The segments whose paths the worker was last asked to work out.
+    paths_asked: Vec<SegmentAsk>,
 }
 
 /// What the onion-skin ghosts were made for.
@@ -99,6 +102,7 @@ impl Shown {
             frame_when_shown: false,
             opened_bounds: None,
             crossings_asked: None,
+            paths_asked: Vec::new(),
         }
     }
 
@@ -210,9 +214,13 @@ impl Shown {
     /// Takes finished shapes from the worker and asks it for the ones `doc` still lacks.
     pub fn sync(&mut self, doc: &Document) {
         let built = self.shaper.take_built();
-        let arrived = !built.is_empty();
+        let paths = self.shaper.take_paths();
+        let arrived = !built.is_empty() || !paths.is_empty();
         for built in built {
             self.evaluator.cache_mut().insert(&built.cloth, &built.key, &built.obstacles, built.shape);
+        }
+        for (segment, paths) in paths {
+            self.evaluator.insert_paths(segment, paths);
         }
         let scene = doc.scene();
         if *scene == self.scene {
@@ -229,6 +237,22 @@ impl Shown {
         }
         let missing = self.missing_shapes(scene);
         if missing.is_empty() {
+            // The in-betweens' paths round the colliders come from the worker
+            // too, so no frame drawn waits for them: the scene on screen stays
+            // until they are in.
+            let segments = self.evaluator.missing_paths(scene);
+            if !segments.is_empty() {
+                if arrived {
+                    self.show_caught_up();
+                }
+                if !same_segments(&segments, &self.paths_asked)
+                    && self.shaper.work_out_paths(&scene.cloth, segments.clone())
+                {
+                    self.paths_asked = segments;
+                    self.asked_elsewhere = true;
+                }
+                return;
+            }
             self.asked_during_drag.clear();
             self.asked_elsewhere = false;
             self.scene = scene.clone();
@@ -280,10 +304,10 @@ impl Shown {
     /// Shows the newest version asked during the drag whose shapes are all
     /// in: the document as it was a moment ago, nearer than what is shown.
     fn show_caught_up(&mut self) {
-        let Some(index) = (0..self.asked_during_drag.len())
-            .rev()
-            .find(|&i| self.missing_shapes(&self.asked_during_drag[i]).is_empty())
-        else {
+        let Some(index) = (0..self.asked_during_drag.len()).rev().find(|&i| {
+            let asked = &self.asked_during_drag[i];
+            self.missing_shapes(asked).is_empty() && self.evaluator.missing_paths(asked).is_empty()
+        }) else {
             return;
         };
         let caught_up = self.asked_during_drag.drain(..=index).next_back();
@@ -391,6 +415,14 @@ impl Shown {
     }
 }
 
+/// Whether `a` and `b` ask for the same segments' paths.
+fn same_segments(a: &[SegmentAsk], b: &[SegmentAsk]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(a, b)| Arc::ptr_eq(&a.a, &b.a) && Arc::ptr_eq(&a.b, &b.b) && a.obstacles == b.obstacles)
+}
+
 /// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).
 fn soloed(scene: &Scene, solo: Option<usize>) -> Cow<'_, Scene> {
     let Some(solo) = solo.filter(|s| *s < scene.layers.len()) else { return Cow::Borrowed(scene) };
@@ -411,6 +443,51 @@ mod tests {
 
     fn lift_pin(doc: &mut Document) {
         doc.edit("Move pin", |s| s.keys[0].pins[0].pos.1 += 0.1).unwrap();
+    }
+
+    /// A cloth lying on a table at frame 0 and lifted by its middle at 24:
+    /// the in-betweens go round the table's rim.
+    fn lifted_off_a_table() -> Scene {
+        let text = "(
+    version: 1,
+    cloth: (size: (1.0, 1.0), grid: (13, 13)),
+    timeline: (fps: 24.0, start: 0, end: 48),
+    keys: [
+        (frame: 0, pins: [], placement: (center: (0.0, 0.8, 0.0))),
+        (frame: 24, pins: [(grid: (6, 6), pos: (0.0, 1.3, 0.0))]),
+    ],
+    colliders: [Box((name: \"table\", center: (0.0, 0.72, 0.0), size: (0.6, 0.04, 0.6)))],
+)";
+        crate::scene::parse(text, "lifted.ron").unwrap()
+    }
+
+    /// After an edit, the worker works out the in-betweens' paths round the
+    /// table with the new shapes, and the frames drawn then use them: drawing
+    /// a frame works none out (it took 0.4 s on the UI thread for the round
+    /// table), and the frames are those of a fresh evaluator.
+    #[test]
+    fn the_paths_round_a_table_are_worked_out_on_the_worker() {
+        let mut doc = Document::new(lifted_off_a_table(), None);
+        let mut shown = Shown::new(doc.scene().clone());
+        assert!(shown.wait_for(&doc, WAIT));
+        doc.edit("Move pin", |s| s.keys[1].pins[0].pos.1 += 0.05).unwrap();
+        shown.sync(&doc);
+        assert_ne!(shown.scene, *doc.scene(), "the old scene stays on screen while the worker works");
+        assert!(shown.wait_for(&doc, WAIT));
+        assert_eq!(shown.scene, *doc.scene());
+        assert!(shown.evaluator.missing_paths(doc.scene()).is_empty(), "every segment's paths are in");
+        let mut fresh = Evaluator::new();
+        for key in &doc.scene().keys {
+            fresh.key_shape(doc.scene(), key);
+        }
+        let segments = fresh.missing_paths(doc.scene());
+        assert_eq!(segments.len(), 1);
+        assert!(!segments[0].paths().detours().is_empty(), "points go round the rim");
+        for frame in [6.0, 12.0, 18.0] {
+            shown.refresh_mesh(frame, animate::Stage::Animated, None);
+            assert_eq!(shown.mesh.positions, fresh.evaluate_frame(doc.scene(), frame).positions, "frame {frame}");
+        }
+        assert_eq!(shown.evaluator.paths_worked_out(), 0, "no frame drawn worked out a path");
     }
 
     /// While a drag goes on, each shape the worker finishes is shown at the
