@@ -71,6 +71,9 @@ pub struct DrapeApp {
     window_size: Option<egui::Vec2>,
     /// The window was fitted to its screen (once, when the screen's size is first known).
     window_fitted: bool,
+    /// The size asked of the window that it has not reached yet, and the
+    /// frames waited for it: the viewport judges a saved view only after.
+    window_resizing: Option<(egui::Vec2, u32)>,
 }
 
 impl DrapeApp {
@@ -104,6 +107,7 @@ impl DrapeApp {
             window_size_file: default_config_dir().map(|dir| dir.join(WINDOW_SIZE_NAME)),
             window_size: None,
             window_fitted: false,
+            window_resizing: None,
         }
     }
 
@@ -625,12 +629,20 @@ impl DrapeApp {
         if let Some(size) = inner {
             self.window_size = Some(size);
         }
+        if let Some((target, frames)) = self.window_resizing {
+            let reached = inner.is_some_and(|size| (size - target).length() <= 1.0);
+            // A window manager may refuse the size: stop waiting after a while.
+            self.window_resizing = (!reached && frames < WINDOW_RESIZE_FRAMES).then_some((target, frames + 1));
+        }
+        self.viewport.hold_saved_view(self.window_resizing.is_some());
         let Some(screen) = screen.filter(|_| !self.window_fitted) else { return };
         self.window_fitted = true;
         let wanted = self.window_size_file.as_deref().and_then(window_size::load).unwrap_or(DEFAULT_WINDOW_SIZE);
         let fitted = window_size::fitted(wanted, screen);
         if inner.is_none_or(|size| (size - fitted).length() > 1.0) {
             ctx.send_viewport_cmd(egui::ViewportCommand::InnerSize(fitted));
+            self.window_resizing = Some((fitted, 0));
+            self.viewport.hold_saved_view(true);
         }
     }
 
@@ -643,6 +655,9 @@ impl DrapeApp {
         }
     }
 }
+
+/// Frames the viewport waits for the window to reach the size asked of it.
+const WINDOW_RESIZE_FRAMES: u32 = 60;
 
 /// The panels whose state belongs to one document (the timeline's drags
 /// and zoom, the side panels' open rows and pickers): made afresh when the

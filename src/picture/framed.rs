@@ -6,6 +6,7 @@ use glam::Vec3;
 
 use crate::animate::colliders_at::shape_at;
 use crate::animate::references_at::reference_at;
+use crate::render::OrbitCamera;
 use crate::render::camera::bounds;
 use crate::scene::{Collider, Scene};
 
@@ -21,6 +22,17 @@ pub fn cloth_and_touched(scene: &Scene, frame: f64, cloth: &[Vec3]) -> Option<(V
         Some((lo, hi)) => (min.min(lo), max.max(hi)),
         None => (min, max),
     })
+}
+
+/// Whether `camera` shows, in a picture of `aspect`, every point of the
+/// cloth (`cloth`, its points at `frame`) and the box of what it touches
+/// there ([`touched_bounds`]) whole: a saved view that does is kept on
+/// opening. The cloth's own points are judged, not its box, whose corners a
+/// view showing all of a hanging bowl of cloth may leave out.
+pub fn view_holds(camera: &OrbitCamera, scene: &Scene, frame: f64, cloth: &[Vec3], aspect: f32) -> bool {
+    let sees = |p: Vec3| camera.sees_any_of([p], aspect);
+    cloth.iter().filter(|p| p.is_finite()).all(|&p| sees(p))
+        && touched_bounds(scene, frame, cloth).is_none_or(|touched| corners(touched).into_iter().all(sees))
 }
 
 /// The box round every visible reference and enabled collider of `scene`
@@ -79,4 +91,45 @@ pub fn corners((min, max): (Vec3, Vec3)) -> [Vec3; 8] {
             if k & 4 == 0 { min.z } else { max.z },
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cloth hanging as a bowl from four corners at 1 m.
+    fn bowl() -> Vec<Vec3> {
+        (0..=20)
+            .flat_map(|j| {
+                (0..=20).map(move |i| {
+                    let (x, z) = (i as f32 / 20.0 - 0.5, j as f32 / 20.0 - 0.5);
+                    Vec3::new(x, 1.0 - 0.6 * (0.25 - x * x) * (0.25 - z * z) / 0.0625, z)
+                })
+            })
+            .collect()
+    }
+
+    /// A view close enough to leave out the corners of the bowl's box while
+    /// it shows every point of the cloth holds it; a little closer, it cuts
+    /// off part of the cloth and does not.
+    #[test]
+    fn a_view_of_the_whole_cloth_holds_it_though_its_box_is_cut() {
+        let scene = Scene::default();
+        let cloth = bowl();
+        let (min, max) = bounds(&cloth).unwrap();
+        let aspect = 1.34;
+        let mut camera = OrbitCamera::framing(min, max, aspect);
+        camera.pitch_deg = 35.0;
+        let sees_all = |camera: &OrbitCamera| cloth.iter().all(|&p| camera.sees_any_of([p], aspect));
+        let sees_box = |camera: &OrbitCamera| corners((min, max)).into_iter().all(|c| camera.sees_any_of([c], aspect));
+        while sees_box(&camera) {
+            camera.distance_m *= 0.99;
+        }
+        assert!(sees_all(&camera), "the test's view must show the cloth and cut its box");
+        assert!(view_holds(&camera, &scene, 0.0, &cloth, aspect));
+        while sees_all(&camera) {
+            camera.distance_m *= 0.99;
+        }
+        assert!(!view_holds(&camera, &scene, 0.0, &cloth, aspect));
+    }
 }

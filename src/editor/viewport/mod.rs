@@ -34,7 +34,7 @@ use super::shown::OnionSkin;
 use super::workspace::Workspace;
 use crate::animate;
 use crate::animate::colliders_at::shape_at;
-use crate::picture::framed::{cloth_and_touched, corners};
+use crate::picture::framed::{cloth_and_touched, view_holds};
 use crate::picture::{SceneOverlays, collider_solids, reference_solids};
 use crate::render::camera::bounds;
 use crate::render::overlay::{Marker, PIN_RADIUS_PX, PinState, Segment, colors};
@@ -179,6 +179,10 @@ pub struct ViewportPanel {
     follow_anchor: Option<(f64, glam::Vec3)>,
     /// Where the viewport was drawn last frame (points).
     rect: egui::Rect,
+    /// Where it was drawn the frame before.
+    rect_before: egui::Rect,
+    /// The window is being resized: a saved view is judged at its new size.
+    saved_view_held: bool,
     /// Whether the GPU viewport is available (false only in tests without wgpu).
     has_gpu: bool,
     /// The orbiting camera while the shot camera is looked through.
@@ -252,6 +256,8 @@ impl ViewportPanel {
             ground_version: 0,
             follow_anchor: None,
             rect: egui::Rect::NOTHING,
+            rect_before: egui::Rect::NOTHING,
+            saved_view_held: false,
             has_gpu,
             orbit_before_shot: None,
             stale: StaleCloth::default(),
@@ -259,6 +265,11 @@ impl ViewportPanel {
             reveal_pending: !framed,
             solids_cache: None,
         }
+    }
+
+    /// Holds off judging a saved view (whether it crops the cloth) while the window changes size.
+    pub fn hold_saved_view(&mut self, held: bool) {
+        self.saved_view_held = held;
     }
 
     /// Where the viewport was drawn last frame, in points.
@@ -348,7 +359,7 @@ impl ViewportPanel {
         let rect = ui.available_rect_before_wrap();
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Viewport"));
-        self.rect = rect;
+        self.rect_before = std::mem::replace(&mut self.rect, rect);
         let aspect = rect.width() / rect.height().max(1.0);
         let pixels_per_point = ui.ctx().pixels_per_point();
         let size_px = (
@@ -392,7 +403,15 @@ impl ViewportPanel {
         // Looking through the shot camera, its picture is the framing: the
         // orbiting view is framed once the Camera toggle is turned off.
         if !w.session.through_camera() {
-            let reveal = std::mem::take(&mut self.reveal_pending);
+            // A saved view is judged once the viewport holds still at the
+            // window's size: a new window's first frames are laid out at
+            // another size, and a view saved wider was then taken to crop the
+            // cloth and reframed.
+            let laid_out = !self.saved_view_held && self.rect_before == self.rect;
+            if self.reveal_pending && !laid_out {
+                ui.ctx().request_repaint();
+            }
+            let reveal = laid_out && std::mem::take(&mut self.reveal_pending);
             if std::mem::take(&mut self.frame_all_pending) || (reveal && !self.holds_what_is_framed(w, area.aspect)) {
                 self.frame_cloth(w, area.aspect);
             }
@@ -530,8 +549,7 @@ impl ViewportPanel {
         if w.session.follow() {
             return self.sees_cloth(w, aspect);
         }
-        cloth_and_touched(w.shown.scene(), w.frame(), &w.shown.mesh().positions)
-            .is_none_or(|framed| corners(framed).into_iter().all(|corner| self.camera.sees_any_of([corner], aspect)))
+        view_holds(&self.camera, w.shown.scene(), w.frame(), &w.shown.mesh().positions, aspect)
     }
 
     /// With Follow on, moves the camera's target by as much as the cloth's
