@@ -1205,6 +1205,24 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     assert!(harness.state().viewport_rect().contains(pointer), "the list floats over the viewport: {pointer:?}");
 }
 
+/// Typing the cloth's Width or Height changes its shape in the grid editor,
+/// not the room the editor takes: the rows under it stay where they were.
+#[test]
+fn the_rows_under_the_grid_editor_stay_put_when_the_cloths_shape_changes() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    harness.state_mut().select_pins(&[(0, 0)]);
+    harness.run_ok();
+    let before = cloth_panel_places(&harness);
+    for (width_m, height_m) in [(1.6, 1.2), (2.0, 0.8), (1.0, 1.0), (0.6, 1.8)] {
+        harness.state_mut().apply("Size", |s| s.cloth.size = (width_m, height_m));
+        settle(&mut harness);
+        let after = cloth_panel_places(&harness);
+        assert_eq!(after[3..], before[3..], "at {width_m} × {height_m} m");
+        assert_eq!(after[2].height(), before[2].height(), "at {width_m} × {height_m} m");
+    }
+}
+
 /// A long relaxation keeps its progress and its Cancel in the status bar
 /// while the pointer hovers the cloth, the grid point shown beside them;
 /// Cancel stops it by taking the edit back, and Redo offers the edit again.

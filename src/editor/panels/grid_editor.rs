@@ -112,8 +112,13 @@ impl GridEditor {
         // panel is scrolled to, so the editor keeps its size and place while the rows around it change.
         let size = if size.y > self.max_height { size * (self.max_height / size.y) } else { size };
         let size = size.max(Vec2::splat(24.0));
-        let (outer, response) =
-            ui.allocate_exact_size(size + Vec2::splat(2.0 * PIN_RADIUS + 2.0), Sense::click_and_drag());
+        let padding = Vec2::splat(2.0 * PIN_RADIUS + 2.0);
+        // The chosen height is kept whatever the cloth's shape, so the rows
+        // under the editor stay put when Width or Height is typed; a wide
+        // cloth's grid sits at the top of it.
+        let room = Vec2::new(size.x, size.y.max(self.max_height));
+        let (room, response) = ui.allocate_exact_size(room + padding, Sense::click_and_drag());
+        let outer = Rect::from_min_size(room.min, size + padding);
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "Grid editor"));
         let rect = outer.shrink(PIN_RADIUS + 1.0);
         let painter = ui.painter_at(outer);
