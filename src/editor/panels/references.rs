@@ -311,9 +311,12 @@ fn collider_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &R
     if ui.checkbox(&mut collider, "Collider").on_hover_text(hint).changed() {
         w.apply("Reference collider", |s| s.references[index].collider = collider);
     }
-    if !reference.collider {
-        return;
-    }
+    // Shown greyed when it is no collider, so ticking Collider moves no row under the mouse.
+    ui.add_enabled_ui(reference.collider, |ui| own_thickness_ui(ui, w, index, reference, frame));
+}
+
+/// The reference's own thickness, keyable, or the key's.
+fn own_thickness_ui(ui: &mut egui::Ui, w: &mut Workspace, index: usize, reference: &Reference, frame: i32) {
     ui.horizontal(|ui| {
         let mut own = reference.thickness.is_some();
         let hint = "How far the cloth keeps from it; off: the key's thickness";
