@@ -132,42 +132,42 @@ impl Shaper {
     /// request is pending (the shapes asked then make these stale; false);
     /// each comes back through [`Shaper::take_paths`].
     pub fn work_out_paths(&mut self, cloth: &Cloth, segments: Vec<SegmentAsk>) -> bool {
-        let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
-        if pending.is_some() {
-            return false;
-        }
-        let generation = self.next_generation;
-        self.next_generation += 1;
-        *pending = Some(Job {
+        self.queue_when_idle(|generation| Job {
             generation,
             cloth: cloth.clone(),
             keys: Vec::new(),
             count_crossings: false,
             count: Vec::new(),
             paths: segments,
-        });
-        self.shared.wake.notify_one();
-        true
+        })
     }
 
     /// Asks for the self-crossings of `shapes` to be counted
     /// ([`KeyShape::self_crossings`]) unless a request is pending; the
     /// shapes then know them and the UI is woken.
     pub fn count_crossings(&mut self, cloth: &Cloth, shapes: Vec<Arc<KeyShape>>) {
+        self.queue_when_idle(|generation| Job {
+            generation,
+            cloth: cloth.clone(),
+            keys: Vec::new(),
+            count_crossings: true,
+            count: shapes,
+            paths: Vec::new(),
+        });
+    }
+
+    /// Queues the job `make` builds for its generation, unless a request is
+    /// pending (false): follow-up work never replaces shapes asked for.
+    fn queue_when_idle(&mut self, make: impl FnOnce(u64) -> Job) -> bool {
         let mut pending = self.shared.pending.lock().unwrap_or_else(PoisonError::into_inner);
-        if pending.is_none() {
-            let generation = self.next_generation;
-            self.next_generation += 1;
-            *pending = Some(Job {
-                generation,
-                cloth: cloth.clone(),
-                keys: Vec::new(),
-                count_crossings: true,
-                count: shapes,
-                paths: Vec::new(),
-            });
-            self.shared.wake.notify_one();
+        if pending.is_some() {
+            return false;
         }
+        let generation = self.next_generation;
+        self.next_generation += 1;
+        *pending = Some(make(generation));
+        self.shared.wake.notify_one();
+        true
     }
 
     /// Stops the running relaxation at its next sweep and drops the pending request.
