@@ -124,9 +124,7 @@ pub struct SegmentDetours {
 
 #[derive(Debug)]
 struct Entry {
-    a: Arc<KeyShape>,
-    b: Arc<KeyShape>,
-    obstacles: Vec<Obstacle>,
+    segment: SegmentAsk,
     paths: Arc<SegmentPaths>,
 }
 
@@ -143,6 +141,11 @@ impl SegmentAsk {
     /// The segment's paths ([`SegmentPaths::between`]).
     pub fn paths(&self) -> SegmentPaths {
         SegmentPaths::between(&self.a, &self.b, &self.obstacles)
+    }
+
+    /// Whether `other` is this segment: the same two shapes (not only equal ones) and obstacles.
+    pub fn same(&self, other: &SegmentAsk) -> bool {
+        Arc::ptr_eq(&self.a, &other.a) && Arc::ptr_eq(&self.b, &other.b) && self.obstacles == other.obstacles
     }
 }
 
@@ -208,7 +211,7 @@ impl SegmentDetours {
         if self.entries.len() == KEPT_SEGMENTS {
             self.entries.remove(0);
         }
-        self.entries.push(Entry { a: ask.a, b: ask.b, obstacles: ask.obstacles, paths });
+        self.entries.push(Entry { segment: ask, paths });
     }
 
     /// How many segments were worked out here, not handed in.
@@ -217,9 +220,7 @@ impl SegmentDetours {
     }
 
     fn kept(&self, ask: &SegmentAsk) -> Option<usize> {
-        self.entries
-            .iter()
-            .position(|e| Arc::ptr_eq(&e.a, &ask.a) && Arc::ptr_eq(&e.b, &ask.b) && e.obstacles == ask.obstacles)
+        self.entries.iter().position(|e| e.segment.same(ask))
     }
 
     /// The detours of `ask`, from the kept ones or worked out.

@@ -245,9 +245,9 @@ impl Shown {
                 if arrived {
                     self.show_caught_up();
                 }
-                if !same_segments(&segments, &self.paths_asked)
-                    && self.shaper.work_out_paths(&scene.cloth, segments.clone())
-                {
+                let asked_before = segments.len() == self.paths_asked.len()
+                    && segments.iter().zip(&self.paths_asked).all(|(a, b)| a.same(b));
+                if !asked_before && self.shaper.work_out_paths(&scene.cloth, segments.clone()) {
                     self.paths_asked = segments;
                     self.asked_elsewhere = true;
                 }
@@ -413,14 +413,6 @@ impl Shown {
             std::thread::sleep(Duration::from_millis(2));
         }
     }
-}
-
-/// Whether `a` and `b` ask for the same segments' paths.
-fn same_segments(a: &[SegmentAsk], b: &[SegmentAsk]) -> bool {
-    a.len() == b.len()
-        && a.iter()
-            .zip(b)
-            .all(|(a, b)| Arc::ptr_eq(&a.a, &b.a) && Arc::ptr_eq(&a.b, &b.b) && a.obstacles == b.obstacles)
 }
 
 /// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).
