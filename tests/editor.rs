@@ -541,13 +541,18 @@ fn right_click(harness: &mut Harness<'_, DrapeApp>, pos: Pos2) {
     }
 }
 
-/// Where frame `frame` is on the timeline's track (8 points of margin each side).
+/// Height of the timeline's track above the references' band, points: the
+/// ruler and the rows of keys.
+const TRACK_BODY: f32 = 46.0;
+
+/// Where frame `frame` is on the timeline's track (8 points of margin each
+/// side), halfway down the ruler and the keys' rows.
 fn timeline_pos(harness: &Harness<'_, DrapeApp>, frame: f64) -> Pos2 {
     let rect = harness.get_by_label("Timeline").rect();
     let timeline = &harness.state().scene().timeline;
     let inner = rect.shrink2(egui::vec2(8.0, 0.0));
     let fraction = (frame - f64::from(timeline.start)) / f64::from(timeline.end - timeline.start);
-    Pos2::new(inner.left() + fraction as f32 * inner.width(), rect.center().y)
+    Pos2::new(inner.left() + fraction as f32 * inner.width(), rect.top() + TRACK_BODY / 2.0)
 }
 
 #[test]
@@ -706,7 +711,7 @@ fn a_wave_is_added_keyed_and_reordered() {
     // The selected wave's keys show on the timeline; drag the one at 48 to 60.
     let dot = |harness: &Harness<'_, DrapeApp>, frame: f64| {
         let rect = harness.get_by_label("Timeline").rect();
-        Pos2::new(timeline_pos(harness, frame).x, rect.bottom() - 6.0 - 3.0 - 6.0 - 5.0)
+        Pos2::new(timeline_pos(harness, frame).x, rect.top() + TRACK_BODY - 6.0 - 3.0 - 6.0 - 5.0)
     };
     let (from, to) = (dot(&harness, 48.0), dot(&harness, 60.0));
     drag(&mut harness, from, to);
@@ -1170,6 +1175,10 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     harness.run_ok();
     let grid_rect = grid_editor_rect(&mut harness);
     let before = cloth_panel_places(&harness);
+    let timeline_places = |harness: &Harness<'_, DrapeApp>| {
+        [harness.get_by_label("Timeline").rect(), harness.get_by_label("Add key").rect()]
+    };
+    let timeline_before = timeline_places(&harness);
 
     harness.get_by_label("Add reference…").click();
     harness.run_ok();
@@ -1177,6 +1186,7 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     assert_eq!(harness.state().scene().references.len(), 1, "added");
     settle(&mut harness);
     assert_eq!(cloth_panel_places(&harness), before, "after adding a reference");
+    assert_eq!(timeline_places(&harness), timeline_before, "the timeline, its bar in the reserved lane");
 
     click_at(&mut harness, GridEditor::point_in(grid_rect, &cloth, (10, 16)), Modifiers::NONE);
     assert!(edits_pinned(&harness, (10, 16)));
@@ -1203,6 +1213,89 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     let pointer = harness.ctx.pointer_latest_pos().expect("the pointer picked the node");
     assert!(!buttons.iter().any(|rect| rect.contains(pointer)), "the pointer at {pointer:?} is over a button");
     assert!(harness.state().viewport_rect().contains(pointer), "the list floats over the viewport: {pointer:?}");
+}
+
+/// Choosing from an Add menu leaves the pointer over no row's Remove button,
+/// though the new row shows where the menu was: a second click there removes
+/// nothing.
+#[test]
+fn after_adding_from_a_menu_the_pointer_is_over_no_remove_button() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    let layers = harness.state().scene().layers.len();
+    let choices = [
+        ("Add collider", "Box"),
+        ("Add collider", "Ground"),
+        ("Add collider", "Cylinder"),
+        ("Add layer", "Sway"),
+        ("Add layer", "Wave"),
+        ("Add layer", "Follow-through"),
+    ];
+    for (menu, item) in choices {
+        harness.get_by_label(menu).click();
+        harness.run_ok();
+        // The menu's item in the right panel, not the view bar's toggle of the same name.
+        let Some(choice) = harness.query_all_by_label(item).max_by(|a, b| a.rect().left().total_cmp(&b.rect().left()))
+        else {
+            panic!("no {item} in the {menu} menu")
+        };
+        choice.click();
+        harness.run_ok();
+        let pointer = harness.ctx.pointer_latest_pos().expect("the pointer chose the item");
+        let under: Vec<String> = harness
+            .query_all_by_label_contains("Remove ")
+            .filter(|node| node.rect().contains(pointer))
+            .map(|node| format!("{node:?}"))
+            .collect();
+        assert!(under.is_empty(), "after {menu} ▸ {item} the pointer at {pointer:?} is over {under:?}");
+    }
+    assert_eq!(harness.state().scene().colliders.len(), 3);
+    assert_eq!(harness.state().scene().layers.len(), layers + 3);
+}
+
+/// The right panel keeps its width and its rows their place sideways when a
+/// layer's wide rows and curves open in it and it comes to scroll.
+#[test]
+fn the_right_panel_holds_still_when_a_layer_s_rows_open_in_it() {
+    let workspace = Workspace::new();
+    let mut harness = open_carpet(&workspace);
+    let places = |harness: &Harness<'_, DrapeApp>| {
+        [harness.get_by_label("Add layer").rect(), harness.get_by_label("Add collider").rect()].map(|r| r.left())
+    };
+    let before = places(&harness);
+    for kind in ["Wave", "Gusts", "Sway", "Follow-through"] {
+        harness.get_by_label("Add layer").click();
+        harness.run_ok();
+        let Some(choice) = harness.query_all_by_label(kind).max_by(|a, b| a.rect().left().total_cmp(&b.rect().left()))
+        else {
+            panic!("no {kind} in the Add layer menu")
+        };
+        choice.click();
+        harness.run_ok();
+        settle(&mut harness);
+        assert_eq!(places(&harness), before, "with a {kind} layer's rows open");
+        for curve in ["Show the frequency curve", "Show the magnitude curve", "Show the speed curve"] {
+            let Some(button) = harness.query_by_label(curve) else { continue };
+            button.click();
+            harness.run_ok();
+            settle(&mut harness);
+            assert_eq!(places(&harness), before, "with a {kind} layer's {curve:?} open");
+        }
+    }
+    for kind in ["Box", "Cylinder", "Ground"] {
+        harness.get_by_label("Add collider").scroll_to_me();
+        harness.run_ok();
+        harness.get_by_label("Add collider").click();
+        harness.run_ok();
+        let Some(choice) = harness.query_all_by_label(kind).max_by(|a, b| a.rect().left().total_cmp(&b.rect().left()))
+        else {
+            panic!("no {kind} in the Add collider menu")
+        };
+        choice.click();
+        harness.run_ok();
+        settle(&mut harness);
+        assert_eq!(places(&harness), before, "with a {kind} collider's rows open");
+    }
 }
 
 /// Typing the cloth's Width or Height changes its shape in the grid editor,
@@ -1799,8 +1892,8 @@ fn open_carpet_with_walker(workspace: &Workspace) -> Harness<'static, DrapeApp> 
 
 /// The References panel lists a scene's reference; its speed, visibility,
 /// name, animation and a keyed number change through the panel, each one
-/// undo step, and undo brings the document back. The timeline grows a lane
-/// marking where the walk plays.
+/// undo step, and undo brings the document back. The timeline's band under
+/// the keys marks where the walk plays.
 #[test]
 fn the_references_panel_edits_a_walker_in_undoable_steps() {
     let workspace = Workspace::new();
@@ -1810,7 +1903,7 @@ fn the_references_panel_edits_a_walker_in_undoable_steps() {
     assert!(harness.query_by_label("Show reference \"walker\"").is_some(), "listed");
     assert!(harness.query_by_label("Speed").is_none(), "nothing selected yet");
     let track = harness.get_by_label("Timeline").rect();
-    assert_eq!(track.height(), 52.0, "one reference lane under the keys");
+    assert_eq!(track.height(), TRACK_BODY + 12.0, "the references' band under the keys");
 
     harness.get_by_label("Select reference \"walker\"").click();
     harness.run_ok();
@@ -1828,7 +1921,7 @@ fn the_references_panel_edits_a_walker_in_undoable_steps() {
     harness.run_ok();
     assert!(!harness.state().scene().references[0].visible);
     assert_eq!(harness.state().document().undo_label(), Some("Show reference"));
-    assert_eq!(harness.get_by_label("Timeline").rect().height(), 46.0, "a hidden reference has no lane");
+    assert_eq!(harness.get_by_label("Timeline").rect(), track, "hidden: its bar gone, the band kept");
 
     // A name is one undo step when the field lets go, however many letters were typed.
     let name = harness.get_by_role_and_label(Role::TextInput, "Name of reference 1");
@@ -1915,7 +2008,7 @@ fn a_reference_is_added_through_the_panel() {
 }
 
 /// A reference whose file was not read (a scene from text) shows its file
-/// and numbers and says it is not read; the timeline has no lane for it.
+/// and numbers and says it is not read.
 #[test]
 fn a_reference_not_read_is_shown_without_its_rig() {
     let workspace = Workspace::new();
@@ -1927,7 +2020,7 @@ fn a_reference_not_read_is_shown_without_its_rig() {
     assert!(harness.query_by_label_contains("not read").is_some());
     assert!(harness.query_by_label("ghost.glb").is_some(), "the file");
     assert!(harness.query_by_label("Key reference scale").is_some(), "the numbers");
-    assert_eq!(harness.get_by_label("Timeline").rect().height(), 46.0, "no clip, no lane");
+    assert_eq!(harness.get_by_label("Timeline").rect().height(), TRACK_BODY + 12.0, "the references' band, kept");
     harness.get_by_role_and_label(Role::SpinButton, "Start frame").set_value_accesskit(12.0);
     harness.run_ok();
     assert_eq!(harness.state().scene().references[0].start_frame, 12);

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use eframe::egui;
 
 use super::keyed_number::{KeyedNumber, NumberRange, Owner};
+use super::list_row;
 use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
 use crate::editor::timeline::curve_view::{Curve, CurveView};
 use crate::editor::workspace::Workspace;
@@ -146,17 +147,18 @@ impl CollidersPanel {
         if checkbox.changed() {
             w.apply("Enable collider", |s| *s.colliders[index].enabled_mut() = enabled);
         }
-        let remove = ui.small_button("×").on_hover_text("Remove the collider");
+        let selected = w.session.selected_collider() == Some(index);
+        let (title, remove) =
+            list_row::title_and_remove_ui(ui, selected, title(collider, index), "Remove the collider");
+        if title.on_hover_text(&label).clicked() {
+            w.session.select_collider(if selected { None } else { Some(index) });
+        }
         remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
         if remove.clicked() {
             w.apply("Remove collider", |s| {
                 s.colliders.remove(index);
             });
             w.session.collider_removed(index);
-        }
-        let selected = w.session.selected_collider() == Some(index);
-        if ui.selectable_label(selected, title(collider, index)).on_hover_text(label).clicked() {
-            w.session.select_collider(if selected { None } else { Some(index) });
         }
     }
 }

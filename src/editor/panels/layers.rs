@@ -7,6 +7,7 @@ use eframe::egui;
 
 use crate::editor::number_field::number_field;
 
+use super::list_row;
 use crate::animate::track::sample;
 use crate::editor::icons::{Icon, icon_button};
 use crate::editor::param_edit::{key_at, param_mut, param_names, set_at_keying, toggle_key};
@@ -73,14 +74,6 @@ impl LayersPanel {
                 if down.clicked() {
                     move_layer(w, index, index + 1);
                 }
-                let remove = ui.small_button("×").on_hover_text("Remove the layer");
-                remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
-                if remove.clicked() {
-                    w.apply("Remove layer", |s| {
-                        s.layers.remove(index);
-                    });
-                    w.session.layer_removed();
-                }
                 let mut solo = w.session.solo_layer() == Some(index);
                 let solo_toggle = ui.toggle_value(&mut solo, "S").on_hover_text("Solo: show this layer alone");
                 solo_toggle.widget_info(|| {
@@ -90,8 +83,17 @@ impl LayersPanel {
                     w.session.solo(solo.then_some(index));
                 }
                 let selected = w.session.selected_layer() == Some(index);
-                if ui.selectable_label(selected, title(layer, index)).on_hover_text(label).clicked() {
+                let (title, remove) =
+                    list_row::title_and_remove_ui(ui, selected, title(layer, index), "Remove the layer");
+                if title.on_hover_text(&label).clicked() {
                     w.session.select_layer(if selected { None } else { Some(index) });
+                }
+                remove.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, true, format!("Remove {label}")));
+                if remove.clicked() {
+                    w.apply("Remove layer", |s| {
+                        s.layers.remove(index);
+                    });
+                    w.session.layer_removed();
                 }
             });
             rows.push(row.response.rect);
@@ -138,7 +140,9 @@ impl LayersPanel {
         });
         ui.weak(format!("Values at frame {frame}. The diamond keys a parameter here (filled: keyed at this frame)."));
         let shown = self.curve.shown_for_layer(index, layer);
-        egui::Grid::new("layer parameters").num_columns(4).show(ui, |ui| {
+        // Columns no wider than their buttons: the first frame's wide guess
+        // of the last column would widen the panel for good.
+        egui::Grid::new("layer parameters").num_columns(4).min_col_width(16.0).show(ui, |ui| {
             for (param, unit) in param_names(layer) {
                 let mut copy = layer.clone();
                 let Some(current) = param_mut(&mut copy, param) else { continue };
@@ -210,8 +214,9 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
         ui.horizontal(|ui| {
             ui.label("Direction");
             let mut changed = false;
-            for value in [&mut d.0, &mut d.1, &mut d.2] {
-                changed |= ui.add(number_field(ui.ctx(), value).speed(0.01).max_decimals(3)).changed();
+            for (value, axis) in [(&mut d.0, "x"), (&mut d.1, "y"), (&mut d.2, "z")] {
+                let field = ui.add(number_field(ui.ctx(), value).speed(0.01).max_decimals(3));
+                changed |= field.accessible_name(format!("Direction {axis}")).changed();
             }
             if changed {
                 w.apply("Layer direction", |s| match &mut s.layers[index] {
@@ -232,8 +237,9 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
             let mut changed =
                 ui.checkbox(&mut fixed, "Fixed axis").on_hover_text("Else along the surface normal").changed();
             if fixed {
-                for value in [&mut axis.0, &mut axis.1, &mut axis.2] {
-                    changed |= ui.add(number_field(ui.ctx(), value).speed(0.01).max_decimals(3)).changed();
+                for (value, name) in [(&mut axis.0, "x"), (&mut axis.1, "y"), (&mut axis.2, "z")] {
+                    let field = ui.add(number_field(ui.ctx(), value).speed(0.01).max_decimals(3));
+                    changed |= field.accessible_name(format!("Axis {name}")).changed();
                 }
             }
             if changed {
@@ -249,10 +255,11 @@ fn layer_vectors(ui: &mut egui::Ui, w: &mut Workspace, index: usize, layer: &Lay
     if let Layer::Gusts(gusts) = layer {
         let (mut octaves, mut seed) = (gusts.octaves, gusts.seed);
         ui.horizontal(|ui| {
-            ui.label("Octaves");
-            let a = ui.add(number_field(ui.ctx(), &mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES)).changed();
-            ui.label("Seed");
-            let b = ui.add(number_field(ui.ctx(), &mut seed)).changed();
+            let label = ui.label("Octaves").id;
+            let field = number_field(ui.ctx(), &mut octaves).range(1..=crate::scene::MAX_GUST_OCTAVES);
+            let a = ui.add(field).labelled_by(label).changed();
+            let label = ui.label("Seed").id;
+            let b = ui.add(number_field(ui.ctx(), &mut seed)).labelled_by(label).changed();
             if a || b {
                 w.apply("Gusts", |s| {
                     if let Layer::Gusts(l) = &mut s.layers[index] {

@@ -11,6 +11,7 @@ pub(super) mod colliders;
 pub mod grid_editor;
 mod keyed_number;
 pub(super) mod layers;
+mod list_row;
 mod node_picker;
 mod pin_attach_rows;
 pub(super) mod references;

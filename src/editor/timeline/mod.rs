@@ -36,9 +36,10 @@ const TRACK_HEIGHT: f32 = 46.0;
 const DIAMOND: f32 = 6.0;
 /// Labels on the ruler at least this far apart, points.
 const MIN_LABEL_GAP: f32 = 44.0;
-/// Height of a reference's lane under the keys, points, and the most lanes
-/// (more references share them, in turn).
-const LANE: f32 = 6.0;
+/// Height of the references' band under the keys, points, kept whether or
+/// not a reference is shown so adding one moves nothing; its lanes share it.
+/// The most lanes (more references share them, in turn).
+const REFERENCE_BAND: f32 = 12.0;
 const MAX_LANES: usize = 4;
 /// A muted violet: the references' bars, apart from keys (white, yellow) and layer dots (blue).
 const REFERENCE_BAR: Color32 = Color32::from_rgba_premultiplied(96, 84, 128, 150);
@@ -63,9 +64,9 @@ fn reference_bars(scene: &Scene) -> Vec<ReferenceBar> {
     clips.enumerate().map(|(n, (name, clip))| ReferenceBar { name, clip, lane: n % MAX_LANES }).collect()
 }
 
-/// How many lanes `bars` fill.
-fn lane_count(bars: &[ReferenceBar]) -> usize {
-    bars.len().min(MAX_LANES)
+/// Height of each lane `bars` fill, points: the band split among them.
+fn lane_height(bars: &[ReferenceBar]) -> f32 {
+    REFERENCE_BAND / bars.len().clamp(1, MAX_LANES) as f32
 }
 
 /// The frames a bar covers: its clip's first play, and with repeat on
@@ -241,7 +242,7 @@ impl TimelinePanel {
         let timeline = w.doc.scene().timeline.clone();
         let width = ui.available_width();
         let bars = reference_bars(w.doc.scene());
-        let height = TRACK_HEIGHT + lane_count(&bars) as f32 * LANE;
+        let height = TRACK_HEIGHT + REFERENCE_BAND;
         let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click_and_drag());
         // The ruler and the keys' rows; the references' lanes below.
         let body = Rect::from_min_size(rect.min, Vec2::new(rect.width(), TRACK_HEIGHT));
@@ -459,15 +460,17 @@ impl TimelinePanel {
 /// that repeats carries on to the timeline's end, a tick at its first
 /// cycle's end.
 fn paint_reference_bars(painter: &egui::Painter, track: &Track, top: f32, bars: &[ReferenceBar], end: f64) {
+    let lane = lane_height(bars);
+    let half_tick = (lane * 0.4).min(3.0);
     for bar in bars {
-        let mid = top + LANE * (bar.lane as f32 + 0.5);
+        let mid = top + lane * (bar.lane as f32 + 0.5);
         let (from, to) = bar_frames(bar, end);
         let (x0, x1) = (track.x(from), track.x(to));
         let line = Rect::from_min_max(Pos2::new(x0, mid - 1.0), Pos2::new(x1.max(x0 + 1.0), mid + 1.0));
         painter.rect_filled(line, 0.0, REFERENCE_BAR);
         let tick = |x: f32| {
             painter.line_segment(
-                [Pos2::new(x, mid - LANE * 0.4), Pos2::new(x, mid + LANE * 0.4)],
+                [Pos2::new(x, mid - half_tick), Pos2::new(x, mid + half_tick)],
                 Stroke::new(1.0, REFERENCE_BAR),
             )
         };
@@ -481,7 +484,7 @@ fn bar_under<'a>(track: &Track, top: f32, bars: &'a [ReferenceBar], end: f64, po
     if pos.y < top {
         return None;
     }
-    let lane = ((pos.y - top) / LANE) as usize;
+    let lane = ((pos.y - top) / lane_height(bars)) as usize;
     bars.iter().rev().filter(|b| b.lane == lane).find(|bar| {
         let (from, to) = bar_frames(bar, end);
         pos.x >= track.x(from) - 3.0 && pos.x <= track.x(to) + 3.0
@@ -638,15 +641,19 @@ mod tests {
         assert_eq!(bar_frames(&bars[0], 120.0), (12.0, 36.0), "a 1 s walk at 24 fps from frame 12");
         assert_eq!(bar_text(&bars[0]), "a: clip Walk, frames 12–36");
         scene.references[0].repeat = true;
-        scene.references[1].visible = false;
-        let bars = reference_bars(&scene);
-        assert_eq!(bars.len(), 1, "a hidden reference has no bar");
-        assert_eq!(bar_frames(&bars[0], 120.0), (12.0, 120.0), "on to the timeline's end");
         let track = Track { rect: Rect::from_min_size(Pos2::ZERO, Vec2::new(120.0, 46.0)), start: 0.0, end: 120.0 };
+        let bars = reference_bars(&scene);
         let at = |x: f32, y: f32| bar_under(&track, 46.0, &bars, 120.0, Pos2::new(x, y)).map(|b| b.name.clone());
         assert_eq!(at(60.0, 49.0), Some("a".to_owned()));
         assert_eq!(at(60.0, 40.0), None, "above the lanes: the keys' row");
         assert_eq!(at(5.0, 49.0), None, "before it starts");
-        assert_eq!(at(60.0, 55.0), None, "another lane");
+        assert_eq!(at(5.0, 55.0), Some("reference 2".to_owned()), "the second lane, the band's lower half");
+        assert_eq!(at(60.0, 55.0), None, "past the second clip's end");
+        scene.references[1].visible = false;
+        let bars = reference_bars(&scene);
+        assert_eq!(bars.len(), 1, "a hidden reference has no bar");
+        assert_eq!(bar_frames(&bars[0], 120.0), (12.0, 120.0), "on to the timeline's end");
+        let at = |x: f32, y: f32| bar_under(&track, 46.0, &bars, 120.0, Pos2::new(x, y)).map(|b| b.name.clone());
+        assert_eq!(at(60.0, 55.0), Some("a".to_owned()), "one lane fills the band");
     }
 }
