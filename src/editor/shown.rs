@@ -270,8 +270,14 @@ impl Shown {
         if arrived {
             self.show_caught_up();
         }
+        // What the running request still has to deliver needs no new one:
+        // asking again would restart the key being relaxed and its count.
+        let still_coming = self
+            .requested
+            .as_ref()
+            .is_some_and(|(cloth, asked)| *cloth == scene.cloth && missing.iter().all(|key| asked.contains(key)));
         let request = (scene.cloth.clone(), missing);
-        if self.requested.as_ref() != Some(&request) {
+        if !still_coming {
             // The moves of a drag in progress do not cancel each other; anything else does.
             let supersede = !doc.in_gesture();
             self.shaper.request(&request.0, request.1.clone(), supersede);
@@ -486,6 +492,46 @@ mod tests {
     /// next sync, though the document has moved on since. The worker is
     /// waited for explicitly between the moves, so the order of events is
     /// the same on any machine.
+    /// A request for several keys runs to its end as their shapes come in:
+    /// the keys still coming are not asked again, so the key being relaxed
+    /// is not started over and the progress counts on ("key 2 of 3", never
+    /// "key 1 of 2").
+    #[test]
+    fn the_keys_still_coming_are_not_asked_again() {
+        let mut doc = Document::new(new_scene(), None);
+        let mut shown = Shown::new(doc.scene().clone());
+        assert!(shown.wait_for(&doc, WAIT));
+        let first = doc.scene().keys[0].clone();
+        let keys: Vec<_> = (1..4)
+            .map(|n| {
+                let mut key = first.clone();
+                key.frame = 24 * n;
+                for pin in &mut key.pins {
+                    pin.pos.1 -= 0.1 * f64::from(n);
+                }
+                key
+            })
+            .collect();
+        doc.edit("Add keys", |s| s.keys = keys.clone()).unwrap();
+        let deadline = Instant::now() + WAIT;
+        let mut seen = Vec::new();
+        while *doc.scene() != shown.scene && Instant::now() < deadline {
+            shown.sync(&doc);
+            if let Some(status) = shown.shaper.status()
+                && !status.counting
+                && status.paths.is_none()
+            {
+                seen.push((status.keys_done, status.keys_total));
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        eprintln!("SEEN {} {seen:?}", seen.len());
+        assert_eq!(shown.scene, *doc.scene(), "shaped");
+        assert!(seen.iter().all(|&(_, total)| total == 3), "one request of three keys: {seen:?}");
+        assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "counted on, never back: {seen:?}");
+        assert!(seen.iter().any(|&(done, _)| done == 2), "the third key was seen relaxing: {seen:?}");
+    }
+
     #[test]
     fn a_drag_shows_the_cloth_catching_up_while_it_is_held() {
         let mut doc = Document::new(new_scene(), None);
