@@ -1069,6 +1069,22 @@ fn f_frames_the_cloth_and_keeps_the_orbit_angles() {
     harness.run_ok();
     assert!(cloth_on_screen(&harness), "F brings the carpet back into view");
     assert_eq!(orbit_angles(&harness), orbited, "F keeps the orbit angles");
+    let room = cloth_room(&harness);
+    assert!(room >= 0.06, "the carpet keeps {:.1}% of the view clear round it", room * 100.0);
+}
+
+/// The least room between the shown cloth and the viewport's edges, as a
+/// fraction of the viewport's width or height; negative when some of it is
+/// outside.
+fn cloth_room(harness: &Harness<'_, DrapeApp>) -> f32 {
+    let view = harness.state().viewport_rect();
+    let mut room = f32::INFINITY;
+    for point in &harness.state().mesh().positions {
+        let Some(at) = harness.state().screen_pos(*point) else { return -1.0 };
+        let (dx, dy) = ((at.x - view.left()).min(view.right() - at.x), (at.y - view.top()).min(view.bottom() - at.y));
+        room = room.min(dx / view.width()).min(dy / view.height());
+    }
+    room
 }
 
 #[test]

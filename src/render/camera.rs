@@ -148,13 +148,22 @@ impl OrbitCamera {
 
     /// Aims at the centre of the box `min..max` from the current direction, at
     /// the nearest distance where all eight corners are in view with a 5%
-    /// margin. An empty or non-finite box leaves the camera unchanged.
+    /// margin (a picture's framing). An empty or non-finite box leaves the
+    /// camera unchanged.
     pub fn frame_bounds(&mut self, min: Vec3, max: Vec3, aspect: f32) {
+        self.frame_bounds_filling(min, max, aspect, 0.95);
+    }
+
+    /// [`OrbitCamera::frame_bounds`] with the corners at most `fill` of the
+    /// way from the view's centre to its edges: an editor's framing leaves
+    /// room round the box for handles and for the cloth to move.
+    pub fn frame_bounds_filling(&mut self, min: Vec3, max: Vec3, aspect: f32, fill: f32) {
         if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
             return;
         }
         let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
-        let tan_y = (self.fov_y_deg.to_radians() * 0.5).tan() * 0.95;
+        let fill = if fill.is_finite() && fill > 0.0 { fill.min(1.0) } else { 0.95 };
+        let tan_y = (self.fov_y_deg.to_radians() * 0.5).tan() * fill;
         let tan_x = tan_y * aspect;
         let center = (min + max) * 0.5;
         let backward = self.backward();

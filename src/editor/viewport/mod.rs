@@ -49,6 +49,9 @@ const COLLIDER_WIRE: [f32; 4] = [0.78, 0.72, 0.64, 0.8];
 const REFERENCE_WIRE: [f32; 4] = [0.55, 0.66, 0.82, 0.6];
 /// The outline of the collider under the mouse.
 const COLLIDER_HOVERED: [f32; 4] = [1.0, 1.0, 1.0, 0.55];
+/// How far from the view's centre to its edges F puts what it frames: room
+/// round it for the pins' handles and the gizmo.
+const FRAMED_FILL: f32 = 0.85;
 
 /// What the viewport shows besides the cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -529,10 +532,11 @@ impl ViewportPanel {
     }
 
     /// Frames the cloth on screen with the references and colliders it
-    /// touches at the playhead, keeping the camera's angles.
+    /// touches at the playhead, keeping the camera's angles, with room round
+    /// it for the pins' handles and the gizmo.
     fn frame_cloth(&mut self, w: &Workspace, aspect: f32) {
         if let Some((min, max)) = cloth_and_touched(w.shown.scene(), w.frame(), &w.shown.mesh().positions) {
-            self.camera.frame_bounds(min, max, aspect);
+            self.camera.frame_bounds_filling(min, max, aspect, FRAMED_FILL);
         }
     }
 
