@@ -493,7 +493,8 @@ fn the_window_fits_the_screen_and_remembers_its_size() {
 }
 
 /// The grid editor gives a tall cloth room (the cape's 19 × 36 grid), and
-/// the strip under it makes it taller.
+/// the strip under it makes it taller; the panel scrolls with it so the pin
+/// rows under it stay in view.
 #[test]
 fn the_grid_editor_is_roomy_and_its_height_is_dragged() {
     let workspace = Workspace::new();
@@ -504,7 +505,11 @@ fn the_grid_editor_is_roomy_and_its_height_is_dragged() {
     drag(&mut harness, strip, strip + egui::vec2(0.0, 120.0));
     let after = harness.get_by_label("Grid editor").rect();
     assert!((after.height() - before.height() - 120.0).abs() < 1.0, "{before:?} → {after:?}");
-    assert_eq!(after.min, before.min, "it grows downwards");
+    let panel_bottom = harness.state().status_rect().top();
+    for label in ["Grid editor height", "Unpin", "Mirror"] {
+        let rect = harness.get_by_label(label).rect();
+        assert!(rect.bottom() <= panel_bottom, "{label} at {rect:?} is below the panel's end at {panel_bottom}");
+    }
 }
 
 /// On a 1600 × 1000 screen the window opens at 1560 × 920: there the cape's

@@ -115,7 +115,12 @@ impl ClothPanel {
                 GridAction::ClickNothing(how) => w.session.click_on_nothing(how),
             }
         }
-        selected_pin_fields(ui, w, &mut self.node_picker);
+        let rows = ui.scope(|ui| selected_pin_fields(ui, w, &mut self.node_picker)).response.rect;
+        // A taller editor never pushes the pin rows out of view: the panel
+        // scrolls instead.
+        if self.grid_editor.is_resizing() {
+            ui.scroll_to_rect(rows, None);
+        }
     }
 }
 

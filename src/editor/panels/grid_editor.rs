@@ -39,11 +39,13 @@ const MIN_LINE_GAP: f32 = 6.0;
 pub struct GridEditor {
     box_start: Option<Pos2>,
     max_height: f32,
+    /// Whether the strip under it is being dragged.
+    resizing: bool,
 }
 
 impl Default for GridEditor {
     fn default() -> Self {
-        GridEditor { box_start: None, max_height: DEFAULT_HEIGHT }
+        GridEditor { box_start: None, max_height: DEFAULT_HEIGHT, resizing: false }
     }
 }
 
@@ -202,11 +204,17 @@ impl GridEditor {
         (actions, hovered)
     }
 
+    /// Whether the strip under the editor is being dragged.
+    pub fn is_resizing(&self) -> bool {
+        self.resizing
+    }
+
     /// The strip under the editor: dragging it makes a tall cloth's editor taller or shorter.
     fn resize_strip_ui(&mut self, ui: &mut egui::Ui, width: f32) {
         let (strip, response) = ui.allocate_exact_size(Vec2::new(width, RESIZE_STRIP), Sense::drag());
         response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Splitter, true, "Grid editor height"));
         let response = response.on_hover_cursor(egui::CursorIcon::ResizeVertical);
+        self.resizing = response.dragged();
         if response.dragged() {
             self.max_height = (self.max_height + response.drag_delta().y).clamp(MIN_HEIGHT, MAX_HEIGHT);
         }
