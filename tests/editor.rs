@@ -65,6 +65,29 @@ fn open_editor(workspace: &Workspace, scene: Scene, path: Option<PathBuf>) -> Ha
     harness
 }
 
+/// A scene opened with the window is solved on the worker like any edit:
+/// the first frame comes at once and says so, the cloth drawn grey where its
+/// solve starts, and the solved cloth follows in colour.
+#[test]
+fn a_scene_opened_with_the_window_is_solved_on_the_worker() {
+    let workspace = Workspace::new();
+    let table = scene::load(Path::new("scenes/round_table.ron")).unwrap();
+    let opened = table.clone();
+    let (config, state) = (workspace.path("config"), workspace.path("state"));
+    let mut harness = Harness::builder().with_size(SIZE).wgpu().build_eframe(move |cc| {
+        DrapeApp::new(table, None, cc.wgpu_render_state.as_ref()).with_file_dirs(Some(config), Some(state))
+    });
+    harness.step();
+    assert!(harness.state().is_relaxing(), "the keys are being solved after the first frame");
+    assert!(harness.state().cloth_drawn_stale(), "the cloth is drawn grey meanwhile");
+    assert!(harness.query_by_label_contains("opening: the grey cloth").is_some(), "and the status bar says why");
+    settle(&mut harness);
+    assert_eq!(harness.state().shown_scene(), &opened);
+    assert!(!harness.state().is_relaxing());
+    assert!(!harness.state().cloth_drawn_stale(), "the solved cloth in colour");
+    assert!(harness.query_by_label_contains("opening: the grey cloth").is_none());
+}
+
 /// The editor on the workspace's copy of the bundled carpet, opened from
 /// its file, in the orbiting view: the *Camera* toggle turned off (the
 /// carpet opens looking through its shot camera).

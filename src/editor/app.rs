@@ -580,7 +580,10 @@ impl DrapeApp {
                 }
                 None => "Relaxing…".to_owned(),
             });
-            if self.viewport.cloth_drawn_stale() {
+            if !self.work.shown.is_shaped() {
+                ui.label("· opening: the grey cloth is where the solve starts")
+                    .on_hover_text("The cloth is drawn in colour once its shape is solved");
+            } else if self.viewport.cloth_drawn_stale() {
                 ui.label("· updating: the grey cloth is the old shape")
                     .on_hover_text("The cloth is drawn in colour again once its new shape is solved");
             }

@@ -20,6 +20,7 @@ use crate::picture::{SceneOverlays, key_overlay, scene_bounds};
 use crate::render::overlay::PinState;
 use crate::render::{Ghost, Overlay};
 use crate::scene::{Cloth, Key, Scene};
+use crate::shape::rest_shape::RestShape;
 use crate::world::Obstacle;
 
 /// A key and the colliders at its frame: what its rest shape is built from.
@@ -59,6 +60,10 @@ pub struct Shown {
     version: u64,
     /// Frame the cloth (and move the ground under it) once a newly opened scene is relaxed.
     frame_when_shown: bool,
+    /// Whether `scene`'s rest shapes are in. Not yet for the scene the window
+    /// opens with: its shapes come from the worker like any other's, and the
+    /// cloth meanwhile is drawn where each key's solve starts (greyed).
+    shaped: bool,
     /// The bounds of a newly opened scene just shown, until the viewport takes them.
     opened_bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// The shown version whose shapes the worker was last asked to count crossings of.
@@ -77,7 +82,8 @@ struct GhostsOf {
 }
 
 impl Shown {
-    /// Shows `scene` as it is, relaxing its keys now (there is no older shape to show).
+    /// Shows `scene` once the worker has its rest shapes, where each key's
+    /// solve starts until then ([`Shown::is_shaped`]), and frames it then.
     pub fn new(scene: Scene) -> Shown {
         let repaint_context: Arc<OnceLock<egui::Context>> = Arc::default();
         let wake = repaint_context.clone();
@@ -99,7 +105,8 @@ impl Shown {
             ghosts: Arc::default(),
             ghosts_of: None,
             version: 0,
-            frame_when_shown: false,
+            frame_when_shown: true,
+            shaped: false,
             opened_bounds: None,
             crossings_asked: None,
             paths_asked: Vec::new(),
@@ -109,6 +116,12 @@ impl Shown {
     /// The scene on screen.
     pub fn scene(&self) -> &Scene {
         &self.scene
+    }
+
+    /// Whether the scene on screen has its rest shapes; not yet while the
+    /// scene the window opened with is being solved.
+    pub fn is_shaped(&self) -> bool {
+        self.shaped
     }
 
     /// The cloth on screen at the playhead, in the stage shown.
@@ -140,6 +153,8 @@ impl Shown {
         show: SceneOverlays,
         pin_state: impl Fn((u32, u32)) -> PinState,
     ) -> Overlay {
+        // Catenaries and triangulation are the shape's: none before it is in.
+        let show = if self.shaped { show } else { SceneOverlays { catenaries: false, triangulation: false, ..show } };
         key_overlay(&mut self.evaluator, &self.scene, frame, &self.mesh, show, pin_state)
     }
 
@@ -151,6 +166,9 @@ impl Shown {
 
     /// The bounding box of the shown scene's keys (min, max), metres.
     pub fn bounds(&mut self) -> (glam::Vec3, glam::Vec3) {
+        if !self.shaped {
+            return first_guesses_bounds(&self.scene);
+        }
         scene_bounds(&mut self.evaluator, &self.scene)
     }
 
@@ -162,7 +180,7 @@ impl Shown {
     /// Whether the shown scene's cloth travels much farther than its size
     /// ([`crate::picture::framing::travels`]): views without a saved camera follow it.
     pub fn travels(&mut self) -> bool {
-        crate::picture::framing::travels(&mut self.evaluator, &self.scene)
+        self.shaped && crate::picture::framing::travels(&mut self.evaluator, &self.scene)
     }
 
     /// Remembers the window's context, so the worker can wake it.
@@ -202,7 +220,7 @@ impl Shown {
 
     /// Whether a relaxation of `doc`'s shapes is pending or running.
     pub fn is_relaxing(&self, doc: &Document) -> bool {
-        self.shaper.is_busy() || *doc.scene() != self.scene
+        self.shaper.is_busy() || *doc.scene() != self.scene || !self.shaped
     }
 
     /// The bounds (min, max) of a newly opened scene that has just been shown,
@@ -223,7 +241,7 @@ impl Shown {
             self.evaluator.insert_paths(segment, paths);
         }
         let scene = doc.scene();
-        if *scene == self.scene {
+        if *scene == self.scene && self.shaped {
             self.asked_during_drag.clear();
             if std::mem::take(&mut self.asked_elsewhere) {
                 // The document came back to the scene on screen (a redo after
@@ -256,6 +274,7 @@ impl Shown {
             self.asked_during_drag.clear();
             self.asked_elsewhere = false;
             self.scene = scene.clone();
+            self.shaped = true;
             self.version += 1;
             self.mesh_of = None;
             self.requested = None;
@@ -319,6 +338,7 @@ impl Shown {
         let caught_up = self.asked_during_drag.drain(..=index).next_back();
         let Some(scene) = caught_up else { return };
         self.scene = scene;
+        self.shaped = true;
         self.version += 1;
         self.mesh_of = None;
     }
@@ -360,7 +380,13 @@ impl Shown {
         let shown = soloed(&self.scene, solo);
         // The last frame's paint callback has let go of the mesh by now, so this rarely copies.
         let mesh = Arc::make_mut(&mut self.mesh);
-        self.evaluator.stage_mesh_into(&shown, frame, stage, Default::default(), mesh);
+        if self.shaped {
+            self.evaluator.stage_mesh_into(&shown, frame, stage, Default::default(), mesh);
+        } else {
+            let cloth = &self.scene.cloth;
+            let key = animate::attachments::posed_key(&self.scene, self.scene.key_in_effect(frame));
+            *mesh = Mesh::from_grid(cloth.cols(), cloth.rows(), &RestShape::first_guess(cloth, &key));
+        }
         self.mesh_of = Some((frame, stage, solo));
     }
 
@@ -368,7 +394,7 @@ impl Shown {
     /// frames tinted blue, later ones orange, fainter further away; none
     /// outside the timeline.
     pub fn refresh_ghosts(&mut self, frame: f64, onion: Option<OnionSkin>, solo: Option<usize>) {
-        let Some(onion) = onion else {
+        let Some(onion) = onion.filter(|_| self.shaped) else {
             self.ghosts = Arc::default();
             self.ghosts_of = None;
             return;
@@ -408,7 +434,7 @@ impl Shown {
         let deadline = Instant::now() + timeout;
         loop {
             self.sync(doc);
-            if *doc.scene() == self.scene {
+            if *doc.scene() == self.scene && self.shaped {
                 // The worker clears its status (the spinner) just after sending its last
                 // shape; wait for that too, so the next frames are quiet.
                 return self.shaper.wait_idle(deadline.saturating_duration_since(Instant::now()));
@@ -419,6 +445,17 @@ impl Shown {
             std::thread::sleep(Duration::from_millis(2));
         }
     }
+}
+
+/// The box round where every key's solve starts: the scene's bounds until
+/// its rest shapes are in.
+fn first_guesses_bounds(scene: &Scene) -> (glam::Vec3, glam::Vec3) {
+    let points = scene.keys.iter().flat_map(|key| {
+        let key = animate::attachments::posed_key(scene, key);
+        RestShape::first_guess(&scene.cloth, &key).into_iter().map(|p| p.as_vec3())
+    });
+    let points: Vec<glam::Vec3> = points.collect();
+    crate::render::camera::bounds(&points).unwrap_or((glam::Vec3::splat(-0.5), glam::Vec3::splat(0.5)))
 }
 
 /// `scene` with every layer but `solo` switched off (the scene itself when no layer is soloed).

@@ -48,6 +48,21 @@ impl RestShape {
         RestShape::build_among(cloth, key, &[], control)
     }
 
+    /// Where the solve of `key` starts, in milliseconds: its catenary
+    /// approximation, or laid flat at its placement without pins. The editor
+    /// shows it, greyed, while the rest shape is being solved.
+    pub fn first_guess(cloth: &Cloth, key: &Key) -> Vec<DVec3> {
+        let grid = grid_spec(cloth);
+        if key.pins.is_empty() {
+            let start = key.placement_or_default();
+            let (x, y, z) = start.rotation_deg;
+            let rotation = ColliderShape::rotation_from_deg(x, y, z);
+            let spacing = (grid.spacing_u_m, grid.spacing_v_m);
+            return flat_at((grid.cols, grid.rows), spacing, key.elasticity, DVec3::from(start.center), rotation);
+        }
+        approximate(grid, &pin_points(key), key.elasticity).positions
+    }
+
     /// [`RestShape::build_with`] among colliders (the key's frame's). If the
     /// cloth relaxed without them comes within a collider's thickness (at a
     /// point or along an edge), it is built again by falling onto them: it
