@@ -1097,20 +1097,20 @@ fn f_frames_the_cloth_and_keeps_the_orbit_angles() {
     harness.run_ok();
     assert!(cloth_on_screen(&harness), "F brings the carpet back into view");
     assert_eq!(orbit_angles(&harness), orbited, "F keeps the orbit angles");
-    let room = cloth_room(&harness);
-    assert!(room >= 0.06, "the carpet keeps {:.1}% of the view clear round it", room * 100.0);
+    // Room for a gizmo's 70-point arrow on a pin at the cloth's edge.
+    let room = cloth_room_pt(&harness);
+    assert!(room >= 80.0, "the carpet keeps {room:.0} points clear round it");
 }
 
-/// The least room between the shown cloth and the viewport's edges, as a
-/// fraction of the viewport's width or height; negative when some of it is
-/// outside.
-fn cloth_room(harness: &Harness<'_, DrapeApp>) -> f32 {
+/// The least room between the shown cloth and the viewport's edges, points;
+/// negative when some of it is outside.
+fn cloth_room_pt(harness: &Harness<'_, DrapeApp>) -> f32 {
     let view = harness.state().viewport_rect();
     let mut room = f32::INFINITY;
     for point in &harness.state().mesh().positions {
         let Some(at) = harness.state().screen_pos(*point) else { return -1.0 };
         let (dx, dy) = ((at.x - view.left()).min(view.right() - at.x), (at.y - view.top()).min(view.bottom() - at.y));
-        room = room.min(dx / view.width()).min(dy / view.height());
+        room = room.min(dx).min(dy);
     }
     room
 }
@@ -1914,7 +1914,8 @@ fn a_collider_is_picked_dragged_and_moved_along_an_axis_in_the_viewport() {
     assert!(harness.state().scene().colliders.is_empty(), "Delete removes the selected collider");
     harness.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     harness.run_ok();
-    click_at(&mut harness, ball, Modifiers::NONE);
+    let centre = harness.state().screen_pos(after).unwrap();
+    click_at(&mut harness, centre, Modifiers::NONE);
     assert_eq!(harness.state().selected_collider(), Some(0));
     let corner = harness.state().viewport_rect().left_top() + egui::vec2(8.0, 8.0);
     click_at(&mut harness, corner, Modifiers::NONE);

@@ -12,7 +12,7 @@ use super::pin_drag::AxisLock;
 use crate::render::OrbitCamera;
 
 /// Arrow length on screen, points.
-const ARROW_LENGTH_PT: f32 = 70.0;
+pub const ARROW_LENGTH_PT: f32 = 70.0;
 /// How near the pointer must be to an arrow to grab it, points.
 const GRAB_RADIUS_PT: f32 = 7.0;
 /// An axis pointing at the viewer closer than this (fraction of the arrow

@@ -49,9 +49,11 @@ const COLLIDER_WIRE: [f32; 4] = [0.78, 0.72, 0.64, 0.8];
 const REFERENCE_WIRE: [f32; 4] = [0.55, 0.66, 0.82, 0.6];
 /// The outline of the collider under the mouse.
 const COLLIDER_HOVERED: [f32; 4] = [1.0, 1.0, 1.0, 0.55];
-/// How far from the view's centre to its edges F puts what it frames: room
-/// round it for the pins' handles and the gizmo.
+/// How far from the view's centre to its edges F puts what it frames at
+/// most, and the room it leaves round it at least, points: a gizmo's arrow
+/// on a pin at the edge stays in view.
 const FRAMED_FILL: f32 = 0.85;
+const FRAMED_ROOM_PT: f32 = gizmo::ARROW_LENGTH_PT + 12.0;
 
 /// What the viewport shows besides the cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -538,10 +540,16 @@ impl ViewportPanel {
 
     /// Frames the cloth on screen with the references and colliders it
     /// touches at the playhead, keeping the camera's angles, with room round
-    /// it for the pins' handles and the gizmo.
+    /// it for the pins' handles and the gizmo's arrows.
     fn frame_cloth(&mut self, w: &Workspace, aspect: f32) {
         if let Some((min, max)) = cloth_and_touched(w.shown.scene(), w.frame(), &w.shown.mesh().positions) {
-            self.camera.frame_bounds_filling(min, max, aspect, FRAMED_FILL);
+            let half_pt = 0.5 * self.rect.width().min(self.rect.height());
+            let fill = if half_pt.is_finite() && half_pt > 2.0 * FRAMED_ROOM_PT {
+                (1.0 - FRAMED_ROOM_PT / half_pt).min(FRAMED_FILL)
+            } else {
+                FRAMED_FILL
+            };
+            self.camera.frame_bounds_filling(min, max, aspect, fill);
         }
     }
 
