@@ -570,6 +570,7 @@ impl DrapeApp {
                     } else {
                         String::new()
                     };
+                    let keys = if status.among_colliders { format!("{keys} among the colliders,") } else { keys };
                     let (cols, rows) = status.level;
                     format!(
                         "Relaxing…{keys} {cols}×{rows} level, sweep {}/{} ({:.1} s)",

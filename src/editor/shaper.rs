@@ -44,6 +44,9 @@ pub struct ShaperStatus {
     pub iteration: u32,
     pub max_iterations: u32,
     pub started: Instant,
+    /// The key's shape without the colliders is in, and it is relaxed among
+    /// them now (its sweeps count again from the start).
+    pub among_colliders: bool,
     /// The relaxing is done: the new shapes' self-crossings are being counted.
     pub counting: bool,
     /// Segments whose paths round the colliders are worked out so far, and in all.
@@ -237,6 +240,7 @@ fn work(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>) {
                         iteration: 0,
                         max_iterations: 0,
                         started: Instant::now(),
+                        among_colliders: false,
                         counting: job.keys.is_empty() && job.paths.is_empty(),
                         paths: (job.keys.is_empty() && !job.paths.is_empty()).then_some((0, job.paths.len())),
                     };
@@ -261,6 +265,9 @@ fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job
                 return ControlFlow::Break(());
             }
             if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+                if status.keys_done != done {
+                    status.among_colliders = false;
+                }
                 status.keys_done = done;
                 status.keys_total = total;
                 status.level = (progress.cols, progress.rows);
@@ -282,6 +289,9 @@ fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job
                     return Err(crate::shape::Cancelled);
                 }
                 if plain.rest.touches_obstacles(&obstacles) {
+                    if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+                        status.among_colliders = true;
+                    }
                     KeyShape::among_from(&plain, &job.cloth, &key, &obstacles, &mut control).map(Arc::new)
                 } else {
                     Ok(plain)
