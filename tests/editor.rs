@@ -1259,9 +1259,23 @@ fn the_cloth_panel_holds_still_when_a_reference_is_added_a_point_pinned_and_a_pi
     assert!(harness.state().viewport_rect().contains(pointer), "the list floats over the viewport: {pointer:?}");
 }
 
-/// Choosing from an Add menu leaves the pointer over no row's Remove button,
-/// though the new row shows where the menu was: a second click there removes
-/// nothing.
+/// Clicks `item` in the open menu of the button `menu`: the item level with
+/// the button, not the view bar's toggle of the same name.
+fn choose_in_menu(harness: &mut Harness<'_, DrapeApp>, menu: &str, item: &str) {
+    let top = harness.get_by_label(menu).rect().top();
+    let Some(choice) = harness
+        .query_all_by_label(item)
+        .min_by(|a, b| (a.rect().top() - top).abs().total_cmp(&(b.rect().top() - top).abs()))
+    else {
+        panic!("no {item} in the {menu} menu")
+    };
+    choice.click();
+    harness.run_ok();
+}
+
+/// Choosing from an Add menu leaves the pointer over no row's Remove button:
+/// the menu opens beside the panel, over the viewport, so a second click
+/// there removes nothing.
 #[test]
 fn after_adding_from_a_menu_the_pointer_is_over_no_remove_button() {
     let workspace = Workspace::new();
@@ -1278,14 +1292,10 @@ fn after_adding_from_a_menu_the_pointer_is_over_no_remove_button() {
     for (menu, item) in choices {
         harness.get_by_label(menu).click();
         harness.run_ok();
-        // The menu's item in the right panel, not the view bar's toggle of the same name.
-        let Some(choice) = harness.query_all_by_label(item).max_by(|a, b| a.rect().left().total_cmp(&b.rect().left()))
-        else {
-            panic!("no {item} in the {menu} menu")
-        };
-        choice.click();
-        harness.run_ok();
+        let panel_left = harness.get_by_label(menu).rect().left();
+        choose_in_menu(&mut harness, menu, item);
         let pointer = harness.ctx.pointer_latest_pos().expect("the pointer chose the item");
+        assert!(pointer.x < panel_left, "the menu opened beside the panel: {pointer:?}");
         let under: Vec<String> = harness
             .query_all_by_label_contains("Remove ")
             .filter(|node| node.rect().contains(pointer))
@@ -1310,12 +1320,7 @@ fn the_right_panel_holds_still_when_a_layer_s_rows_open_in_it() {
     for kind in ["Wave", "Gusts", "Sway", "Follow-through"] {
         harness.get_by_label("Add layer").click();
         harness.run_ok();
-        let Some(choice) = harness.query_all_by_label(kind).max_by(|a, b| a.rect().left().total_cmp(&b.rect().left()))
-        else {
-            panic!("no {kind} in the Add layer menu")
-        };
-        choice.click();
-        harness.run_ok();
+        choose_in_menu(&mut harness, "Add layer", kind);
         settle(&mut harness);
         assert_eq!(places(&harness), before, "with a {kind} layer's rows open");
         for curve in ["Show the frequency curve", "Show the magnitude curve", "Show the speed curve"] {
@@ -1331,12 +1336,7 @@ fn the_right_panel_holds_still_when_a_layer_s_rows_open_in_it() {
         harness.run_ok();
         harness.get_by_label("Add collider").click();
         harness.run_ok();
-        let Some(choice) = harness.query_all_by_label(kind).max_by(|a, b| a.rect().left().total_cmp(&b.rect().left()))
-        else {
-            panic!("no {kind} in the Add collider menu")
-        };
-        choice.click();
-        harness.run_ok();
+        choose_in_menu(&mut harness, "Add collider", kind);
         settle(&mut harness);
         assert_eq!(places(&harness), before, "with a {kind} collider's rows open");
     }

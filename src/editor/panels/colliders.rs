@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use eframe::egui;
 
+use super::add_menu::add_menu_ui;
 use super::keyed_number::{KeyedNumber, NumberRange, Owner};
 use super::list_row;
 use crate::editor::files::dialog::{FileDialog, FileDialogMode, FileDialogOutcome, file_row_ui};
@@ -31,7 +32,7 @@ impl CollidersPanel {
     pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Colliders");
         self.mesh_dialog_ui(ui.ctx(), w);
-        ui.menu_button("Add collider", |ui| {
+        add_menu_ui(ui, "Add collider", |ui| {
             for &kind in Collider::KINDS {
                 let Some(mut collider) = Collider::with_start_values(kind) else { continue };
                 if kind == "Mesh" {

@@ -7,6 +7,7 @@ use eframe::egui;
 
 use crate::editor::number_field::number_field;
 
+use super::add_menu::add_menu_ui;
 use super::list_row;
 use crate::animate::track::sample;
 use crate::editor::icons::{Icon, icon_button};
@@ -32,7 +33,7 @@ pub struct LayersPanel {
 impl LayersPanel {
     pub(in crate::editor) fn ui(&mut self, ui: &mut egui::Ui, w: &mut Workspace) {
         ui.heading("Layers");
-        ui.menu_button("Add layer", |ui| {
+        add_menu_ui(ui, "Add layer", |ui| {
             for (kind, label) in
                 [("Sway", "Sway"), ("Wave", "Wave"), ("Gusts", "Gusts"), ("FollowThrough", "Follow-through")]
             {

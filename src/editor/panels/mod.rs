@@ -5,6 +5,7 @@
 //! another. A keyed number row ([`keyed_number`]) is the one way a panel
 //! shows a number that can be keyed.
 
+mod add_menu;
 pub(super) mod cloth;
 mod cloth_toon_rows;
 pub(super) mod colliders;
