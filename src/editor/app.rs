@@ -839,9 +839,12 @@ mod tests {
     use crate::animate::Evaluator;
     use crate::editor::edits;
 
+    /// The editor on the bundled carpet, its keys solved (on the worker, as a window opens).
     fn app() -> DrapeApp {
         let scene = crate::scene::parse(DEFAULT_SCENE, "magic_carpet.ron").unwrap();
-        DrapeApp::new(scene, None, None)
+        let mut app = DrapeApp::new(scene, None, None);
+        assert!(app.wait_for_shapes(Duration::from_secs(600)), "the carpet's keys are solved");
+        app
     }
 
     #[test]
