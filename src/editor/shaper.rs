@@ -256,24 +256,30 @@ fn work(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>) {
     }
 }
 
+/// Changes the status the UI shows, while the worker has one.
+fn update_status(shared: &Shared, change: impl FnOnce(&mut ShaperStatus)) {
+    if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
+        change(status);
+    }
+}
+
 fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job: Job) {
     let total = job.keys.len();
     let mut finished = Vec::with_capacity(total);
     for (done, (key, obstacles)) in job.keys.into_iter().enumerate() {
+        update_status(shared, |status| {
+            status.keys_done = done;
+            status.among_colliders = false;
+        });
         let mut control = |progress: crate::shape::RelaxProgress| {
             if job.generation < shared.cancel_below.load(Ordering::Relaxed) {
                 return ControlFlow::Break(());
             }
-            if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
-                if status.keys_done != done {
-                    status.among_colliders = false;
-                }
-                status.keys_done = done;
-                status.keys_total = total;
+            update_status(shared, |status| {
                 status.level = (progress.cols, progress.rows);
                 status.iteration = progress.iteration;
                 status.max_iterations = progress.max_iterations;
-            }
+            });
             ControlFlow::Continue(())
         };
         // A key with pins among colliders: its shape without them first (kept,
@@ -289,9 +295,7 @@ fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job
                     return Err(crate::shape::Cancelled);
                 }
                 if plain.rest.touches_obstacles(&obstacles) {
-                    if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
-                        status.among_colliders = true;
-                    }
+                    update_status(shared, |status| status.among_colliders = true);
                     KeyShape::among_from(&plain, &job.cloth, &key, &obstacles, &mut control).map(Arc::new)
                 } else {
                     Ok(plain)
@@ -313,9 +317,7 @@ fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job
         if job.generation < shared.cancel_below.load(Ordering::Relaxed) {
             return;
         }
-        if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
-            status.paths = Some((done, segments));
-        }
+        update_status(shared, |status| status.paths = Some((done, segments)));
         let worked_out = Arc::new(ask.paths());
         if paths.send((ask, worked_out)).is_err() {
             return;
@@ -323,9 +325,7 @@ fn run(shared: &Shared, results: &Sender<Built>, paths: &Sender<BuiltPaths>, job
         (shared.repaint)();
     }
     if job.count_crossings {
-        if let Some(status) = shared.status.lock().unwrap_or_else(PoisonError::into_inner).as_mut() {
-            status.counting = true;
-        }
+        update_status(shared, |status| status.counting = true);
         for shape in finished.into_iter().chain(job.count) {
             // A newer request goes first; the panel then counts nothing for these shapes.
             if shared.pending.lock().unwrap_or_else(PoisonError::into_inner).is_some() {

@@ -54,11 +54,7 @@ impl RestShape {
     pub fn first_guess(cloth: &Cloth, key: &Key) -> Vec<DVec3> {
         let grid = grid_spec(cloth);
         if key.pins.is_empty() {
-            let start = key.placement_or_default();
-            let (x, y, z) = start.rotation_deg;
-            let rotation = ColliderShape::rotation_from_deg(x, y, z);
-            let spacing = (grid.spacing_u_m, grid.spacing_v_m);
-            return flat_at((grid.cols, grid.rows), spacing, key.elasticity, DVec3::from(start.center), rotation);
+            return flat_at_placement(grid, key);
         }
         approximate(grid, &pin_points(key), key.elasticity).positions
     }
@@ -167,12 +163,7 @@ impl RestShape {
         obstacles: &[Obstacle],
         control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
     ) -> Result<RestShape, Cancelled> {
-        let start = key.placement_or_default();
-        let center = DVec3::from(start.center);
-        let (x, y, z) = start.rotation_deg;
-        let rotation = ColliderShape::rotation_from_deg(x, y, z);
-        let spacing = (grid.spacing_u_m, grid.spacing_v_m);
-        let flat = flat_at((grid.cols, grid.rows), spacing, key.elasticity, center, rotation);
+        let flat = flat_at_placement(grid, key);
         let pinned = vec![false; flat.len()];
         let mut relaxed: Vec<DVec3> = flat.iter().map(|&p| push_out(obstacles, p)).collect();
         let relax_report = if obstacles.is_empty() {
@@ -290,6 +281,15 @@ fn key_params(grid: GridSpec, key: &Key) -> RelaxParams {
         max_iterations: key.relax.iterations,
         tolerance: key.relax.tolerance,
     }
+}
+
+/// A key without pins laid flat at its placement, where its fall starts.
+fn flat_at_placement(grid: GridSpec, key: &Key) -> Vec<DVec3> {
+    let start = key.placement_or_default();
+    let (x, y, z) = start.rotation_deg;
+    let rotation = ColliderShape::rotation_from_deg(x, y, z);
+    let spacing = (grid.spacing_u_m, grid.spacing_v_m);
+    flat_at((grid.cols, grid.rows), spacing, key.elasticity, DVec3::from(start.center), rotation)
 }
 
 /// A key's pins as the approximation takes them.

@@ -194,8 +194,6 @@ pub struct ViewportPanel {
     orbit_before_shot: Option<OrbitCamera>,
     /// Whether the cloth drawn is an old shape while the new one is solved.
     stale: StaleCloth,
-    /// Whether the last frame drew the cloth grey (stale, or where its solve starts).
-    drawn_grey: bool,
     /// Frame the cloth once the viewport's shape is known (a scene without a
     /// saved view), or once the shot camera is no longer looked through.
     frame_all_pending: bool,
@@ -268,7 +266,6 @@ impl ViewportPanel {
             has_gpu,
             orbit_before_shot: None,
             stale: StaleCloth::default(),
-            drawn_grey: false,
             frame_all_pending: framed,
             reveal_pending: !framed,
             solids_cache: None,
@@ -303,7 +300,7 @@ impl ViewportPanel {
     /// Whether the last frame drew the cloth as stale: grey, the old shape
     /// on screen while the document's new one is solved.
     pub fn cloth_drawn_stale(&self) -> bool {
-        self.drawn_grey
+        self.stale.drawn_stale()
     }
 
     /// The translate gizmo on the selected pins, as drawn last frame.
@@ -407,9 +404,7 @@ impl ViewportPanel {
         }
         self.refresh(w);
         let behind = w.doc.scene() != w.shown.scene();
-        // Where the solve starts is never drawn as if it were the answer.
-        let stale = self.stale.update(behind, ui.ctx()) || !w.shown.is_shaped();
-        self.drawn_grey = stale;
+        let stale = self.stale.update(behind, !w.shown.is_shaped(), ui.ctx());
         // Looking through the shot camera, its picture is the framing: the
         // orbiting view is framed once the Camera toggle is turned off.
         if !w.session.through_camera() {

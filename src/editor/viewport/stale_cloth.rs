@@ -35,9 +35,10 @@ impl StaleCloth {
 
     /// Notes whether the cloth shown is `behind` the document this frame
     /// and whether it is drawn as stale: once it has lagged for
-    /// [`STALE_AFTER`]. Asks for a frame then, so the grey shows without
-    /// waiting for the mouse.
-    pub fn update(&mut self, behind: bool, ctx: &egui::Context) -> bool {
+    /// [`STALE_AFTER`], or at once while it is `unsolved` (where its solve
+    /// starts, never drawn as if it were the answer). Asks for a frame then,
+    /// so the grey shows without waiting for the mouse.
+    pub fn update(&mut self, behind: bool, unsolved: bool, ctx: &egui::Context) -> bool {
         let since = match (behind, self.behind_since) {
             (false, _) => None,
             (true, None) => Some(Instant::now()),
@@ -45,7 +46,7 @@ impl StaleCloth {
         };
         self.behind_since = since;
         let lagged = since.map(|s| s.elapsed());
-        self.drawn_stale = lagged.is_some_and(|d| d >= STALE_AFTER);
+        self.drawn_stale = unsolved || lagged.is_some_and(|d| d >= STALE_AFTER);
         if let Some(lagged) = lagged.filter(|_| !self.drawn_stale) {
             ctx.request_repaint_after(STALE_AFTER.saturating_sub(lagged));
         }
