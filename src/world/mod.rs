@@ -11,6 +11,7 @@
 //!   and, as a solid, keeps out of).
 
 mod collider_shape;
+mod edge_lift;
 mod far_field;
 mod mesh_sides;
 mod mesh_solid;
@@ -23,6 +24,7 @@ mod surface_point;
 mod tessellate;
 
 pub use collider_shape::{ColliderShape, MESH_EXACT_WITHIN_M};
+pub use edge_lift::{EDGE_SHARES, edge_place_lift, edge_surely_clear};
 pub use mesh_solid::{MAX_MESH_TRIANGLES, MeshSolid, MeshSolidError};
 pub use path_around::{Polyline, path_around};
 pub use push_out::{Obstacle, Reach, push_out, push_out_along, slide_along};

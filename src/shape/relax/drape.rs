@@ -22,7 +22,7 @@ use glam::DVec3;
 
 use super::sweeper::min_second_neighbour_distance;
 use super::{Cancelled, MAX_SHEAR_DEG, RelaxParams, RelaxProgress, STIFF_RADIUS_FRACTION};
-use crate::world::{Obstacle, Reach, push_out, slide_along};
+use crate::world::{EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, slide_along};
 
 /// Seconds per step: a point falls 0.7 mm in its first step.
 const STEP_SECS: f64 = 1.0 / 120.0;
@@ -177,17 +177,6 @@ pub fn drape_among(
     Ok(DrapeReport { steps: max_steps, last_move_m, settled: false, fell_off: false })
 }
 
-/// Places along an edge where contact is kept, as shares of its length
-/// from `a`: a straight edge between points resting either side of a
-/// table's rim passes closest to the rim anywhere along it, not only at its
-/// middle (kept at the middle alone, edges of a 33² tablecloth cut a round
-/// table's rim by up to 6 mm at a quarter of their length).
-const EDGE_SHARES: [f64; 5] = [1.0 / 6.0, 2.0 / 6.0, 0.5, 4.0 / 6.0, 5.0 / 6.0];
-
-/// How far past an obstacle's thickness an edge's bound must lie for its
-/// places to go unmeasured: far above rounding, far below any push.
-const CLEAR_MARGIN_M: f64 = 1e-9;
-
 /// Moves the ends of `link` so that its deepest place in each obstacle
 /// keeps the obstacle's thickness, each end by its share of that place (the
 /// position-based rule for a point between two: the nearer end moves more).
@@ -210,12 +199,7 @@ fn keep_edge_out(
         if !reach.near_segment(index, a, b) {
             continue;
         }
-        // The distance changes no faster than the place moves: an edge whose
-        // middle is farther than its outermost place's way from it (plus a
-        // margin over rounding) has no place to push, and costs one query.
-        let (first, last) = (EDGE_SHARES[0], EDGE_SHARES[EDGE_SHARES.len() - 1]);
-        let way_m = a.distance(b) * (0.5 - first).max(last - 0.5);
-        if obstacle.shape.distance(a.lerp(b, 0.5)) - way_m > obstacle.thickness + CLEAR_MARGIN_M {
+        if edge_surely_clear(obstacle, a, b, obstacle.thickness) {
             continue;
         }
         // Each place in turn, from the ends as they are after the last: every
@@ -223,11 +207,8 @@ fn keep_edge_out(
         // (fixing only the deepest place jumped between places and kept the
         // fall from coming to rest).
         for t in EDGE_SHARES {
-            let at = positions[link.a].lerp(positions[link.b], t);
-            let s = obstacle.shape.surface_point(at);
-            if s.distance < obstacle.thickness {
-                let lift = s.outward * ((obstacle.thickness - s.distance) / ((1.0 - t) * (1.0 - t) + t * t));
-                let (lift_a, lift_b) = (lift * (1.0 - t), lift * t);
+            let (a, b) = (positions[link.a], positions[link.b]);
+            if let Some((lift_a, lift_b)) = edge_place_lift(obstacle, a, b, t, obstacle.thickness) {
                 positions[link.a] += lift_a;
                 positions[link.b] += lift_b;
                 pushed[link.a] += lift_a;
