@@ -133,13 +133,17 @@ fn the_bundled_scenes_keep_off_their_colliders_in_every_frame() {
         assert!(!scene.colliders.is_empty(), "{name} has colliders");
         assert_kept_out_and_whole(&scene, 1.5);
     }
-    // Nor does an edge pass through the middle of a table's 4 cm top: the
-    // frames between a tablecloth resting on its table and one lifted off
-    // it go round the rim (20 mm deep before; the chords across the rim
-    // still cut it by up to 11.4 and 13.4 mm).
-    for name in ["tablecloth_pull", "round_table"] {
+    // Nor does an edge pass through a table's 4 cm top: the frames between
+    // a tablecloth resting on its table and one lifted off it go round the
+    // rim, and the edges coming over the rim are lifted round it. Before
+    // the edges were kept out, chords across the rim cut it on 53 of the
+    // round table's frames, up to 11.4 mm deep, and on 61 of the tablecloth
+    // pull's, up to 13.4 mm; what is left is where the stretch limit pulls
+    // them back in within the rounds (the pull's chords over the table's
+    // square front corners, 9.7 mm on 3 frames).
+    for (name, most_frames, deepest_m) in [("round_table", 6, 0.004), ("tablecloth_pull", 8, 0.010)] {
         let Ok(scene) = scene::load(std::path::Path::new(&format!("scenes/{name}.ron"))) else { panic!("{name}") };
-        assert_nothing_through_deeper_than(&scene, name, 0.017);
+        assert_nothing_through_deeper_than(&scene, name, most_frames, deepest_m);
     }
     // The resting tablecloths have no pins at all.
     for name in ["tablecloth_pull", "round_table"] {
@@ -148,24 +152,28 @@ fn the_bundled_scenes_keep_off_their_colliders_in_every_frame() {
     }
 }
 
-/// Every frame of `scene`'s timeline: no place along a row or column edge
-/// (seven between its ends) deeper inside a solid than `deepest_m`. A
-/// frame that blends a cloth lying on a table top with one lifted off it
-/// straight puts rows of points inside the top and edges through its
-/// middle, as deep as half the top; going round the top keeps them out, and
-/// only chords across its rim remain.
-fn assert_nothing_through_deeper_than(scene: &Scene, name: &str, deepest_m: f64) {
+/// Every frame of `scene`'s timeline: a place along a row or column edge
+/// (seven between its ends) more than 1 mm inside a solid on at most
+/// `most_frames` frames, and none deeper than `deepest_m`. A frame that
+/// blends a cloth lying on a table top with one lifted off it straight puts
+/// rows of points inside the top and edges through its middle, as deep as
+/// half the top; going round the top keeps the points out, and lifting the
+/// edges keeps the chords across its rim out.
+fn assert_nothing_through_deeper_than(scene: &Scene, name: &str, most_frames: usize, deepest_m: f64) {
     let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
     let mut evaluator = Evaluator::new();
     let free = vec![false; cols * rows];
+    let mut frames_through = Vec::new();
     for frame in scene.timeline.start..=scene.timeline.end {
         let mesh = evaluator.evaluate_frame(scene, f64::from(frame));
         let obstacles = obstacles_at(scene, f64::from(frame), &PosedSolids::new());
         let positions: Vec<_> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
         if let Some(through) = through_obstacles(&positions, (cols, rows), &free, &obstacles) {
             assert!(through.deepest_m <= deepest_m, "{name}, frame {frame}: {through:?}");
+            frames_through.push(frame);
         }
     }
+    assert!(frames_through.len() <= most_frames, "{name}: edges through a solid at frames {frames_through:?}");
 }
 
 /// The round table's lift and put-back at three times the speed: each
@@ -181,7 +189,8 @@ fn a_fast_lift_off_a_round_table_goes_round_its_rim() {
         Err(error) => panic!("{error}"),
     };
     assert_eq!(scene.keys[1].frame, 12);
-    assert_nothing_through_deeper_than(&scene, "fast lift", 0.017);
+    // Before the edges were kept out: 17 frames, up to 10.6 mm.
+    assert_nothing_through_deeper_than(&scene, "fast lift", 2, 0.002);
     assert_kept_out_and_whole(&scene, 1.5);
 }
 

@@ -10,11 +10,16 @@
 //! into a table top flattens on it instead of poking through its underside.
 //! Pins stay where the animator put them, inside a collider or not; a pin
 //! in one key only is being let go or caught, and keeps out like cloth.
+//!
+//! Edges keep out too ([`keep_edges_out`]): between two points each clear
+//! of a table's rounded rim, one on the top and one over its side, the
+//! straight edge cuts the rim; its places are lifted to the thickness by
+//! moving its ends, as a key's fall does.
 
 use glam::DVec3;
 
 use crate::mesh::PointArrays;
-use crate::world::{Obstacle, Reach, push_out, push_out_along};
+use crate::world::{EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, push_out_along};
 
 /// Where each point was when it was last found clear of every obstacle
 /// (its coordinates' bits), so that asking again about a point nothing has
@@ -61,9 +66,7 @@ pub fn keep_out(
     if obstacles.is_empty() || n == 0 || held.len() != n {
         return false;
     }
-    let Some((min, max)) = bounds(points) else { return false };
-    // Only the obstacles the cloth can touch this frame.
-    let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).cloned().collect();
+    let near = near_obstacles(obstacles, points);
     if near.is_empty() {
         return false;
     }
@@ -99,6 +102,128 @@ pub fn keep_out(
         moved = true;
     }
     moved
+}
+
+/// How much nearer than its thickness a place along an edge may come before
+/// it is lifted (m): a key's fall keeps its edges at the thickness only to
+/// within rounding, and a frame that holds a key leaves it as it is.
+const EDGE_SLACK_M: f64 = 2.5e-4;
+
+/// The edges found clear of every obstacle, with where both their ends were
+/// then (their coordinates' bits), so that a later pass in the same frame
+/// passes over an edge nothing has moved since. Good for one frame's
+/// obstacles only: [`ClearEdges::forget`] when they change.
+#[derive(Clone, Debug, Default)]
+pub struct ClearEdges {
+    /// Two slots a point: its edge to the right, its edge below.
+    at: Vec<[u32; 6]>,
+}
+
+impl ClearEdges {
+    /// Nothing is known clear (the obstacles changed).
+    pub fn forget(&mut self) {
+        self.at.clear();
+    }
+
+    fn is_clear(&self, slot: usize, bits: [u32; 6]) -> bool {
+        self.at.get(slot) == Some(&bits)
+    }
+
+    fn set_clear(&mut self, slot: usize, bits: [u32; 6], slots: usize) {
+        if self.at.len() != slots {
+            // NaN bits: no edge's ends, so nothing is known.
+            self.at = vec![[u32::MAX; 6]; slots];
+        }
+        self.at[slot] = bits;
+    }
+}
+
+/// Lifts every edge of the `cols × rows` grid `points` that comes nearer an
+/// obstacle than its thickness (less [`EDGE_SLACK_M`]) back to it, moving
+/// the edge's ends ([`edge_place_lift`]), edges in grid order, each place
+/// in turn. An edge with a `held` end is left to its free point's own
+/// contact, as in a key's fall (moving the free end alone stretches the
+/// edge). Edges left as they were are remembered in `clear` and passed
+/// over while their ends stay where they were. Returns whether any point moved.
+pub fn keep_edges_out(
+    obstacles: &[Obstacle],
+    held: &[bool],
+    (cols, rows): (usize, usize),
+    clear: &mut ClearEdges,
+    points: &mut PointArrays,
+) -> bool {
+    let n = points.len();
+    if obstacles.is_empty() || n == 0 || n != cols * rows || held.len() != n {
+        return false;
+    }
+    let near = near_obstacles(obstacles, points);
+    if near.is_empty() {
+        return false;
+    }
+    let reach = Reach::of(&near);
+    let point = |points: &PointArrays, k: usize| DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
+    let bits = |points: &PointArrays, k: usize| [points.x[k], points.y[k], points.z[k]].map(f32::to_bits);
+    let mut moved = false;
+    for k in (0..n).filter(|&k| !held[k]) {
+        let (i, j) = (k % cols, k / cols);
+        let ends = [(i + 1 < cols).then(|| k + 1), (j + 1 < rows).then(|| k + cols)];
+        for (slot, q) in ends.into_iter().enumerate().filter_map(|(side, q)| Some((2 * k + side, q?))) {
+            if held[q] {
+                continue;
+            }
+            let ([ax, ay, az], [bx, by, bz]) = (bits(points, k), bits(points, q));
+            let ends_bits = [ax, ay, az, bx, by, bz];
+            if clear.is_clear(slot, ends_bits) {
+                continue;
+            }
+            let (a0, b0) = (point(points, k), point(points, q));
+            let (a, b) = edge_kept_out(&near, Some(&reach), a0, b0);
+            if (a, b) == (a0, b0) {
+                clear.set_clear(slot, ends_bits, 2 * n);
+            } else if a.is_finite() && b.is_finite() {
+                (points.x[k], points.y[k], points.z[k]) = (a.x as f32, a.y as f32, a.z as f32);
+                (points.x[q], points.y[q], points.z[q]) = (b.x as f32, b.y as f32, b.z as f32);
+                moved = true;
+            }
+        }
+    }
+    moved
+}
+
+/// The ends of the edge `a`–`b` moved so that no place along it comes
+/// nearer an obstacle than its thickness less [`EDGE_SLACK_M`] (to the
+/// thickness), each place in turn; unchanged, bit for bit, where none does
+/// or where the ends lie on opposite sides of the obstacle.
+/// `reach`, if given, is [`Reach::of`] `obstacles`.
+fn edge_kept_out(obstacles: &[Obstacle], reach: Option<&Reach>, a: DVec3, b: DVec3) -> (DVec3, DVec3) {
+    let (mut a, mut b) = (a, b);
+    for (index, obstacle) in obstacles.iter().enumerate() {
+        let keep_m = obstacle.thickness - EDGE_SLACK_M;
+        if reach.is_some_and(|reach| !reach.near_segment(index, a, b)) || edge_surely_clear(obstacle, a, b, keep_m) {
+            continue;
+        }
+        // Ends on opposite sides (above and below a table top): the edge is
+        // through the solid, not over its rim, and no lift takes it out.
+        let mut ends_agree = None;
+        for t in EDGE_SHARES {
+            let Some((lift_a, lift_b)) = edge_place_lift(obstacle, a, b, t, keep_m) else { continue };
+            let outward = |p: DVec3| obstacle.shape.surface_point(p).outward;
+            // Asked once, before the first lift, of the ends as they came.
+            if !*ends_agree.get_or_insert_with(|| outward(a).dot(outward(b)) >= 0.0) {
+                break;
+            }
+            a += lift_a;
+            b += lift_b;
+        }
+    }
+    (a, b)
+}
+
+/// The obstacles the cloth `points` can touch: those whose box, swollen by
+/// the thickness, meets the points' box.
+fn near_obstacles(obstacles: &[Obstacle], points: &PointArrays) -> Vec<Obstacle> {
+    let Some((min, max)) = bounds(points) else { return Vec::new() };
+    obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).cloned().collect()
 }
 
 /// The box around the finite points, if any.
@@ -167,6 +292,75 @@ mod tests {
         assert_eq!(dipped, fresh);
         clear.forget();
         assert!(clear.at.is_empty());
+    }
+
+    /// A 2 × 2 grid folded over the table's front edge: the back row on the
+    /// top, the front row down the side, each point clear of the table, the
+    /// edges between them 13.5 mm deep in it at their middle.
+    fn folded_over_the_front_edge() -> Vec<Vec3> {
+        vec![
+            Vec3::new(-0.1, 0.743, 0.37),
+            Vec3::new(0.1, 0.743, 0.37),
+            Vec3::new(-0.1, 0.71, 0.403),
+            Vec3::new(0.1, 0.71, 0.403),
+        ]
+    }
+
+    #[test]
+    fn an_edge_cutting_a_table_s_edge_is_lifted_round_it() {
+        let cloth = folded_over_the_front_edge();
+        for p in &cloth {
+            assert!(table().shape.distance(p.as_dvec3()) >= 0.003 - 1e-6, "each point is clear: {p}");
+        }
+        let deepest = |points: &PointArrays| {
+            (1..40)
+                .map(|t| {
+                    let (a, b) = (points.get(0).as_dvec3(), points.get(2).as_dvec3());
+                    table().shape.distance(a.lerp(b, f64::from(t) / 40.0))
+                })
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut points = PointArrays::from_vec3s(&cloth);
+        assert!(deepest(&points) < -0.005, "the straight edge cuts the table's edge");
+        let mut clear = ClearEdges::default();
+        assert!(keep_edges_out(&[table()], &[false; 4], (2, 2), &mut clear, &mut points));
+        // Lifted to the thickness at its five places; between them, over the
+        // table's square edge, the chord dips by a fraction of a millimetre.
+        for (t, q) in [(0, 2), (1, 3)].into_iter().flat_map(|e| EDGE_SHARES.map(|t| (t, e))) {
+            let place = points.get(q.0).as_dvec3().lerp(points.get(q.1).as_dvec3(), t);
+            assert!(table().shape.distance(place) > 0.003 - EDGE_SLACK_M, "{t} along {q:?}");
+        }
+        assert!(deepest(&points) > -0.5e-3, "{}", deepest(&points));
+        for k in 0..4 {
+            assert!(points.get(k).y >= cloth[k].y && points.get(k).z >= cloth[k].z, "lifted up and out: {k}");
+        }
+        // Lifted, it is clear: a second pass leaves it bit for bit, and remembers it.
+        let lifted = points.clone();
+        assert!(!keep_edges_out(&[table()], &[false; 4], (2, 2), &mut clear, &mut points));
+        assert_eq!(points, lifted);
+        // Two slots a point (right, down): the grid's four edges are in 0, 1, 3 and 4.
+        assert!([0, 1, 3, 4].iter().all(|&slot| clear.at[slot][0] != u32::MAX), "{:?}", clear.at);
+    }
+
+    #[test]
+    fn an_edge_through_a_table_top_from_above_to_below_is_not_lifted() {
+        // The front row carried under the top: lifting either way tears the cloth.
+        let mut cloth = folded_over_the_front_edge();
+        for p in &mut cloth[2..] {
+            (p.y, p.z) = (0.69, 0.3);
+        }
+        let mut points = PointArrays::from_vec3s(&cloth);
+        assert!(!keep_edges_out(&[table()], &[false; 4], (2, 2), &mut ClearEdges::default(), &mut points));
+        assert_eq!(points, PointArrays::from_vec3s(&cloth));
+    }
+
+    #[test]
+    fn an_edge_with_a_held_end_is_left_to_its_free_point() {
+        let cloth = folded_over_the_front_edge();
+        let mut points = PointArrays::from_vec3s(&cloth);
+        let held = [true, true, false, false];
+        assert!(!keep_edges_out(&[table()], &held, (2, 2), &mut ClearEdges::default(), &mut points));
+        assert_eq!(points, PointArrays::from_vec3s(&cloth));
     }
 
     #[test]
