@@ -331,8 +331,8 @@ mod tests {
             assert!(table().shape.distance(place) > 0.003 - EDGE_SLACK_M, "{t} along {q:?}");
         }
         assert!(deepest(&points) > -0.5e-3, "{}", deepest(&points));
-        for k in 0..4 {
-            assert!(points.get(k).y >= cloth[k].y && points.get(k).z >= cloth[k].z, "lifted up and out: {k}");
+        for (k, was) in cloth.iter().enumerate() {
+            assert!(points.get(k).y >= was.y && points.get(k).z >= was.z, "lifted up and out: {k}");
         }
         // Lifted, it is clear: a second pass leaves it bit for bit, and remembers it.
         let lifted = points.clone();
