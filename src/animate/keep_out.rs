@@ -115,8 +115,7 @@ const EDGE_SLACK_M: f64 = 2.5e-4;
 /// obstacles only: [`ClearEdges::forget`] when they change.
 #[derive(Clone, Debug, Default)]
 pub struct ClearEdges {
-    /// [`SLOTS`] a point: its edge to the right, below, and the diagonal
-    /// down to the left.
+    /// Two slots a point: its edge to the right, its edge below.
     at: Vec<[u32; 6]>,
 }
 
@@ -139,15 +138,8 @@ impl ClearEdges {
     }
 }
 
-/// Edges kept out from each point: right, below, and the diagonal down to
-/// the left that splits each cell into the mesh's two triangles
-/// ([`crate::mesh::grid_triangle_indices`]): across a round table's rim a
-/// diagonal cuts it where the rows and columns keep clear, and the rim
-/// shows through the cloth as saw-teeth.
-const SLOTS: usize = 3;
-
-/// Lifts every edge of the `cols × rows` grid `points` (its rows, columns
-/// and triangles' diagonals) that comes nearer an obstacle than its thickness (less [`EDGE_SLACK_M`]) back to it, moving
+/// Lifts every edge of the `cols × rows` grid `points` that comes nearer an
+/// obstacle than its thickness (less [`EDGE_SLACK_M`]) back to it, moving
 /// the edge's ends ([`edge_place_lift`]), edges in grid order, each place
 /// in turn. An edge with a `held` end is left to its free point's own
 /// contact, as in a key's fall (moving the free end alone stretches the
@@ -174,9 +166,8 @@ pub fn keep_edges_out(
     let mut moved = false;
     for k in (0..n).filter(|&k| !held[k]) {
         let (i, j) = (k % cols, k / cols);
-        let below = j + 1 < rows;
-        let ends = [(i + 1 < cols).then(|| k + 1), below.then(|| k + cols), (below && i > 0).then(|| k + cols - 1)];
-        for (slot, q) in ends.into_iter().enumerate().filter_map(|(side, q)| Some((SLOTS * k + side, q?))) {
+        let ends = [(i + 1 < cols).then(|| k + 1), (j + 1 < rows).then(|| k + cols)];
+        for (slot, q) in ends.into_iter().enumerate().filter_map(|(side, q)| Some((2 * k + side, q?))) {
             if held[q] {
                 continue;
             }
@@ -188,7 +179,7 @@ pub fn keep_edges_out(
             let (a0, b0) = (point(points, k), point(points, q));
             let (a, b) = edge_kept_out(&near, Some(&reach), a0, b0);
             if (a, b) == (a0, b0) {
-                clear.set_clear(slot, ends_bits, SLOTS * n);
+                clear.set_clear(slot, ends_bits, 2 * n);
             } else if a.is_finite() && b.is_finite() {
                 (points.x[k], points.y[k], points.z[k]) = (a.x as f32, a.y as f32, a.z as f32);
                 (points.x[q], points.y[q], points.z[q]) = (b.x as f32, b.y as f32, b.z as f32);
@@ -347,9 +338,8 @@ mod tests {
         let lifted = points.clone();
         assert!(!keep_edges_out(&[table()], &[false; 4], (2, 2), &mut clear, &mut points));
         assert_eq!(points, lifted);
-        // Three slots a point (right, below, diagonal): the grid's five edges
-        // are 0 → 1, 0 → 2, 1 → 3, 1 → 2 and 2 → 3.
-        assert!([0, 1, 4, 5, 6].iter().all(|&slot| clear.at[slot][0] != u32::MAX), "{:?}", clear.at);
+        // Two slots a point (right, down): the grid's four edges are in 0, 1, 3 and 4.
+        assert!([0, 1, 3, 4].iter().all(|&slot| clear.at[slot][0] != u32::MAX), "{:?}", clear.at);
     }
 
     #[test]
