@@ -21,31 +21,39 @@ use glam::DVec3;
 use crate::mesh::PointArrays;
 use crate::world::{EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, push_out_along};
 
-/// Where each point was when it was last found clear of every obstacle
-/// (its coordinates' bits), so that asking again about a point nothing has
-/// moved since costs nothing. Good for one frame's obstacles only:
-/// [`ClearPoints::forget`] when they change.
+/// What was found clear of every obstacle (a point, or an edge by its two
+/// ends), with where it was then (its coordinates' bits, `W` of them), so
+/// that asking again about something nothing has moved since costs
+/// nothing. Good for one frame's obstacles only: [`ClearAt::forget`] when
+/// they change.
 #[derive(Clone, Debug, Default)]
-pub struct ClearPoints {
-    at: Vec<[u32; 3]>,
+pub struct ClearAt<const W: usize> {
+    at: Vec<[u32; W]>,
 }
 
-impl ClearPoints {
+/// Points found clear, each by its position.
+pub type ClearPoints = ClearAt<3>;
+
+/// Edges found clear, two slots a point (its edge to the right, its edge
+/// below), each by both its ends' positions.
+pub type ClearEdges = ClearAt<6>;
+
+impl<const W: usize> ClearAt<W> {
     /// Nothing is known clear (the obstacles changed).
     pub fn forget(&mut self) {
         self.at.clear();
     }
 
-    fn is_clear(&self, k: usize, bits: [u32; 3]) -> bool {
-        self.at.get(k) == Some(&bits)
+    fn is_clear(&self, slot: usize, bits: [u32; W]) -> bool {
+        self.at.get(slot) == Some(&bits)
     }
 
-    fn set_clear(&mut self, k: usize, bits: [u32; 3], n: usize) {
-        if self.at.len() != n {
-            // NaN bits: no point's position, so nothing is known.
-            self.at = vec![[u32::MAX; 3]; n];
+    fn set_clear(&mut self, slot: usize, bits: [u32; W], slots: usize) {
+        if self.at.len() != slots {
+            // NaN bits: no position, so nothing is known.
+            self.at = vec![[u32::MAX; W]; slots];
         }
-        self.at[k] = bits;
+        self.at[slot] = bits;
     }
 }
 
@@ -109,35 +117,6 @@ pub fn keep_out(
 /// within rounding, and a frame that holds a key leaves it as it is.
 const EDGE_SLACK_M: f64 = 2.5e-4;
 
-/// The edges found clear of every obstacle, with where both their ends were
-/// then (their coordinates' bits), so that a later pass in the same frame
-/// passes over an edge nothing has moved since. Good for one frame's
-/// obstacles only: [`ClearEdges::forget`] when they change.
-#[derive(Clone, Debug, Default)]
-pub struct ClearEdges {
-    /// Two slots a point: its edge to the right, its edge below.
-    at: Vec<[u32; 6]>,
-}
-
-impl ClearEdges {
-    /// Nothing is known clear (the obstacles changed).
-    pub fn forget(&mut self) {
-        self.at.clear();
-    }
-
-    fn is_clear(&self, slot: usize, bits: [u32; 6]) -> bool {
-        self.at.get(slot) == Some(&bits)
-    }
-
-    fn set_clear(&mut self, slot: usize, bits: [u32; 6], slots: usize) {
-        if self.at.len() != slots {
-            // NaN bits: no edge's ends, so nothing is known.
-            self.at = vec![[u32::MAX; 6]; slots];
-        }
-        self.at[slot] = bits;
-    }
-}
-
 /// Lifts every edge of the `cols × rows` grid `points` that comes nearer an
 /// obstacle than its thickness (less [`EDGE_SLACK_M`]) back to it, moving
 /// the edge's ends ([`edge_place_lift`]), edges in grid order, each place
@@ -161,7 +140,6 @@ pub fn keep_edges_out(
         return false;
     }
     let reach = Reach::of(&near);
-    let point = |points: &PointArrays, k: usize| DVec3::new(points.x[k].into(), points.y[k].into(), points.z[k].into());
     let bits = |points: &PointArrays, k: usize| [points.x[k], points.y[k], points.z[k]].map(f32::to_bits);
     let mut moved = false;
     for k in (0..n).filter(|&k| !held[k]) {
@@ -176,8 +154,8 @@ pub fn keep_edges_out(
             if clear.is_clear(slot, ends_bits) {
                 continue;
             }
-            let (a0, b0) = (point(points, k), point(points, q));
-            let (a, b) = edge_kept_out(&near, Some(&reach), a0, b0);
+            let (a0, b0) = (points.get(k).as_dvec3(), points.get(q).as_dvec3());
+            let (a, b) = edge_kept_out(&near, &reach, a0, b0);
             if (a, b) == (a0, b0) {
                 clear.set_clear(slot, ends_bits, 2 * n);
             } else if a.is_finite() && b.is_finite() {
@@ -193,13 +171,13 @@ pub fn keep_edges_out(
 /// The ends of the edge `a`–`b` moved so that no place along it comes
 /// nearer an obstacle than its thickness less [`EDGE_SLACK_M`] (to the
 /// thickness), each place in turn; unchanged, bit for bit, where none does
-/// or where the ends lie on opposite sides of the obstacle.
-/// `reach`, if given, is [`Reach::of`] `obstacles`.
-fn edge_kept_out(obstacles: &[Obstacle], reach: Option<&Reach>, a: DVec3, b: DVec3) -> (DVec3, DVec3) {
+/// or where the ends lie on opposite sides of the obstacle. `reach` is
+/// [`Reach::of`] `obstacles`.
+fn edge_kept_out(obstacles: &[Obstacle], reach: &Reach, a: DVec3, b: DVec3) -> (DVec3, DVec3) {
     let (mut a, mut b) = (a, b);
     for (index, obstacle) in obstacles.iter().enumerate() {
         let keep_m = obstacle.thickness - EDGE_SLACK_M;
-        if reach.is_some_and(|reach| !reach.near_segment(index, a, b)) || edge_surely_clear(obstacle, a, b, keep_m) {
+        if !reach.near_segment(index, a, b) || edge_surely_clear(obstacle, a, b, keep_m) {
             continue;
         }
         // Ends on opposite sides (above and below a table top): the edge is
