@@ -383,7 +383,7 @@ fn segment_summary(scene: &Scene, from: usize, shapes: &[std::sync::Arc<drape::a
     let mut text = format!("ease {:?}; halfway blend mean edge error {:.2}%", key_a.ease, plain * 100.0);
     if key_a.inbetween_relax > 0 {
         let mut relaxed = Vec::new();
-        relaxed_inbetween(key_a, key_b, a, b, 0.5, key_a.inbetween_relax, &mut relaxed);
+        relaxed_inbetween(key_a, key_b, a, b, (0.5, None), key_a.inbetween_relax, &mut relaxed);
         let relaxed: Vec<glam::DVec3> = relaxed.iter().map(|p| p.as_dvec3()).collect();
         let error = mean_structural_error(&relaxed, cloth.cols(), cloth.rows(), rest_u, rest_v);
         text += &format!(", {:.2}% after {} in-between sweeps", error * 100.0, key_a.inbetween_relax);

@@ -11,6 +11,7 @@
 use glam::{DVec3, Vec3};
 
 use super::cache::KeyShape;
+use super::detours::SegmentPaths;
 use super::ease;
 use crate::mesh::PointArrays;
 use crate::scene::Key;
@@ -65,13 +66,20 @@ pub fn blend_ratio(a: &[f32], b: &[f32], eased: f32, out: &mut Vec<f32>) {
     out.extend(a.iter().zip(b).map(|(&p, &q)| (p + (q - p) * eased).max(0.0)));
 }
 
+/// Whether `segment` is an in-between its from-key's `inbetween_relax` re-relaxes.
+pub fn relaxes_between(keys: &[Key], segment: Segment) -> bool {
+    matches!(segment, Segment::Between { from, eased } if keys[from].inbetween_relax > 0 && eased != 1.0)
+}
+
 /// The rest-shape blend at a segment: positions and d_cp/d_max field, with the
-/// from-key's `inbetween_relax` sweeps applied to in-betweens.
+/// from-key's `inbetween_relax` sweeps applied to in-betweens, those
+/// starting from the segment's `paths` round the colliders.
 #[inline(always)]
 pub fn blend_segment(
     keys: &[Key],
     shapes: &[std::sync::Arc<KeyShape>],
     segment: Segment,
+    paths: Option<&SegmentPaths>,
     points: &mut PointArrays,
     ratio: &mut Vec<f32>,
 ) {
@@ -86,10 +94,10 @@ pub fn blend_segment(
         }
         Segment::Between { from, eased } => {
             let (a, b) = (&shapes[from], &shapes[from + 1]);
-            let sweeps = keys[from].inbetween_relax;
-            if sweeps > 0 && eased != 1.0 {
+            if relaxes_between(keys, segment) {
                 let mut relaxed = Vec::new();
-                relaxed_inbetween(&keys[from], &keys[from + 1], a, b, eased, sweeps, &mut relaxed);
+                let sweeps = keys[from].inbetween_relax;
+                relaxed_inbetween(&keys[from], &keys[from + 1], a, b, (eased, paths), sweeps, &mut relaxed);
                 points.set_from_vec3s(&relaxed);
             } else {
                 blend_positions(&a.points, &b.points, eased as f32, points);
@@ -103,7 +111,9 @@ pub fn blend_segment(
 /// f64 from the f64 rest shapes. Every pin of either key is held at its
 /// blended position: pins in both keys move between their positions, and a
 /// pin being let go or caught travels with the blend. Fabric values blend with
-/// the same easing, clamped between the two keys' values.
+/// the same easing, clamped between the two keys' values. Points that go
+/// round a collider (`paths`) start from their path, so the relaxation
+/// starts from a blend that passes through nothing.
 ///
 /// A rest shape relaxed to its tolerance still drifts a little under further
 /// sweeps, so the correction is faded in and out with 4·e·(1 − e): full
@@ -114,12 +124,16 @@ pub fn relaxed_inbetween(
     key_b: &Key,
     a: &KeyShape,
     b: &KeyShape,
-    eased: f64,
+    (eased, paths): (f64, Option<&SegmentPaths>),
     sweeps: u32,
     out: &mut Vec<Vec3>,
 ) {
     let grid = a.rest.grid;
-    let blended: Vec<DVec3> = a.rest.relaxed.iter().zip(&b.rest.relaxed).map(|(&p, &q)| p + (q - p) * eased).collect();
+    let mut blended: Vec<DVec3> =
+        a.rest.relaxed.iter().zip(&b.rest.relaxed).map(|(&p, &q)| p + (q - p) * eased).collect();
+    if let Some(paths) = paths {
+        paths.go_round_f64(eased, &mut blended);
+    }
     let pinned: Vec<bool> = a.pinned.iter().zip(&b.pinned).map(|(&p, &q)| p || q).collect();
     let mix = |x: f64, y: f64| (x + (y - x) * eased).clamp(x.min(y), x.max(y));
     let elasticity = mix(key_a.elasticity, key_b.elasticity);

@@ -111,6 +111,18 @@ impl SegmentPaths {
             }
         }
     }
+
+    /// [`SegmentPaths::go_round`] in f64 positions.
+    pub fn go_round_f64(&self, eased: f64, points: &mut [glam::DVec3]) {
+        if !(eased > 0.0 && eased < 1.0) {
+            return;
+        }
+        for detour in &self.detours {
+            if let Some(p) = points.get_mut(detour.point) {
+                *p = detour.path.at(eased);
+            }
+        }
+    }
 }
 
 /// Segments' detours among the scene's still colliders, kept by the
@@ -235,13 +247,9 @@ impl SegmentDetours {
     }
 }
 
-/// The segment from key `from` to the next, among the still colliders, if
-/// it goes round them: not where the first key relaxes its in-betweens.
+/// The segment from key `from` to the next, among the still colliders.
 fn segment_ask(scene: &Scene, shapes: &[Arc<KeyShape>], from: usize) -> Option<SegmentAsk> {
     let (key_a, key_b) = (scene.keys.get(from)?, scene.keys.get(from + 1)?);
-    if key_a.inbetween_relax > 0 {
-        return None;
-    }
     let obstacles = still_obstacles(scene, key_a.thickness.max(key_b.thickness));
     Some(SegmentAsk { a: shapes.get(from)?.clone(), b: shapes.get(from + 1)?.clone(), obstacles })
 }

@@ -19,12 +19,12 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::attachments::{carry_to_attachments, posed_key};
-use super::blend::{Segment, blend_segment, segment_at};
+use super::blend::{Segment, blend_positions, blend_segment, relaxes_between, segment_at};
 use super::cache::{KeyShape, RestShapeCache, key_obstacles_among};
 use super::colliders_at::obstacles_at;
 use super::detours::{SegmentAsk, SegmentDetours, SegmentPaths};
 use super::follow::carry_with_node;
-use super::keep_out::{ClearEdges, ClearPoints, keep_edges_out, keep_out};
+use super::keep_out::{ClearEdges, ClearPoints, keep_edges_out, keep_out, stop_at_surfaces};
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::posed_solids::PosedSolids;
 use super::stretch_limit::StretchLimiter;
@@ -248,19 +248,39 @@ impl Evaluator {
             let shapes = self.cache.shapes(scene, &self.solids);
             let segment = segment_at(&scene.keys, frame);
             let paths = self.detours.at_frame(scene, &shapes, frame);
-            blend_segment(&scene.keys, &shapes, segment, points, &mut self.ratio);
+            let segment_paths = match segment {
+                Segment::Between { from, .. } => paths.get(from).map(|p| &**p),
+                Segment::Hold(_) => None,
+            };
+            blend_segment(&scene.keys, &shapes, segment, segment_paths, points, &mut self.ratio);
             let (a, b, eased) = match segment {
                 Segment::Hold(index) => (index, index, 0.0),
                 Segment::Between { from, eased } => (from, from + 1, eased),
             };
-            if let Segment::Between { from, eased } = segment
-                && let Some(paths) = paths.get(from)
-            {
-                paths.go_round(eased, points);
+            let obstacles = obstacles_at(scene, frame, &self.solids);
+            // A relaxed in-between among colliders: the relaxation knows no
+            // colliders, so it starts from the blend round them, and each
+            // point's move from that blend stops at the first surface it meets.
+            let relaxes = relaxes_between(&scene.keys, segment);
+            let relaxed = !obstacles.is_empty() && relaxes;
+            if relaxed {
+                blend_positions(&shapes[a].points, &shapes[b].points, eased as f32, &mut self.before_layers);
+            }
+            if let Some(paths) = segment_paths {
+                if relaxed {
+                    paths.go_round(eased, &mut self.before_layers);
+                }
+                if !relaxes {
+                    paths.go_round(eased, points);
+                }
             }
             carry_with_node(scene, &shapes, (a, b, eased), frame, points);
             carry_to_attachments(scene, (a, b), eased, frame, points);
-            let obstacles = obstacles_at(scene, frame, &self.solids);
+            if relaxed {
+                carry_with_node(scene, &shapes, (a, b, eased), frame, &mut self.before_layers);
+                carry_to_attachments(scene, (a, b), eased, frame, &mut self.before_layers);
+                stop_at_surfaces(&obstacles, &self.before_layers, points);
+            }
             self.clear_points.forget();
             self.clear_edges.forget();
             self.held.clear();

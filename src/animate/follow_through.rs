@@ -149,7 +149,7 @@ mod tests {
         let shapes: Vec<_> = keys.iter().map(|k| evaluator.cache_mut().shape(&cloth, k, &[])).collect();
         let mut points = PointArrays::default();
         let mut ratio = Vec::new();
-        blend_segment(&keys, &shapes, segment_at(&keys, frame), &mut points, &mut ratio);
+        blend_segment(&keys, &shapes, segment_at(&keys, frame), None, &mut points, &mut ratio);
         let follow = FollowThrough { lag: 0.3.into(), falloff: 1.0.into(), ..FollowThrough::with_start_values() };
         let (cols, rows) = (cloth.cols(), cloth.rows());
         let at = LayerFrame {

@@ -19,7 +19,9 @@
 use glam::DVec3;
 
 use crate::mesh::PointArrays;
-use crate::world::{EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, push_out_along};
+use crate::world::{
+    EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, push_out_along, slide_along,
+};
 
 /// What was found clear of every obstacle (a point, or an edge by its two
 /// ends), with where it was then (its coordinates' bits, `W` of them), so
@@ -110,6 +112,32 @@ pub fn keep_out(
         moved = true;
     }
     moved
+}
+
+/// Stops each point's move from the same point of `from` (equal lengths)
+/// where it first comes within an obstacle's thickness, sliding the rest
+/// along the surface ([`slide_along`]): for a move that must not carry a
+/// point through anything, however thin, such as the in-between
+/// relaxation's (which knows no colliders). Points that did not move, or
+/// met nothing, are left bit for bit.
+pub fn stop_at_surfaces(obstacles: &[Obstacle], from: &PointArrays, points: &mut PointArrays) {
+    let n = points.len();
+    if obstacles.is_empty() || from.len() != n {
+        return;
+    }
+    let (Some((min_a, max_a)), Some((min_b, max_b))) = (bounds(from), bounds(points)) else { return };
+    let (min, max) = (min_a.min(min_b), max_a.max(max_b));
+    let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).cloned().collect();
+    for k in 0..n {
+        let (a, b) = (from.get(k), points.get(k));
+        if a == b {
+            continue;
+        }
+        let q = slide_along(&near, a.as_dvec3(), b.as_dvec3());
+        if q != b.as_dvec3() && q.is_finite() {
+            points.set(k, q.as_vec3());
+        }
+    }
 }
 
 /// How much nearer than its thickness a place along an edge may come before

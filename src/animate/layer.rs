@@ -99,7 +99,7 @@ mod tests {
         let shapes: Vec<_> = scene.keys.iter().map(|key| evaluator.key_shape(&scene, key)).collect();
         let frame = 5.0;
         let (mut blended, mut ratio) = (PointArrays::default(), Vec::new());
-        blend_segment(&scene.keys, &shapes, segment_at(&scene.keys, frame), &mut blended, &mut ratio);
+        blend_segment(&scene.keys, &shapes, segment_at(&scene.keys, frame), None, &mut blended, &mut ratio);
         let at = LayerFrame {
             frame,
             fps: scene.timeline.fps,
