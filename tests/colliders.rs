@@ -141,7 +141,7 @@ fn the_bundled_scenes_keep_off_their_colliders_in_every_frame() {
     // pull's, up to 13.4 mm; what is left is where the stretch limit pulls
     // them back in within the rounds (the pull's chords over the table's
     // square front corners, 9.7 mm on 3 frames).
-    for (name, most_frames, deepest_m) in [("round_table", 6, 0.004), ("tablecloth_pull", 8, 0.010)] {
+    for (name, most_frames, deepest_m) in [("round_table", 4, 0.004), ("tablecloth_pull", 5, 0.010)] {
         let Ok(scene) = scene::load(std::path::Path::new(&format!("scenes/{name}.ron"))) else { panic!("{name}") };
         assert_nothing_through_deeper_than(&scene, name, most_frames, deepest_m);
     }
@@ -190,7 +190,7 @@ fn a_fast_lift_off_a_round_table_goes_round_its_rim() {
     };
     assert_eq!(scene.keys[1].frame, 12);
     // Before the edges were kept out: 17 frames, up to 10.6 mm.
-    assert_nothing_through_deeper_than(&scene, "fast lift", 2, 0.002);
+    assert_nothing_through_deeper_than(&scene, "fast lift", 1, 0.002);
     assert_kept_out_and_whole(&scene, 1.5);
 }
 
@@ -201,7 +201,7 @@ fn a_fast_lift_off_a_round_table_goes_round_its_rim() {
 /// whole top (round table 41 frames, up to 1 077 places; tablecloth pull 28).
 #[test]
 fn relaxed_inbetweens_go_round_the_table() {
-    for (name, most_frames) in [("round_table", 13), ("tablecloth_pull", 11)] {
+    for (name, most_frames) in [("round_table", 11), ("tablecloth_pull", 8)] {
         let Ok(text) = std::fs::read_to_string(format!("scenes/{name}.ron")) else { panic!("{name}") };
         let scene = match scene::parse(&text.replace("ease: ", "inbetween_relax: 20, ease: "), name) {
             Ok(scene) => scene,
@@ -211,6 +211,53 @@ fn relaxed_inbetweens_go_round_the_table() {
         assert_nothing_through_deeper_than(&scene, name, most_frames, 0.0205);
         assert_kept_out_and_whole(&scene, 1.5);
     }
+}
+
+/// A leg (a capsule) swinging from behind a long curtain to 30 cm in front
+/// of where it hangs and back, with one key: the curtain keeps the side it
+/// had at the key, so the leg pushes it ahead instead of passing through
+/// it, and the curtain stays whole. (Before, the leg passed through: the
+/// points it reached left the nearest way, behind it.)
+#[test]
+fn a_leg_swung_through_a_curtain_pushes_it_ahead() {
+    let text = r#"(
+        version: 1,
+        cloth: (size: (1.0, 2.0), grid: (21, 41)),
+        timeline: (fps: 24.0, start: 0, end: 48),
+        keys: [(frame: 0, pins: [(grid: (0, 0), pos: (-0.5, 2.2, 0.0)), (grid: (10, 0), pos: (0.0, 2.2, 0.0)),
+            (grid: (20, 0), pos: (0.5, 2.2, 0.0))])],
+        colliders: [Capsule((name: "leg",
+            a: (0.0, 0.3, [(frame: 0, value: -0.4), (frame: 24, value: 0.3), (frame: 48, value: -0.4)]),
+            b: (0.0, 1.1, [(frame: 0, value: -0.4), (frame: 24, value: 0.3), (frame: 48, value: -0.4)]),
+            radius: 0.08))],
+    )"#;
+    let scene = match scene::parse(text, "leg") {
+        Ok(scene) => scene,
+        Err(error) => panic!("{error}"),
+    };
+    let (cols, rows) = (scene.cloth.cols(), scene.cloth.rows());
+    let rest = (scene.cloth.spacing_u_m(), scene.cloth.spacing_v_m());
+    let free = vec![false; cols * rows];
+    let mut evaluator = Evaluator::new();
+    let mut frames_through = Vec::new();
+    for frame in 0..=48 {
+        let mesh = evaluator.evaluate_frame(&scene, f64::from(frame));
+        let obstacles = obstacles_at(&scene, f64::from(frame), &PosedSolids::new());
+        let positions: Vec<_> = mesh.positions.iter().map(|p| p.as_dvec3()).collect();
+        if let Some(through) = through_obstacles(&positions, (cols, rows), &free, &obstacles) {
+            assert!(through.deepest_m <= 0.002, "frame {frame}: {through:?}");
+            frames_through.push(frame);
+        }
+        let stretch = drape::animate::stretch_limit::longest_stretch(&mesh.positions, (cols, rows), rest.0, rest.1);
+        assert!(stretch <= 1.105, "frame {frame}: an edge is {stretch:.3} × its rest length");
+    }
+    assert!(frames_through.len() <= 2, "edges into the leg at frames {frames_through:?}");
+    // Frame 24: the leg's axis is at z = 0.3, 30 cm in front of where the
+    // curtain hangs; the cloth over its shin lies in front of it, not behind.
+    let mesh = evaluator.evaluate_frame(&scene, 24.0);
+    let shin = mesh.positions.iter().filter(|p| p.x.abs() < 0.05 && p.y > 0.4 && p.y < 1.0);
+    let behind: Vec<_> = shin.filter(|p| p.z < 0.3).collect();
+    assert!(behind.is_empty(), "points behind the leg: {behind:?}");
 }
 
 /// Among colliders too, a frame is the same bit for bit however it is

@@ -25,6 +25,7 @@ use super::colliders_at::obstacles_at;
 use super::detours::{SegmentAsk, SegmentDetours, SegmentPaths};
 use super::follow::carry_with_node;
 use super::keep_out::{ClearEdges, ClearPoints, keep_edges_out, keep_out, stop_at_surfaces};
+use super::keep_side::{keep_sides, side_key};
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::posed_solids::PosedSolids;
 use super::stretch_limit::StretchLimiter;
@@ -66,8 +67,9 @@ pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
 /// stretch before the last keep-out: each round shortens what the pushes
 /// lengthened. A cap: the rounds stop once nothing is pushed (three left
 /// edges through the round table's rim on 4 frames, up to 3.4 mm; six on 2,
-/// up to 1.5 mm).
-const CONTACT_ROUNDS: usize = 6;
+/// up to 1.5 mm; six let a leg swung through a curtain pass through it at
+/// one frame, sixteen none).
+const CONTACT_ROUNDS: usize = 16;
 
 /// Evaluates scenes, keeping the rest-shape cache, the colliding
 /// references' latest posed solids and scratch buffers between calls. Its
@@ -258,6 +260,7 @@ impl Evaluator {
                 Segment::Between { from, eased } => (from, from + 1, eased),
             };
             let obstacles = obstacles_at(scene, frame, &self.solids);
+            let key = side_key(segment);
             // A relaxed in-between among colliders: the relaxation knows no
             // colliders, so it starts from the blend round them, and each
             // point's move from that blend stops at the first surface it meets.
@@ -287,10 +290,11 @@ impl Evaluator {
             if obstacles.is_empty() {
                 self.before_layers = PointArrays::default();
             } else {
-                self.before_layers.clone_from(points);
                 // Only points pinned at both ends of the segment stay put; one
                 // being let go or caught is cloth, and keeps out like cloth.
                 self.held.extend(shapes[a].pinned.iter().zip(&shapes[b].pinned).map(|(p, q)| *p && *q));
+                keep_sides(scene, key, frame, &shapes[key].points, &self.held, points);
+                self.before_layers.clone_from(points);
             }
             self.scratch.attenuation.clear();
             if options.layers {
@@ -321,8 +325,9 @@ impl Evaluator {
                 // edges around them, and the limit can pull them back in:
                 // alternate, and keep out last, so nothing ends inside.
                 for _ in 0..CONTACT_ROUNDS {
-                    let points_out =
-                        keep_out(&obstacles, &self.held, &self.before_layers, &mut self.clear_points, points);
+                    let sides_kept = keep_sides(scene, key, frame, &shapes[key].points, &self.held, points);
+                    let points_out = sides_kept
+                        | keep_out(&obstacles, &self.held, &self.before_layers, &mut self.clear_points, points);
                     let edges_out = keep_edges_out(&obstacles, &self.held, (cols, rows), &mut self.clear_edges, points);
                     if !points_out && !edges_out {
                         break;

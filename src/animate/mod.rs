@@ -32,6 +32,7 @@ pub mod follow;
 pub mod follow_through;
 pub mod gusts;
 pub mod keep_out;
+pub mod keep_side;
 pub mod layer;
 pub mod noise;
 pub mod posed_solids;

@@ -10,6 +10,7 @@
 //!   skinned meshes posed at any time (what the cloth is pinned to, follows
 //!   and, as a solid, keeps out of).
 
+mod carry;
 mod collider_shape;
 mod edge_lift;
 mod far_field;
@@ -23,6 +24,7 @@ pub mod rig;
 mod surface_point;
 mod tessellate;
 
+pub use carry::carried_with;
 pub use collider_shape::{ColliderShape, MESH_EXACT_WITHIN_M};
 pub use edge_lift::{EDGE_SHARES, edge_place_lift, edge_surely_clear};
 pub use mesh_solid::{MAX_MESH_TRIANGLES, MeshSolid, MeshSolidError};
