@@ -25,7 +25,7 @@ use super::colliders_at::obstacles_at;
 use super::detours::{SegmentAsk, SegmentDetours, SegmentPaths};
 use super::follow::carry_with_node;
 use super::keep_out::{ClearEdges, ClearPoints, keep_edges_out, keep_out, stop_at_surfaces};
-use super::keep_side::{keep_sides, side_key};
+use super::keep_side::{keep_sides, moved_since_key, side_key};
 use super::layer::{ApplyLayer, LayerFrame, LayerScratch};
 use super::posed_solids::PosedSolids;
 use super::stretch_limit::StretchLimiter;
@@ -261,6 +261,7 @@ impl Evaluator {
             };
             let obstacles = obstacles_at(scene, frame, &self.solids);
             let key = side_key(segment);
+            let moved = moved_since_key(scene, key, frame);
             // A relaxed in-between among colliders: the relaxation knows no
             // colliders, so it starts from the blend round them, and each
             // point's move from that blend stops at the first surface it meets.
@@ -269,13 +270,16 @@ impl Evaluator {
             if relaxed {
                 blend_positions(&shapes[a].points, &shapes[b].points, eased as f32, &mut self.before_layers);
             }
-            if let Some(paths) = segment_paths {
-                if relaxed {
-                    paths.go_round(eased, &mut self.before_layers);
-                }
-                if !relaxes {
-                    paths.go_round(eased, points);
-                }
+            // A relaxed blend starts from the paths already; its unrelaxed twin goes round them here.
+            let went_round = if relaxed {
+                Some(&mut self.before_layers)
+            } else if relaxes {
+                None
+            } else {
+                Some(&mut *points)
+            };
+            if let (Some(paths), Some(went_round)) = (segment_paths, went_round) {
+                paths.go_round(eased, went_round);
             }
             carry_with_node(scene, &shapes, (a, b, eased), frame, points);
             carry_to_attachments(scene, (a, b), eased, frame, points);
@@ -293,7 +297,7 @@ impl Evaluator {
                 // Only points pinned at both ends of the segment stay put; one
                 // being let go or caught is cloth, and keeps out like cloth.
                 self.held.extend(shapes[a].pinned.iter().zip(&shapes[b].pinned).map(|(p, q)| *p && *q));
-                keep_sides(scene, key, frame, &shapes[key].points, &self.held, points);
+                keep_sides(&moved, &shapes[key].points, &self.held, points);
                 self.before_layers.clone_from(points);
             }
             self.scratch.attenuation.clear();
@@ -325,7 +329,7 @@ impl Evaluator {
                 // edges around them, and the limit can pull them back in:
                 // alternate, and keep out last, so nothing ends inside.
                 for _ in 0..CONTACT_ROUNDS {
-                    let sides_kept = keep_sides(scene, key, frame, &shapes[key].points, &self.held, points);
+                    let sides_kept = keep_sides(&moved, &shapes[key].points, &self.held, points);
                     let points_out = sides_kept
                         | keep_out(&obstacles, &self.held, &self.before_layers, &mut self.clear_points, points);
                     let edges_out = keep_edges_out(&obstacles, &self.held, (cols, rows), &mut self.clear_edges, points);

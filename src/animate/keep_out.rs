@@ -126,8 +126,7 @@ pub fn stop_at_surfaces(obstacles: &[Obstacle], from: &PointArrays, points: &mut
         return;
     }
     let (Some((min_a, max_a)), Some((min_b, max_b))) = (bounds(from), bounds(points)) else { return };
-    let (min, max) = (min_a.min(min_b), max_a.max(max_b));
-    let near: Vec<Obstacle> = obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).cloned().collect();
+    let near = obstacles_reaching(obstacles, min_a.min(min_b), max_a.max(max_b));
     for k in 0..n {
         let (a, b) = (from.get(k), points.get(k));
         if a == b {
@@ -229,6 +228,11 @@ fn edge_kept_out(obstacles: &[Obstacle], reach: &Reach, a: DVec3, b: DVec3) -> (
 /// the thickness, meets the points' box.
 fn near_obstacles(obstacles: &[Obstacle], points: &PointArrays) -> Vec<Obstacle> {
     let Some((min, max)) = bounds(points) else { return Vec::new() };
+    obstacles_reaching(obstacles, min, max)
+}
+
+/// The obstacles whose box, swollen by their thickness, meets the box `min`–`max`.
+fn obstacles_reaching(obstacles: &[Obstacle], min: DVec3, max: DVec3) -> Vec<Obstacle> {
     obstacles.iter().filter(|o| o.shape.may_reach(min, max, o.thickness)).cloned().collect()
 }
 
