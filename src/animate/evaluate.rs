@@ -65,10 +65,8 @@ pub fn frame_time_secs(timeline: &Timeline, frame: f64) -> f64 {
 
 /// Rounds of keeping points and edges out of the colliders and limiting the
 /// stretch before the last keep-out: each round shortens what the pushes
-/// lengthened. A cap: the rounds stop once nothing is pushed (three left
-/// edges through the round table's rim on 4 frames, up to 3.4 mm; six on 2,
-/// up to 1.5 mm; six let a leg swung through a curtain pass through it at
-/// one frame, sixteen none).
+/// lengthened. A cap: the rounds stop once nothing is pushed (six let a leg
+/// swung through a curtain pass through it at one frame, sixteen none).
 const CONTACT_ROUNDS: usize = 16;
 
 /// Evaluates scenes, keeping the rest-shape cache, the colliding
@@ -332,7 +330,14 @@ impl Evaluator {
                     let sides_kept = keep_sides(&moved, &shapes[key].points, &self.held, points);
                     let points_out = sides_kept
                         | keep_out(&obstacles, &self.held, &self.before_layers, &mut self.clear_points, points);
-                    let edges_out = keep_edges_out(&obstacles, &self.held, (cols, rows), &mut self.clear_edges, points);
+                    let edges_out = keep_edges_out(
+                        &obstacles,
+                        &self.held,
+                        &self.before_layers,
+                        (cols, rows),
+                        &mut self.clear_edges,
+                        points,
+                    );
                     if !points_out && !edges_out {
                         break;
                     }

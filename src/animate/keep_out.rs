@@ -147,13 +147,19 @@ const EDGE_SLACK_M: f64 = 2.5e-4;
 /// Lifts every edge of the `cols × rows` grid `points` that comes nearer an
 /// obstacle than its thickness (less [`EDGE_SLACK_M`]) back to it, moving
 /// the edge's ends ([`edge_place_lift`]), edges in grid order, each place
-/// in turn. An edge with a `held` end is left to its free point's own
+/// in turn. An edge whose ends lie on opposite faces (one over a table top,
+/// one under it) is through the solid, and a lift would carry one end into
+/// it: its ends go back towards where they were in `before` (equal lengths,
+/// or empty for nowhere), each stopping where its way back first meets a
+/// surface ([`slide_along`]), so an end the layers carried round a rim
+/// returns to its own side. An edge with a `held` end is left to its free point's own
 /// contact, as in a key's fall (moving the free end alone stretches the
 /// edge). Edges left as they were are remembered in `clear` and passed
 /// over while their ends stay where they were. Returns whether any point moved.
 pub fn keep_edges_out(
     obstacles: &[Obstacle],
     held: &[bool],
+    before: &PointArrays,
     (cols, rows): (usize, usize),
     clear: &mut ClearEdges,
     points: &mut PointArrays,
@@ -182,7 +188,13 @@ pub fn keep_edges_out(
                 continue;
             }
             let (a0, b0) = (points.get(k).as_dvec3(), points.get(q).as_dvec3());
-            let (a, b) = edge_kept_out(&near, &reach, a0, b0);
+            let (a, b) = match edge_kept_out(&near, &reach, a0, b0) {
+                EdgeOut::Lifted(a, b) => (a, b),
+                EdgeOut::Through if before.len() == n => {
+                    (slide_along(&near, before.get(k).as_dvec3(), a0), slide_along(&near, before.get(q).as_dvec3(), b0))
+                }
+                EdgeOut::Through => (a0, b0),
+            };
             if (a, b) == (a0, b0) {
                 clear.set_clear(slot, ends_bits, 2 * n);
             } else if a.is_finite() && b.is_finite() {
@@ -195,34 +207,50 @@ pub fn keep_edges_out(
     moved
 }
 
+/// An edge after [`edge_kept_out`].
+pub(super) enum EdgeOut {
+    /// Its ends, lifted where a place came too near (bit for bit as they were where none did).
+    Lifted(DVec3, DVec3),
+    /// It cuts an obstacle between opposite faces, and no lift takes it out.
+    Through,
+}
+
 /// The ends of the edge `a`–`b` moved so that no place along it comes
 /// nearer an obstacle than its thickness less [`EDGE_SLACK_M`] (to the
-/// thickness), each place in turn; unchanged, bit for bit, where none does
-/// or where the ends lie on opposite sides of the obstacle. `reach` is
-/// [`Reach::of`] `obstacles`.
-fn edge_kept_out(obstacles: &[Obstacle], reach: &Reach, a: DVec3, b: DVec3) -> (DVec3, DVec3) {
+/// thickness), each place in turn; unchanged, bit for bit, where none does;
+/// [`EdgeOut::Through`] where the edge cuts through the solid, not over its
+/// rim: its ends lie on opposite faces (one over a table top, one under it;
+/// their outward directions more than 120° apart) and a lift would carry
+/// one of them into the solid. `reach` is [`Reach::of`] `obstacles`.
+pub(super) fn edge_kept_out(obstacles: &[Obstacle], reach: &Reach, a: DVec3, b: DVec3) -> EdgeOut {
     let (mut a, mut b) = (a, b);
     for (index, obstacle) in obstacles.iter().enumerate() {
         let keep_m = obstacle.thickness - EDGE_SLACK_M;
         if !reach.near_segment(index, a, b) || edge_surely_clear(obstacle, a, b, keep_m) {
             continue;
         }
-        // Ends on opposite sides (above and below a table top): the edge is
-        // through the solid, not over its rim, and no lift takes it out.
-        let mut ends_agree = None;
+        let outward = |p: DVec3| obstacle.shape.surface_point(p).outward;
+        let outside = |p: DVec3| obstacle.shape.distance(p) >= 0.0;
+        // Asked of the ends as they came, before the first lift.
+        let mut opposite = None;
         for t in EDGE_SHARES {
             let Some((lift_a, lift_b)) = edge_place_lift(obstacle, a, b, t, keep_m) else { continue };
-            let outward = |p: DVec3| obstacle.shape.surface_point(p).outward;
-            // Asked once, before the first lift, of the ends as they came.
-            if !*ends_agree.get_or_insert_with(|| outward(a).dot(outward(b)) >= 0.0) {
-                break;
+            let (lifted_a, lifted_b) = (a + lift_a, b + lift_b);
+            let into = (outside(a) && !outside(lifted_a)) || (outside(b) && !outside(lifted_b));
+            if into && *opposite.get_or_insert_with(|| outward(a).dot(outward(b)) < OPPOSITE_FACES_COS) {
+                return EdgeOut::Through;
             }
-            a += lift_a;
-            b += lift_b;
+            (a, b) = (lifted_a, lifted_b);
         }
     }
-    (a, b)
+    EdgeOut::Lifted(a, b)
 }
+
+/// Ends whose outward directions are further apart than this cosine lie on
+/// opposite faces (over and under a table top). Over a rim they are up to
+/// 90° apart, and a little more where one end hangs by the rim's lower
+/// corner (round table: −0.02 to −0.5).
+const OPPOSITE_FACES_COS: f64 = -0.5;
 
 /// The obstacles the cloth `points` can touch: those whose box, swollen by
 /// the thickness, meets the points' box.
@@ -333,7 +361,7 @@ mod tests {
         let mut points = PointArrays::from_vec3s(&cloth);
         assert!(deepest(&points) < -0.005, "the straight edge cuts the table's edge");
         let mut clear = ClearEdges::default();
-        assert!(keep_edges_out(&[table()], &[false; 4], (2, 2), &mut clear, &mut points));
+        assert!(keep_edges_out(&[table()], &[false; 4], &PointArrays::default(), (2, 2), &mut clear, &mut points));
         // Lifted to the thickness at its five places; between them, over the
         // table's square edge, the chord dips by a fraction of a millimetre.
         for (t, q) in [(0, 2), (1, 3)].into_iter().flat_map(|e| EDGE_SHARES.map(|t| (t, e))) {
@@ -346,7 +374,7 @@ mod tests {
         }
         // Lifted, it is clear: a second pass leaves it bit for bit, and remembers it.
         let lifted = points.clone();
-        assert!(!keep_edges_out(&[table()], &[false; 4], (2, 2), &mut clear, &mut points));
+        assert!(!keep_edges_out(&[table()], &[false; 4], &PointArrays::default(), (2, 2), &mut clear, &mut points));
         assert_eq!(points, lifted);
         // Two slots a point (right, down): the grid's four edges are in 0, 1, 3 and 4.
         assert!([0, 1, 3, 4].iter().all(|&slot| clear.at[slot][0] != u32::MAX), "{:?}", clear.at);
@@ -360,8 +388,40 @@ mod tests {
             (p.y, p.z) = (0.69, 0.3);
         }
         let mut points = PointArrays::from_vec3s(&cloth);
-        assert!(!keep_edges_out(&[table()], &[false; 4], (2, 2), &mut ClearEdges::default(), &mut points));
+        assert!(!keep_edges_out(
+            &[table()],
+            &[false; 4],
+            &PointArrays::default(),
+            (2, 2),
+            &mut ClearEdges::default(),
+            &mut points
+        ));
         assert_eq!(points, PointArrays::from_vec3s(&cloth));
+    }
+
+    #[test]
+    fn an_edge_carried_through_a_table_top_goes_back_round_its_edge() {
+        // Folded over the front edge before the layers; the layers carry the
+        // front row under the top, so each edge runs from over it to under it.
+        let before = PointArrays::from_vec3s(&folded_over_the_front_edge());
+        let mut cloth = folded_over_the_front_edge();
+        for p in &mut cloth[2..] {
+            (p.y, p.z) = (0.69, 0.3);
+        }
+        let mut points = PointArrays::from_vec3s(&cloth);
+        let mut clear = ClearEdges::default();
+        let mut rounds = 0;
+        while keep_edges_out(&[table()], &[false; 4], &before, (2, 2), &mut clear, &mut points) {
+            rounds += 1;
+            assert!(rounds < 4, "settles in a few rounds");
+        }
+        for k in 2..4 {
+            assert!(points.get(k).z >= 0.4, "the front row is back in front of the top: {}", points.get(k));
+        }
+        for (t, (a, b)) in (1..10).flat_map(|t| [(0, 2), (1, 3)].map(|e| (f64::from(t) / 10.0, e))) {
+            let place = points.get(a).as_dvec3().lerp(points.get(b).as_dvec3(), t);
+            assert!(table().shape.distance(place) > 0.0, "{t} along {a}-{b} is out of the top: {place}");
+        }
     }
 
     #[test]
@@ -369,7 +429,14 @@ mod tests {
         let cloth = folded_over_the_front_edge();
         let mut points = PointArrays::from_vec3s(&cloth);
         let held = [true, true, false, false];
-        assert!(!keep_edges_out(&[table()], &held, (2, 2), &mut ClearEdges::default(), &mut points));
+        assert!(!keep_edges_out(
+            &[table()],
+            &held,
+            &PointArrays::default(),
+            (2, 2),
+            &mut ClearEdges::default(),
+            &mut points
+        ));
         assert_eq!(points, PointArrays::from_vec3s(&cloth));
     }
 

@@ -39,6 +39,8 @@ impl StretchLimiter {
         let coarse = self.coarse.get_or_insert_with(|| {
             let mut coarse = Box::<Coarse>::default();
             coarse.limiter.set_obstacles(&self.obstacles);
+            // A coarse edge spans two of the cloth's: its chord is no edge to lift.
+            coarse.limiter.edge_reach = None;
             coarse
         });
         if coarse.fine_grid != (cols, rows) {

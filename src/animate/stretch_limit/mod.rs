@@ -32,11 +32,18 @@
 //! spans, recursively down to a small grid), and its moves, interpolated,
 //! carry the fine grid most of the way before its own passes.
 //!
+//! Among colliders, every point the limit moves is kept out of them, and
+//! every edge the evening passes shorten is lifted off a rim it would cut
+//! ([`StretchLimiter::set_obstacles`]).
+//!
 //! Pins (ratio 0: the layers never move them) stay exactly in place. The
 //! result depends on the frame alone, like every other step of `evaluate`.
 
+use glam::DVec3;
+
+use super::keep_out::{EdgeOut, edge_kept_out};
 use crate::mesh::PointArrays;
-use crate::world::{Obstacle, push_out};
+use crate::world::{ColliderShape, Obstacle, Reach, push_out};
 
 mod coarse;
 
@@ -106,6 +113,10 @@ pub struct StretchLimiter {
     /// Each obstacle's box, swollen by its thickness, in f32: most points are
     /// outside every one, and are passed over without measuring a distance.
     obstacle_bounds: Vec<([f32; 3], [f32; 3])>,
+    /// The obstacles the evening passes lift edges out of, and where they
+    /// reach (see [`StretchLimiter::set_obstacles`]).
+    edge_obstacles: Vec<Obstacle>,
+    edge_reach: Option<Reach>,
     /// The evening on the grid of every other point, run first (see
     /// [`StretchLimiter::even`]); made on first use, with these obstacles.
     coarse: Option<Box<Coarse>>,
@@ -151,8 +162,11 @@ impl EdgeReach {
 impl StretchLimiter {
     /// The colliders every point the limit moves is kept out of (the nearest
     /// way), so that pulling an edge short never pulls it into a table: the
-    /// limit and the contact agree instead of undoing each other. Empty:
-    /// none, and the result is exactly as without.
+    /// limit and the contact agree instead of undoing each other. The
+    /// evening passes on this grid also lift each edge they shorten out of
+    /// the analytic colliders (not meshes: against a walker's body the
+    /// passes fought it, and the contact rounds lift its edges as before).
+    /// Empty: none, and the result is exactly as without.
     pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) {
         self.obstacles.clear();
         self.obstacles.extend_from_slice(obstacles);
@@ -162,8 +176,14 @@ impl StretchLimiter {
             let margin = o.thickness + 1e-3;
             ((lo - margin).as_vec3().to_array(), (hi + margin).as_vec3().to_array())
         }));
+        self.edge_obstacles.clear();
+        self.edge_obstacles
+            .extend(obstacles.iter().filter(|o| !matches!(o.shape, ColliderShape::Mesh { .. })).cloned());
+        self.edge_reach = (!self.edge_obstacles.is_empty()).then(|| Reach::of(&self.edge_obstacles));
         if let Some(coarse) = &mut self.coarse {
             coarse.limiter.set_obstacles(obstacles);
+            // A coarse edge spans two of the cloth's: its chord is no edge to lift.
+            coarse.limiter.edge_reach = None;
         }
     }
 
@@ -429,6 +449,7 @@ impl StretchLimiter {
                             [x[end], y[end], z[end]] = self.kept_out([x[end], y[end], z[end]]);
                         }
                     }
+                    self.lift_edge(k, q, ratio, [&mut *x, &mut *y, &mut *z]);
                     // Both ends moved: every edge of theirs is checked again next pass.
                     for moved in [k, q] {
                         let around = self.neighbours[moved];
@@ -440,6 +461,27 @@ impl StretchLimiter {
             }
         }
         (over, checked)
+    }
+
+    /// Lifts the edge `k`–`q` a pass just shortened out of the analytic
+    /// colliders ([`edge_kept_out`]), moving both its ends (both free): the
+    /// shortening then never pulls a chord across a table's rim for the
+    /// contact rounds to lift again, round after round. An edge through a
+    /// solid is left to those rounds. Its ends are marked for the next
+    /// pass already.
+    fn lift_edge(&self, k: usize, q: usize, ratio: &[f32], [x, y, z]: [&mut [f32]; 3]) {
+        let Some(reach) = &self.edge_reach else { return };
+        if !(ratio[k] > 0.0 && ratio[q] > 0.0) {
+            return;
+        }
+        let at = |x: &[f32], y: &[f32], z: &[f32], k: usize| DVec3::new(x[k].into(), y[k].into(), z[k].into());
+        let (a0, b0) = (at(x, y, z, k), at(x, y, z, q));
+        let EdgeOut::Lifted(a, b) = edge_kept_out(&self.edge_obstacles, reach, a0, b0) else { return };
+        if (a, b) == (a0, b0) || !a.is_finite() || !b.is_finite() {
+            return;
+        }
+        [x[k], y[k], z[k]] = a.as_vec3().to_array();
+        [x[q], y[q], z[q]] = b.as_vec3().to_array();
     }
 
     /// The walk order for `ratio`, sorted again only when the field changed
