@@ -152,10 +152,11 @@ const EDGE_SLACK_M: f64 = 2.5e-4;
 /// it: its ends go back towards where they were in `before` (equal lengths,
 /// or empty for nowhere), each stopping where its way back first meets a
 /// surface ([`slide_along`]), so an end the layers carried round a rim
-/// returns to its own side. An edge with a `held` end is left to its free point's own
-/// contact, as in a key's fall (moving the free end alone stretches the
-/// edge). Edges left as they were are remembered in `clear` and passed
-/// over while their ends stay where they were. Returns whether any point moved.
+/// returns to its own side. An edge with a `held` end is left to its free
+/// point's own contact, as in a key's fall (moving the free end alone
+/// stretches the edge). Edges left as they were are remembered in `clear`
+/// and passed over while their ends stay where they were. Returns whether
+/// any point moved.
 pub fn keep_edges_out(
     obstacles: &[Obstacle],
     held: &[bool],

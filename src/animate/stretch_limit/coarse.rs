@@ -38,9 +38,7 @@ impl StretchLimiter {
     pub(super) fn even_coarse(&mut self, (cols, rows): (usize, usize), ratio: &[f32], points: &mut PointArrays) {
         let coarse = self.coarse.get_or_insert_with(|| {
             let mut coarse = Box::<Coarse>::default();
-            coarse.limiter.set_obstacles(&self.obstacles);
-            // A coarse edge spans two of the cloth's: its chord is no edge to lift.
-            coarse.limiter.edge_reach = None;
+            coarse.limiter.set_point_obstacles(&self.obstacles);
             coarse
         });
         if coarse.fine_grid != (cols, rows) {

@@ -168,6 +168,17 @@ impl StretchLimiter {
     /// passes fought it, and the contact rounds lift its edges as before).
     /// Empty: none, and the result is exactly as without.
     pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) {
+        self.set_point_obstacles(obstacles);
+        self.edge_obstacles.clear();
+        self.edge_obstacles
+            .extend(obstacles.iter().filter(|o| !matches!(o.shape, ColliderShape::Mesh { .. })).cloned());
+        self.edge_reach = (!self.edge_obstacles.is_empty()).then(|| Reach::of(&self.edge_obstacles));
+    }
+
+    /// The colliders the moved points are kept out of, on this grid and the
+    /// coarser ones. A coarse edge spans two of the cloth's: its chord is no
+    /// edge to lift, so the coarser grids get no edge obstacles.
+    fn set_point_obstacles(&mut self, obstacles: &[Obstacle]) {
         self.obstacles.clear();
         self.obstacles.extend_from_slice(obstacles);
         self.obstacle_bounds.clear();
@@ -176,14 +187,8 @@ impl StretchLimiter {
             let margin = o.thickness + 1e-3;
             ((lo - margin).as_vec3().to_array(), (hi + margin).as_vec3().to_array())
         }));
-        self.edge_obstacles.clear();
-        self.edge_obstacles
-            .extend(obstacles.iter().filter(|o| !matches!(o.shape, ColliderShape::Mesh { .. })).cloned());
-        self.edge_reach = (!self.edge_obstacles.is_empty()).then(|| Reach::of(&self.edge_obstacles));
         if let Some(coarse) = &mut self.coarse {
-            coarse.limiter.set_obstacles(obstacles);
-            // A coarse edge spans two of the cloth's: its chord is no edge to lift.
-            coarse.limiter.edge_reach = None;
+            coarse.limiter.set_point_obstacles(obstacles);
         }
     }
 
