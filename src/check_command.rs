@@ -98,10 +98,11 @@ fn check(path: &Path) -> Result<()> {
             readable_number(key.elasticity),
             readable_number(key.stiffness),
             error * 100.0,
-            report.verdict()
+            shape.verdict(key.thickness)
         );
+        // A shape that settled through itself says so in its verdict.
         let crossings = shape.self_crossings();
-        if crossings > 0 {
+        if crossings > 0 && (!report.converged || !(key.thickness > 0.0)) {
             say!(
                 "      warning: the rest shape passes through itself ({crossings} edge{} the cloth); {}",
                 if crossings == 1 { " crosses" } else { "s cross" },

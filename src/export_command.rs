@@ -190,9 +190,9 @@ fn evaluator_with_key_shapes(scene: &Scene, stage: Stage, first: i32, last: i32)
     build_key_shapes(&mut evaluator, scene, keys.iter().copied(), &mut status);
     // The files are written all the same: the verdict says what to change.
     for key in keys {
-        let report = evaluator.key_shape(scene, key).rest.relax_report;
-        if !report.converged {
-            eprintln!("drape: warning: the key at frame {} is {}", key.frame, report.verdict());
+        let shape = evaluator.key_shape(scene, key);
+        if !shape.settled(key.thickness) {
+            eprintln!("drape: warning: the key at frame {} is {}", key.frame, shape.verdict(key.thickness));
         }
     }
     evaluator

@@ -316,6 +316,23 @@ fn a_scene_that_fails_to_load_leaves_the_work_alone() {
     assert!(harness.query_by_label_contains("broken.ron:2:").is_none());
 }
 
+/// A cloth whose folds cannot be kept apart (four pins far out of line)
+/// keeps its drape through itself: with a thickness to keep, the Cloth
+/// panel calls it not settled rather than settled.
+#[test]
+fn the_cloth_panel_says_a_shape_through_itself_is_not_settled() {
+    let workspace = Workspace::new();
+    let text = "(version: 1, cloth: (size: (1.0, 1.0), grid: (33, 33)), keys: [(frame: 0, elasticity: 1.05, \
+                stiffness: 0.2, pins: [(grid: (0, 0), pos: (-0.5, 1.5, 0.0)), (grid: (32, 0), pos: (0.5, 1.5, 0.0)), \
+                (grid: (0, 32), pos: (-0.5, 1.0, 0.5)), \
+                (grid: (32, 32), pos: (0.4994271231268916, 0.45001577848317753, 1.7077784640244735e-6))])])";
+    let harness = open_editor(&workspace, scene::parse(text, "crumpled.ron").unwrap(), None);
+    let verdict = harness.query_by_label_contains("NOT settled").map(|node| node.accesskit_node().value());
+    let Some(Some(line)) = verdict else { panic!("no verdict saying it is not settled") };
+    assert_eq!(line, "NOT settled: passes through itself");
+    assert!(harness.query_by_label_contains("Settled").is_none(), "nothing calls it settled");
+}
+
 /// A curtain gathered to a tenth of its width with no thickness relaxes
 /// through itself (`drape check` warns of it): the Cloth panel says so too,
 /// once the worker has counted; at the default thickness it folds without

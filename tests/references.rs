@@ -334,6 +334,38 @@ fn the_cape_stays_outside_the_walking_body() {
     assert!(nearest < thickness + 2e-3, "the cape never comes near the body ({nearest} m)");
 }
 
+/// A second key at frame 60 stretched to elasticity 1.4, as an animator
+/// tweaking the cape would add: its rest shape hangs behind the back, no
+/// point and no place along an edge inside the walking body, nowhere
+/// through itself, and settled.
+#[test]
+fn a_second_key_stretched_to_1_4_hangs_behind_the_back() {
+    use drape::shape::Placement;
+    use drape::shape::through::through_obstacles;
+    let mut scene = cape();
+    scene.timeline.end = 96;
+    let mut second = scene.keys[0].clone();
+    second.frame = 60;
+    second.elasticity = 1.4;
+    scene.keys.push(second);
+    let key = &scene.keys[1];
+    let mut evaluator = drape::animate::Evaluator::new();
+    let obstacles = evaluator.key_obstacles(&scene, key);
+    assert!(!obstacles.is_empty(), "the walker is a collider");
+    let shape = evaluator.key_shape(&scene, key);
+    let rest = &shape.rest;
+    let pinned: Vec<bool> = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
+    let through = through_obstacles(&rest.relaxed, (rest.grid.cols, rest.grid.rows), &pinned, &obstacles);
+    assert_eq!(through, None);
+    assert_eq!(shape.self_crossings(), 0);
+    assert!(shape.settled(key.thickness), "{}", shape.verdict(key.thickness));
+    // The pins are behind the neck (z −0.13 to −0.115): so is the cloth they hold.
+    let count = rest.relaxed.len() as f64;
+    let mean_z = rest.relaxed.iter().map(|p| p.z).sum::<f64>() / count;
+    let in_front = rest.relaxed.iter().filter(|p| p.z > 0.0).count();
+    assert!(mean_z < -0.12 && in_front == 0, "mean z {mean_z:.3} m, {in_front} points in front of z = 0");
+}
+
 #[test]
 fn a_cloth_following_a_node_is_carried_as_the_node_moves() {
     let dir = tempfile::tempdir().unwrap();

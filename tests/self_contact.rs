@@ -2,6 +2,7 @@
 //! crossed pins and a cloth folded over itself relax without passing through
 //! themselves, at every grid size and at the default stiffness.
 
+use drape::animate::KeyShape;
 use drape::scene::{Cloth, DEFAULT_FRICTION, DEFAULT_THICKNESS_M, Ease, Key, Pin, RelaxSettings};
 use drape::shape::RestShape;
 use drape::shape::contact::count_crossings;
@@ -143,9 +144,10 @@ fn a_drape_that_does_not_reach_itself_is_the_same_with_or_without_thickness() {
 /// sweep after sweep. No sweep may then move or ask to move a point
 /// further than the cloth is wide (the pushes once outgrew the sweeps and
 /// ran the cloth off by kilometres, each sweep listing every pair on the
-/// grid, for over ten minutes).
+/// grid, for over ten minutes). The shape it keeps passes through itself,
+/// so it is not settled, and its verdict says so.
 #[test]
-fn folds_that_cannot_be_kept_apart_never_run_the_cloth_away() {
+fn folds_that_cannot_be_kept_apart_never_run_the_cloth_away_and_are_not_settled() {
     let cloth = Cloth::new((1.0, 1.0), (33, 33));
     let pins = vec![
         Pin::at((0, 0), (-0.5, 1.5, 0.0)),
@@ -156,7 +158,7 @@ fn folds_that_cannot_be_kept_apart_never_run_the_cloth_away() {
     let key = key(pins, 1.05, DEFAULT_STIFFNESS, DEFAULT_THICKNESS_M);
     let mut largest_m = 0.0f64;
     let mut sweeps = 0u32;
-    let built = RestShape::build_among(&cloth, &key, &[], &mut |progress| {
+    let built = KeyShape::build_with(&cloth, &key, &[], &mut |progress| {
         sweeps += 1;
         largest_m = largest_m.max(progress.last_move_m);
         // A runaway stops here rather than sweeping on at a second a sweep.
@@ -164,5 +166,16 @@ fn folds_that_cannot_be_kept_apart_never_run_the_cloth_away() {
     });
     assert!(largest_m < 1.0, "a sweep moved the cloth {largest_m:.3} m (after {sweeps} sweeps)");
     let Ok(shape) = built else { panic!("the build stopped without being asked to") };
-    assert!(shape.relaxed.iter().all(|p| p.is_finite() && p.distance(DVec3::new(0.0, 1.0, 0.0)) < 1.5));
+    assert!(shape.rest.relaxed.iter().all(|p| p.is_finite() && p.distance(DVec3::new(0.0, 1.0, 0.0)) < 1.5));
+    let crossings = shape.self_crossings();
+    assert!(crossings > 0, "the folds cross");
+    assert!(shape.rest.relax_report.converged, "the drape without contact settles");
+    assert!(!shape.settled(DEFAULT_THICKNESS_M));
+    let verdict = shape.verdict(DEFAULT_THICKNESS_M);
+    let expected = format!("NOT settled: passes through itself ({crossings} edges cross the cloth) after ");
+    assert!(verdict.starts_with(&expected), "{verdict}");
+    assert!(verdict.contains("pins that gather the cloth less fold it less"), "{verdict}");
+    // Without a thickness to keep, passing through itself is what was asked for.
+    assert!(shape.settled(0.0));
+    assert_eq!(shape.verdict(0.0), shape.rest.relax_report.verdict());
 }

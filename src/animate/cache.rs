@@ -14,7 +14,7 @@ use super::posed_solids::PosedSolids;
 use super::stretch_limit::EdgeReach;
 use crate::mesh::PointArrays;
 use crate::scene::{Cloth, Key, Scene};
-use crate::shape::contact::count_crossings;
+use crate::shape::contact::{count_crossings, crossing_advice};
 use crate::shape::{Cancelled, Placement, RelaxProgress, RestShape};
 use crate::world::{ColliderShape, Obstacle};
 
@@ -103,6 +103,36 @@ impl KeyShape {
     /// [`KeyShape::self_crossings`] if it has been counted, without counting.
     pub fn self_crossings_if_counted(&self) -> Option<usize> {
         self.crossings.get().copied()
+    }
+
+    /// Whether the rest shape can be relied on: its relaxation or fall
+    /// settled clear of every collider and, where the key keeps a thickness
+    /// between its folds (`thickness_m`), it passes nowhere through itself
+    /// (counting the crossings if they are not yet counted).
+    pub fn settled(&self, thickness_m: f64) -> bool {
+        self.rest.relax_report.converged && self.through_itself(thickness_m).is_none()
+    }
+
+    /// The outcome in a user's words ([`crate::shape::RelaxReport::verdict`]),
+    /// unless a shape that settled passes through itself where the key keeps
+    /// a thickness: then that, with what to do.
+    pub fn verdict(&self, thickness_m: f64) -> String {
+        let report = self.rest.relax_report;
+        let Some(crossings) = self.through_itself(thickness_m).filter(|_| report.converged) else {
+            return report.verdict();
+        };
+        format!(
+            "NOT settled: passes through itself ({crossings} edge{} the cloth) after {} sweep{}; {}",
+            if crossings == 1 { " crosses" } else { "s cross" },
+            report.iterations,
+            if report.iterations == 1 { "" } else { "s" },
+            crossing_advice(thickness_m, true)
+        )
+    }
+
+    /// How many edges cross the cloth, where the key keeps a thickness and some do.
+    fn through_itself(&self, thickness_m: f64) -> Option<usize> {
+        (thickness_m > 0.0).then(|| self.self_crossings()).filter(|&crossings| crossings > 0)
     }
 }
 

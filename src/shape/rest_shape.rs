@@ -135,13 +135,12 @@ impl RestShape {
         let grid = plain.grid;
         let params = key_params(grid, key);
         let pinned: Vec<bool> = plain.placement.iter().map(|p| *p == Placement::Pin).collect();
-        let mut relaxed = plain.approximated.clone();
+        let mut flat = plain.approximated.clone();
         let spacing = (grid.spacing_u_m, grid.spacing_v_m);
-        lay_flat(&mut relaxed, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
-        let fall =
-            drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, &params, obstacles, key.friction, control)?;
+        lay_flat(&mut flat, (grid.cols, grid.rows), spacing, key.elasticity, &pinned, obstacles);
+        let (relaxed, fall, kept_apart) = fall_among(flat, grid, &pinned, &params, obstacles, key.friction, control)?;
         let relax_report = judged(fall_report(fall, &params), &relaxed, grid, &pinned, obstacles);
-        Ok(RestShape { relaxed, relax_report, kept_apart: false, ..plain })
+        Ok(RestShape { relaxed, relax_report, kept_apart, ..plain })
     }
 
     /// Whether this shape, built without colliders, comes within one of
@@ -165,13 +164,13 @@ impl RestShape {
     ) -> Result<RestShape, Cancelled> {
         let flat = flat_at_placement(grid, key);
         let pinned = vec![false; flat.len()];
-        let mut relaxed: Vec<DVec3> = flat.iter().map(|&p| push_out(obstacles, p)).collect();
-        let relax_report = if obstacles.is_empty() {
-            RelaxReport { converged: true, ..RelaxReport::default() }
+        let out: Vec<DVec3> = flat.iter().map(|&p| push_out(obstacles, p)).collect();
+        let (relaxed, relax_report, kept_apart) = if obstacles.is_empty() {
+            (out, RelaxReport { converged: true, ..RelaxReport::default() }, false)
         } else {
-            let fall =
-                drape_among(&mut relaxed, (grid.cols, grid.rows), &pinned, params, obstacles, key.friction, control)?;
-            judged(fall_report(fall, params), &relaxed, grid, &pinned, obstacles)
+            let (relaxed, fall, kept_apart) = fall_among(out, grid, &pinned, params, obstacles, key.friction, control)?;
+            let report = judged(fall_report(fall, params), &relaxed, grid, &pinned, obstacles);
+            (relaxed, report, kept_apart)
         };
         Ok(RestShape {
             grid,
@@ -181,7 +180,7 @@ impl RestShape {
             placement: vec![Placement::Draped; grid.point_count()],
             relaxed,
             relax_report,
-            kept_apart: false,
+            kept_apart,
         })
     }
 
@@ -192,6 +191,46 @@ impl RestShape {
     pub fn rest_v_m(&self) -> f64 {
         self.grid.spacing_v_m * self.elasticity
     }
+}
+
+/// Steps the fall keeping the fabric's thickness between its folds may
+/// take, as a multiple of the steps the fall through itself took to settle.
+/// Folds that the pins press together harder than the thickness allows (a
+/// carpet pinned at its corners over a ball) push and pull without end, a
+/// step costing tens of milliseconds; such a key keeps the fall through
+/// itself, and its verdict says it passes through itself.
+const KEPT_APART_FALL_STEPS: u32 = 2;
+
+/// The fall from `start` onto `obstacles` ([`drape_among`]): first letting
+/// the cloth pass through itself, as most falls onto a table never reach
+/// themselves and the check costs a pair search a step; where that one
+/// settles through itself, again from `start` keeping the fabric's thickness
+/// between its folds at every step, kept where it crosses nowhere (a cloth
+/// lifted by its middle folds round the table). Also says whether the
+/// thickness was kept, so in-betweens next to the key keep it too.
+fn fall_among(
+    start: Vec<DVec3>,
+    grid: GridSpec,
+    pinned: &[bool],
+    params: &RelaxParams,
+    obstacles: &[Obstacle],
+    friction: f64,
+    control: &mut dyn FnMut(RelaxProgress) -> ControlFlow<()>,
+) -> Result<(Vec<DVec3>, DrapeReport, bool), Cancelled> {
+    let sides = (grid.cols, grid.rows);
+    let mut fallen = start.clone();
+    let through_itself = RelaxParams { thickness_m: 0.0, ..*params };
+    let fall = drape_among(&mut fallen, sides, pinned, &through_itself, obstacles, friction, control)?;
+    if !(params.thickness_m > 0.0 && fall.settled && count_crossings(&fallen, grid.cols, grid.rows) > 0) {
+        return Ok((fallen, fall, false));
+    }
+    let mut kept = start;
+    let kept_params = RelaxParams { max_iterations: fall.steps.saturating_mul(KEPT_APART_FALL_STEPS), ..*params };
+    let kept_fall = drape_among(&mut kept, sides, pinned, &kept_params, obstacles, friction, control)?;
+    if kept_fall.settled && count_crossings(&kept, grid.cols, grid.rows) == 0 {
+        return Ok((kept, kept_fall, true));
+    }
+    Ok((fallen, fall, false))
 }
 
 /// A fall's outcome as a relaxation's, its last move also relative to the smaller rest spacing.

@@ -314,13 +314,21 @@ fn fabric_section(ui: &mut egui::Ui, w: &mut Workspace) {
         Some(report) => (report.summary(), ui.visuals().warn_fg_color, format!("Rest shape {}", report.verdict())),
         None => ("Relaxing…".to_owned(), ui.visuals().weak_text_color(), "The rest shape is being relaxed.".to_owned()),
     };
-    if let Some(crossings @ 1..) = shape.as_ref().and_then(|shape| shape.self_crossings_if_counted()) {
-        let edges = if crossings == 1 { "edge crosses" } else { "edges cross" };
-        text = format!("Passes through itself · {text}");
+    if let Some(shape) = &shape
+        && let Some(crossings @ 1..) = shape.self_crossings_if_counted()
+    {
         color = ui.visuals().warn_fg_color;
-        let advice =
-            crossing_advice(key.thickness, shape.as_ref().is_some_and(|shape| shape.rest.relax_report.converged));
-        full = format!("The rest shape passes through itself: {crossings} {edges} the cloth; {advice}.\n{full}");
+        let settled = shape.rest.relax_report.converged;
+        if settled && key.thickness > 0.0 {
+            // Settled through itself, with a thickness to keep: not settled.
+            text = "NOT settled: passes through itself".to_owned();
+            full = format!("Rest shape {}", shape.verdict(key.thickness));
+        } else {
+            let edges = if crossings == 1 { "edge crosses" } else { "edges cross" };
+            text = format!("Passes through itself · {text}");
+            let advice = crossing_advice(key.thickness, settled);
+            full = format!("The rest shape passes through itself: {crossings} {edges} the cloth; {advice}.\n{full}");
+        }
     }
     ui.add(egui::Label::new(egui::RichText::new(text).color(color)).truncate()).on_hover_text(full);
 }

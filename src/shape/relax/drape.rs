@@ -10,8 +10,11 @@
 //! of passing through), damped until no point moves more than the
 //! tolerance in a step. Where a point rests on a surface, Coulomb friction
 //! (the key's `friction` × how hard it presses) holds it, so a tablecloth
-//! does not creep off a level table. Deterministic: a fixed order and
-//! fixed steps.
+//! does not creep off a level table. With a thickness, every step is
+//! followed by the sweeps' self-contact check (`self_contact`), so no step
+//! carries one part of the cloth through another: a cloth lifted by its
+//! middle folds round the table without its folds crossing. Deterministic:
+//! a fixed order and fixed steps.
 //! No sweeps follow it to make the lengths exact: their momentum, with
 //! nothing pulling down, crumples the draped cloth on the table top and it
 //! never settles.
@@ -20,6 +23,8 @@ use std::ops::ControlFlow;
 
 use glam::DVec3;
 
+use super::layout::Split;
+use super::self_contact::SelfContact;
 use super::sweeper::min_second_neighbour_distance;
 use super::{Cancelled, MAX_SHEAR_DEG, RelaxParams, RelaxProgress, STIFF_RADIUS_FRACTION};
 use crate::world::{EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, slide_along};
@@ -86,11 +91,15 @@ pub fn drape_among(
     let unpinned = !pinned.iter().any(|&p| p);
     // Most points are far from every obstacle: passed over without measuring.
     let reach = Reach::of(obstacles);
+    let mut contact = FallContact::new((cols, rows), pinned, params);
     for step in 0..max_steps {
         if unpinned && positions.iter().all(|p| p.y < lowest_catch) {
             return Ok(DrapeReport { steps: step, last_move_m, settled: false, fell_off: true });
         }
         before.copy_from_slice(positions);
+        if let Some(contact) = &mut contact {
+            contact.begin(&before);
+        }
         pushed.fill(DVec3::ZERO);
         for k in (0..n).filter(|&k| !pinned[k]) {
             velocity[k] = velocity[k] * DAMPING + GRAVITY * STEP_SECS;
@@ -161,7 +170,14 @@ pub fn drape_among(
             }
             positions[k] = p;
             velocity[k] = (p - before[k]) / STEP_SECS;
-            largest = largest.max((p - before[k]).length());
+        }
+        // Too many folds near each other to keep apart: the fall goes on
+        // without, and the shape's crossings say so.
+        if contact.as_mut().is_some_and(|contact| contact.keep_apart(positions, &mut velocity)) {
+            contact = None;
+        }
+        for k in (0..n).filter(|&k| !pinned[k]) {
+            largest = largest.max((positions[k] - before[k]).length());
         }
         calm_steps = if largest < calm { calm_steps + 1 } else { 0 };
         let progress =
@@ -175,6 +191,60 @@ pub fn drape_among(
         last_move_m = largest;
     }
     Ok(DrapeReport { steps: max_steps, last_move_m, settled: false, fell_off: false })
+}
+
+/// The sweeps' self-contact check on the fall's steps: the positions laid
+/// out as the sweeps keep them, the check's own state kept between steps.
+struct FallContact {
+    contact: SelfContact,
+    position: [Split; 3],
+    /// Zero throughout: a fall step carries no momentum of the sweeps' kind.
+    velocity: [Split; 3],
+    slots: Vec<usize>,
+}
+
+impl FallContact {
+    /// The check for a `cols × rows` grid, or `None` without a thickness.
+    fn new((cols, rows): (usize, usize), pinned: &[bool], params: &RelaxParams) -> Option<FallContact> {
+        let min_rest = params.rest_u_m.min(params.rest_v_m);
+        let contact = SelfContact::new(cols, rows, pinned, params.thickness_m, min_rest)?;
+        let layout = Split::new(cols, rows);
+        let slots = (0..cols * rows).map(|k| layout.slot(k % cols, k / cols)).collect();
+        let split = || [Split::new(cols, rows), Split::new(cols, rows), Split::new(cols, rows)];
+        Some(FallContact { contact, position: split(), velocity: split(), slots })
+    }
+
+    /// Notes where the step starts.
+    fn begin(&mut self, before: &[DVec3]) {
+        self.put(before);
+        self.contact.begin(&self.position, &self.velocity);
+    }
+
+    /// Checks the step since [`FallContact::begin`], moving points apart or
+    /// back where it must; a point contact moved stops. True where too many
+    /// pairs were near each other to check.
+    fn keep_apart(&mut self, positions: &mut [DVec3], velocity: &mut [DVec3]) -> bool {
+        self.put(positions);
+        if self.contact.keep_apart(&mut self.position, &mut self.velocity, 0.0).overwhelmed {
+            return true;
+        }
+        for (k, &slot) in self.slots.iter().enumerate() {
+            let [x, y, z] = &self.position;
+            let p = DVec3::new(x.data[slot], y.data[slot], z.data[slot]);
+            if p != positions[k] {
+                positions[k] = p;
+                velocity[k] = DVec3::ZERO;
+            }
+        }
+        false
+    }
+
+    fn put(&mut self, positions: &[DVec3]) {
+        let [x, y, z] = &mut self.position;
+        for (&slot, p) in self.slots.iter().zip(positions) {
+            (x.data[slot], y.data[slot], z.data[slot]) = (p.x, p.y, p.z);
+        }
+    }
 }
 
 /// Moves the ends of `link` so that its deepest place in each obstacle
