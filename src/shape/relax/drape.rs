@@ -24,7 +24,7 @@ use std::ops::ControlFlow;
 use glam::DVec3;
 
 use super::layout::Split;
-use super::self_contact::SelfContact;
+use super::self_contact::{SelfContact, at_split, set};
 use super::sweeper::min_second_neighbour_distance;
 use super::{Cancelled, MAX_SHEAR_DEG, RelaxParams, RelaxProgress, STIFF_RADIUS_FRACTION};
 use crate::world::{EDGE_SHARES, Obstacle, Reach, edge_place_lift, edge_surely_clear, push_out, slide_along};
@@ -229,8 +229,7 @@ impl FallContact {
             return true;
         }
         for (k, &slot) in self.slots.iter().enumerate() {
-            let [x, y, z] = &self.position;
-            let p = DVec3::new(x.data[slot], y.data[slot], z.data[slot]);
+            let p = at_split(&self.position, slot);
             if p != positions[k] {
                 positions[k] = p;
                 velocity[k] = DVec3::ZERO;
@@ -240,9 +239,8 @@ impl FallContact {
     }
 
     fn put(&mut self, positions: &[DVec3]) {
-        let [x, y, z] = &mut self.position;
-        for (&slot, p) in self.slots.iter().zip(positions) {
-            (x.data[slot], y.data[slot], z.data[slot]) = (p.x, p.y, p.z);
+        for (&slot, &p) in self.slots.iter().zip(positions) {
+            set(&mut self.position, slot, p);
         }
     }
 }

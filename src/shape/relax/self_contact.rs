@@ -580,11 +580,11 @@ fn at(data: &[Vec<f64>; 3], slot: usize) -> DVec3 {
     DVec3::new(data[0][slot], data[1][slot], data[2][slot])
 }
 
-fn at_split(data: &[Split; 3], slot: usize) -> DVec3 {
+pub(super) fn at_split(data: &[Split; 3], slot: usize) -> DVec3 {
     DVec3::new(data[0].data[slot], data[1].data[slot], data[2].data[slot])
 }
 
-fn set(data: &mut [Split; 3], slot: usize, p: DVec3) {
+pub(super) fn set(data: &mut [Split; 3], slot: usize, p: DVec3) {
     data[0].data[slot] = p.x;
     data[1].data[slot] = p.y;
     data[2].data[slot] = p.z;
