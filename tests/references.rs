@@ -10,11 +10,15 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[path = "support/winding.rs"]
+mod winding;
+
 use drape::animate::references_at::reference_at;
 use drape::scene::{self, read_rig};
 use drape::world::rig::Rig;
 use glam::{DMat4, DQuat, DVec3};
 use serde_json::json;
+use winding::winding_number;
 
 /// Binary data and the accessors over it, for writing a .gltf with a .bin.
 #[derive(Default)]
@@ -320,6 +324,7 @@ fn the_cape_stays_outside_the_walking_body() {
         let frame = f64::from(frame);
         let mesh = evaluator.evaluate_frame(&scene, frame);
         let body = reference_at(&scene, 0, frame).unwrap().build_solid().unwrap();
+        let triangles = body.triangles();
         for (k, p) in mesh.positions.iter().enumerate() {
             let distance = body.surface_point(p.as_dvec3()).distance;
             nearest = nearest.min(distance);
@@ -328,11 +333,18 @@ fn the_cape_stays_outside_the_walking_body() {
                 "frame {frame}: vertex {k} at {p} is {:.2} mm from the body",
                 distance * 1e3
             );
+            if distance < NEAR_BODY_M {
+                let winding = winding_number(&triangles, p.as_dvec3());
+                assert!(winding < 0.5, "frame {frame}: vertex {k} at {p} is inside the body (winding {winding:.3})");
+            }
         }
     }
     // The legs and the back do push on it: some vertex rests against the body.
     assert!(nearest < thickness + 2e-3, "the cape never comes near the body ({nearest} m)");
 }
+
+/// How near the body a point's side is also told by the winding number.
+const NEAR_BODY_M: f64 = 0.03;
 
 /// A second key at frame 60 stretched to elasticity 1.4, as an animator
 /// tweaking the cape would add: its rest shape hangs behind the back, no
@@ -357,6 +369,17 @@ fn a_second_key_stretched_to_1_4_hangs_behind_the_back() {
     let pinned: Vec<bool> = rest.placement.iter().map(|p| *p == Placement::Pin).collect();
     let through = through_obstacles(&rest.relaxed, (rest.grid.cols, rest.grid.rows), &pinned, &obstacles);
     assert_eq!(through, None);
+    let frame = f64::from(key.frame);
+    let body = reference_at(&scene, 0, frame).unwrap().build_solid().unwrap();
+    let triangles = body.triangles();
+    let chest = winding_number(&triangles, DVec3::new(0.0, 1.2, 0.0));
+    assert!((chest - 1.0).abs() < 1e-6, "the chest is inside the body: winding {chest}");
+    for (k, p) in rest.relaxed.iter().enumerate() {
+        if body.surface_point(*p).distance < NEAR_BODY_M {
+            let winding = winding_number(&triangles, *p);
+            assert!(winding < 0.5, "point {k} at {p} is inside the body (winding {winding:.3})");
+        }
+    }
     assert_eq!(shape.self_crossings(), 0);
     assert!(shape.settled(key.thickness), "{}", shape.verdict(key.thickness));
     // The pins are behind the neck (z −0.13 to −0.115): so is the cloth they hold.
