@@ -7,13 +7,15 @@
 
 use std::io::{self, IsTerminal, Write};
 use std::ops::ControlFlow;
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use drape::animate::attachments::posed_key;
-use drape::animate::{Evaluator, KeyShape};
+use drape::animate::{Evaluator, KeyShape, ShapeId};
 use drape::scene::{Key, Scene};
 use drape::shape::RelaxProgress;
+use drape::world::Obstacle;
 
 /// How long a key's rest shape may take before a stderr that is not a
 /// terminal hears of it: 5 s, or `DRAPE_SLOW_KEY_SECS` (0 names every key).
@@ -106,11 +108,13 @@ pub fn frame_bar(total: u64, what: &'static str) -> indicatif::ProgressBar {
 }
 
 /// Builds the rest shapes of `keys` (those not cached yet) into `evaluator`'s
-/// cache, showing on `status` which key is being approximated and how far
-/// its relaxation has come: `relaxing key 2/5 (frame 48): sweep 1200/100000
-/// on the 1024 × 256 grid`; where stderr is not a terminal, a key that takes
-/// longer than [`slow_key`] says so once, in a plain line. The shapes equal
-/// what the evaluator would build by itself; only the progress is new.
+/// cache, several at once on the machine's cores (each key's shape is its
+/// own, so the shapes equal what the evaluator would build by itself, one
+/// after another, bit for bit). `status` shows which keys are being
+/// approximated and how far their relaxations have come: `relaxing key 2/5
+/// (frame 48): sweep 1200/100000 on the 1024 × 256 grid`; where stderr is
+/// not a terminal, a key that takes longer than [`slow_key`] says so once,
+/// in a plain line.
 pub fn build_key_shapes<'k>(
     evaluator: &mut Evaluator,
     scene: &Scene,
@@ -118,45 +122,132 @@ pub fn build_key_shapes<'k>(
     status: &mut StatusLine,
 ) {
     let count = keys.len();
-    let slow = slow_key();
+    let cloth = &scene.cloth;
+    let mut jobs: Vec<KeyJob> = Vec::new();
     for (index, key) in keys.enumerate() {
-        let (cloth, obstacles) = (&scene.cloth, evaluator.key_obstacles(scene, key));
+        let obstacles = evaluator.key_obstacles(scene, key);
         // Attached pins where their attachments are at the key's frame.
-        let key = &*posed_key(scene, key);
-        if evaluator.cache().get(cloth, key, &obstacles).is_some() {
+        let key = posed_key(scene, key).into_owned();
+        let id = ShapeId::of(cloth, &key, &obstacles);
+        if evaluator.cache().get(cloth, &key, &obstacles).is_some() || jobs.iter().any(|job| job.id == id) {
             continue;
         }
         let which = format!("key {}/{count} (frame {})", index + 1, key.frame);
-        let pins = key.pins.len();
-        status.show_now(&format!("approximating {which} from {pins} pin{}", if pins == 1 { "" } else { "s" }));
-        let started = Instant::now();
-        let mut told = false;
-        let mut report = |progress: RelaxProgress| {
-            if !told && started.elapsed() >= slow {
-                told = true;
-                status.note_plainly(&format!(
-                    "drape: key {}/{count} (frame {}) is still relaxing after {:.0} s: sweep {}/{} on the {} × {} grid",
-                    index + 1,
-                    key.frame,
-                    started.elapsed().as_secs_f64(),
-                    progress.iteration,
-                    progress.max_iterations,
-                    progress.cols,
-                    progress.rows
-                ));
-            }
-            status.show(|| {
-                format!(
-                    "relaxing {which}: sweep {}/{} on the {} × {} grid",
-                    progress.iteration, progress.max_iterations, progress.cols, progress.rows
-                )
+        jobs.push(KeyJob { which, key, obstacles, id });
+    }
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len());
+    let next = AtomicUsize::new(0);
+    let which = jobs.iter().map(|job| job.which.clone()).collect();
+    let shown = Mutex::new(Shown { status, which, doing: vec![None; jobs.len()] });
+    let built: Vec<Mutex<Option<KeyShape>>> = jobs.iter().map(|_| Mutex::new(None)).collect();
+    let slow = slow_key();
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| {
+                loop {
+                    let at = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(job) = jobs.get(at) else { break };
+                    lock(&shown).start(at, job.key.pins.len());
+                    let started = Instant::now();
+                    let mut told = false;
+                    let mut report = |progress: RelaxProgress| {
+                        let mut shown = lock(&shown);
+                        if !told && started.elapsed() >= slow {
+                            told = true;
+                            shown.status.note_plainly(&format!(
+                                "drape: {} is still relaxing after {:.0} s: sweep {}/{} on the {} × {} grid",
+                                job.which,
+                                started.elapsed().as_secs_f64(),
+                                progress.iteration,
+                                progress.max_iterations,
+                                progress.cols,
+                                progress.rows
+                            ));
+                        }
+                        shown.relaxing(at, progress);
+                        ControlFlow::Continue(())
+                    };
+                    // The report never breaks, so the build is never cancelled.
+                    let shape = KeyShape::build_with(cloth, &job.key, &job.obstacles, &mut report).ok();
+                    lock(&shown).doing[at] = None;
+                    *lock(&built[at]) = shape;
+                }
             });
-            ControlFlow::Continue(())
-        };
-        // The report never breaks, so the build is never cancelled.
-        if let Ok(shape) = KeyShape::build_with(cloth, key, &obstacles, &mut report) {
-            evaluator.cache_mut().insert(cloth, key, &obstacles, Arc::new(shape));
+        }
+    });
+    for (job, shape) in jobs.iter().zip(built) {
+        if let Some(shape) = shape.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner()) {
+            evaluator.cache_mut().insert(cloth, &job.key, &job.obstacles, Arc::new(shape));
         }
     }
-    status.clear();
+    lock(&shown).status.clear();
+}
+
+/// A key whose rest shape is to be built: the key with its pins posed, the
+/// colliders at its frame, and how the status line names it.
+struct KeyJob {
+    which: String,
+    key: Key,
+    obstacles: Vec<Obstacle>,
+    id: ShapeId,
+}
+
+/// What a key being built is doing.
+#[derive(Clone, Copy)]
+enum Doing {
+    /// Approximating from this many pins.
+    Approximating(usize),
+    Relaxing(RelaxProgress),
+}
+
+/// The status line and what each key being built is doing, shared by the builders.
+struct Shown<'s> {
+    status: &'s mut StatusLine,
+    which: Vec<String>,
+    doing: Vec<Option<Doing>>,
+}
+
+impl Shown<'_> {
+    /// Key `at` begins: shown at once (a new phase of work).
+    fn start(&mut self, at: usize, pins: usize) {
+        self.doing[at] = Some(Doing::Approximating(pins));
+        let line = self.line();
+        self.status.show_now(&line);
+    }
+
+    /// Key `at`'s relaxation has come to `progress`: shown unless the line was just drawn.
+    fn relaxing(&mut self, at: usize, progress: RelaxProgress) {
+        self.doing[at] = Some(Doing::Relaxing(progress));
+        let Shown { status, which, doing } = self;
+        status.show(|| line(which, doing));
+    }
+
+    fn line(&self) -> String {
+        line(&self.which, &self.doing)
+    }
+}
+
+/// What the first key being built is doing, and how many more are, in one
+/// line short enough not to wrap (a wrapped status line cannot be redrawn in place).
+fn line(which: &[String], doing: &[Option<Doing>]) -> String {
+    let mut each = which.iter().zip(doing).filter_map(|(which, doing)| Some((which, (*doing)?)));
+    let Some((which, first)) = each.next() else { return String::new() };
+    let mut line = match first {
+        Doing::Approximating(pins) => {
+            format!("approximating {which} from {pins} pin{}", if pins == 1 { "" } else { "s" })
+        }
+        Doing::Relaxing(RelaxProgress { iteration, max_iterations, cols, rows, .. }) => {
+            format!("relaxing {which}: sweep {iteration}/{max_iterations} on the {cols} × {rows} grid")
+        }
+    };
+    let more = each.count();
+    if more > 0 {
+        line += &format!(" (and {more} more key{})", if more == 1 { "" } else { "s" });
+    }
+    line
+}
+
+/// The lock's guard, also after a builder panicked holding it (the status line is still whole).
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }

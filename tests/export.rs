@@ -1106,6 +1106,38 @@ fn check_and_export_say_a_key_through_a_collider_is_not_settled() {
     assert!(obj.exists(), "the file is written all the same");
 }
 
+/// The command line builds a scene's keys several at once, on the machine's
+/// cores: each key's shape is its own, so the frames `drape export` writes
+/// are the library's, key after key, bit for bit (a key repeated later, as
+/// the third here repeats the first, is built once).
+#[test]
+fn keys_built_side_by_side_export_the_frames_evaluate_makes() {
+    let dir = tempfile::tempdir().unwrap();
+    let corners = "(grid: (0, 0), pos: (-0.5, 1.0, 0.0)), (grid: (16, 0), pos: (0.5, 1.0, 0.0))";
+    let text = format!(
+        "(version: 1, cloth: (size: (1.0, 1.0), grid: (17, 17)), timeline: (fps: 24.0, start: 0, end: 24), keys: [\
+         (frame: 0, pins: [{corners}]), \
+         (frame: 8, pins: [(grid: (0, 0), pos: (-0.3, 1.1, 0.0)), (grid: (16, 0), pos: (0.3, 1.0, 0.2))]), \
+         (frame: 16, pins: [{corners}]), \
+         (frame: 24, pins: [(grid: (8, 0), pos: (0.0, 1.2, 0.0))], stiffness: 0.3)], \
+         colliders: [Ground((name: \"floor\", height: -0.5))])"
+    );
+    let scene_path = dir.path().join("keys.ron");
+    fs::write(&scene_path, text).unwrap();
+    let output = dir.path().join("keys.pc2");
+    let drape = env!("CARGO_BIN_EXE_drape");
+    let export =
+        Command::new(drape).arg("export").arg(&scene_path).args(["--frames", "0..24", "-o"]).arg(&output).output();
+    let export = export.unwrap();
+    assert!(export.status.success(), "export failed: {}", String::from_utf8_lossy(&export.stderr));
+    let cache = read_pc2(&fs::read(&output).unwrap());
+    let scene = scene::load(&scene_path).unwrap();
+    assert_eq!(cache.frames.len(), 25);
+    for (k, frame) in (0..=24).enumerate() {
+        assert_points_match(&format!("frame {frame}"), &cache.frames[k], &reference(&scene, frame).positions, 0.0);
+    }
+}
+
 /// `drape check` describes a travelling shot camera by where it starts and
 /// ends, over which frames, instead of calling its position "animated".
 #[test]

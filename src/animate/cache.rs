@@ -232,6 +232,17 @@ impl ShapeInputs {
     }
 }
 
+/// What a key's shape is built from, as the cache tells shapes apart: keys
+/// with equal ids have the same shape, bit for bit, so one build serves both.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ShapeId(ShapeInputs);
+
+impl ShapeId {
+    pub fn of(cloth: &Cloth, key: &Key, obstacles: &[Obstacle]) -> ShapeId {
+        ShapeId(ShapeInputs::of(cloth, key, obstacles))
+    }
+}
+
 /// Shapes no key of the latest scene uses are kept for undo and toggling
 /// back, up to this many; the least recently used go first.
 pub const RETAINED_UNUSED_SHAPES: usize = 16;

@@ -43,5 +43,5 @@ pub mod track;
 pub mod wave;
 pub mod wave_tables;
 
-pub use cache::{KeyShape, RestShapeCache, key_obstacles, key_obstacles_among};
+pub use cache::{KeyShape, RestShapeCache, ShapeId, key_obstacles, key_obstacles_among};
 pub use evaluate::{EvaluateOptions, Evaluator, Stage, evaluate, frame_time_secs};
