@@ -124,6 +124,7 @@ pub fn build_key_shapes<'k>(
     let count = keys.len();
     let cloth = &scene.cloth;
     let mut jobs: Vec<KeyJob> = Vec::new();
+    let mut which = Vec::new();
     for (index, key) in keys.enumerate() {
         let obstacles = evaluator.key_obstacles(scene, key);
         // Attached pins where their attachments are at the key's frame.
@@ -132,61 +133,66 @@ pub fn build_key_shapes<'k>(
         if evaluator.cache().get(cloth, &key, &obstacles).is_some() || jobs.iter().any(|job| job.id == id) {
             continue;
         }
-        let which = format!("key {}/{count} (frame {})", index + 1, key.frame);
-        jobs.push(KeyJob { which, key, obstacles, id });
+        which.push(format!("key {}/{count} (frame {})", index + 1, key.frame));
+        jobs.push(KeyJob { key, obstacles, id });
     }
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get()).min(jobs.len());
     let next = AtomicUsize::new(0);
-    let which = jobs.iter().map(|job| job.which.clone()).collect();
-    let shown = Mutex::new(Shown { status, which, doing: vec![None; jobs.len()] });
-    let built: Vec<Mutex<Option<KeyShape>>> = jobs.iter().map(|_| Mutex::new(None)).collect();
+    let shown = Mutex::new(Shown { status, doing: vec![None; jobs.len()], which });
     let slow = slow_key();
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| {
-                loop {
-                    let at = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(job) = jobs.get(at) else { break };
-                    lock(&shown).start(at, job.key.pins.len());
-                    let started = Instant::now();
-                    let mut told = false;
-                    let mut report = |progress: RelaxProgress| {
-                        let mut shown = lock(&shown);
-                        if !told && started.elapsed() >= slow {
-                            told = true;
-                            shown.status.note_plainly(&format!(
-                                "drape: {} is still relaxing after {:.0} s: sweep {}/{} on the {} × {} grid",
-                                job.which,
-                                started.elapsed().as_secs_f64(),
-                                progress.iteration,
-                                progress.max_iterations,
-                                progress.cols,
-                                progress.rows
-                            ));
-                        }
-                        shown.relaxing(at, progress);
-                        ControlFlow::Continue(())
-                    };
-                    // The report never breaks, so the build is never cancelled.
-                    let shape = KeyShape::build_with(cloth, &job.key, &job.obstacles, &mut report).ok();
-                    lock(&shown).doing[at] = None;
-                    *lock(&built[at]) = shape;
-                }
-            });
-        }
+    let built: Vec<(usize, KeyShape)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut built = Vec::new();
+                    loop {
+                        let at = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(job) = jobs.get(at) else { break built };
+                        lock(&shown).start(at, job.key.pins.len());
+                        let started = Instant::now();
+                        let mut told = false;
+                        let mut report = |progress: RelaxProgress| {
+                            let mut shown = lock(&shown);
+                            if !told && started.elapsed() >= slow {
+                                told = true;
+                                let line = format!(
+                                    "drape: {} is still relaxing after {:.0} s: sweep {}/{} on the {} × {} grid",
+                                    shown.which[at],
+                                    started.elapsed().as_secs_f64(),
+                                    progress.iteration,
+                                    progress.max_iterations,
+                                    progress.cols,
+                                    progress.rows
+                                );
+                                shown.status.note_plainly(&line);
+                            }
+                            shown.relaxing(at, progress);
+                            ControlFlow::Continue(())
+                        };
+                        // The report never breaks, so the build is never cancelled.
+                        let shape = KeyShape::build_with(cloth, &job.key, &job.obstacles, &mut report);
+                        lock(&shown).doing[at] = None;
+                        built.extend(shape.ok().map(|shape| (at, shape)));
+                    }
+                })
+            })
+            .collect();
+        // A builder that panicked passes its panic on, as building in place would.
+        workers
+            .into_iter()
+            .flat_map(|worker| worker.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)))
+            .collect()
     });
-    for (job, shape) in jobs.iter().zip(built) {
-        if let Some(shape) = shape.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner()) {
-            evaluator.cache_mut().insert(cloth, &job.key, &job.obstacles, Arc::new(shape));
-        }
+    for (at, shape) in built {
+        let job = &jobs[at];
+        evaluator.cache_mut().insert(cloth, &job.key, &job.obstacles, Arc::new(shape));
     }
     lock(&shown).status.clear();
 }
 
-/// A key whose rest shape is to be built: the key with its pins posed, the
-/// colliders at its frame, and how the status line names it.
+/// A key whose rest shape is to be built: the key with its pins posed and
+/// the colliders at its frame.
 struct KeyJob {
-    which: String,
     key: Key,
     obstacles: Vec<Obstacle>,
     id: ShapeId,
@@ -200,7 +206,8 @@ enum Doing {
     Relaxing(RelaxProgress),
 }
 
-/// The status line and what each key being built is doing, shared by the builders.
+/// The status line, how it names each key to build and what each is doing,
+/// shared by the builders.
 struct Shown<'s> {
     status: &'s mut StatusLine,
     which: Vec<String>,
@@ -211,8 +218,7 @@ impl Shown<'_> {
     /// Key `at` begins: shown at once (a new phase of work).
     fn start(&mut self, at: usize, pins: usize) {
         self.doing[at] = Some(Doing::Approximating(pins));
-        let line = self.line();
-        self.status.show_now(&line);
+        self.status.show_now(&line(&self.which, &self.doing));
     }
 
     /// Key `at`'s relaxation has come to `progress`: shown unless the line was just drawn.
@@ -220,10 +226,6 @@ impl Shown<'_> {
         self.doing[at] = Some(Doing::Relaxing(progress));
         let Shown { status, which, doing } = self;
         status.show(|| line(which, doing));
-    }
-
-    fn line(&self) -> String {
-        line(&self.which, &self.doing)
     }
 }
 
